@@ -1,0 +1,78 @@
+"""A feeding device loaded in Pinocchio: parameters → URDF → model → pin closure.
+
+The paper's generalized coordinates q = [φ1, r2, φ3, φ4] (eq. 29) are the positions of
+``cylinder_joint``, ``piston_joint``, ``arm_joint`` and ``forearm_joint``. Pinocchio orders its
+configuration vector by the tree, not by the paper, so :meth:`Feeder.to_pinocchio` and
+:meth:`Feeder.to_paper` map by joint name.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .closure import ClosedChain
+from .exceptions import InputError
+from .loading import build_model
+from .parameters import DEVICES, FeederParameters
+from .urdf import urdf_string
+
+PAPER_JOINTS = ("cylinder_joint", "piston_joint", "arm_joint", "forearm_joint")
+"""Joints of the paper's coordinates φ1, r2, φ3, φ4, in that order (eq. 29)."""
+
+CLOSURE = ("piston_pin", "arm_pin")
+"""The loop closure: the rod-eye pin, a frame on the piston and one on the arm."""
+
+INDEPENDENT_JOINTS = ("arm_joint", "forearm_joint")
+"""Joints of the independent coordinates φ3, φ4 (2 degrees of freedom)."""
+
+
+class Feeder:
+    """One feeding device: its parameters, URDF text and closed-chain Pinocchio model.
+
+    Attributes:
+        params: The parameter set the model was generated from.
+        urdf: The URDF text (as written by :func:`feeder.urdf.urdf_string`).
+        chain: Pinocchio model, data and the ``piston_pin``–``arm_pin`` closure.
+        index: Positions of φ1, r2, φ3, φ4 in Pinocchio's q (and v, since nq = nv), shape (4,).
+    """
+
+    def __init__(self, params: FeederParameters):
+        self.params = params
+        self.urdf = urdf_string(params)
+        self.chain = ClosedChain(build_model(self.urdf, f"<{params.name} feeder URDF>"), [CLOSURE])
+        model = self.chain.model
+        self.index = np.array([model.joints[model.getJointId(n)].idx_q for n in PAPER_JOINTS])
+
+    @property
+    def model(self):
+        """The Pinocchio model (open tree)."""
+        return self.chain.model
+
+    def to_pinocchio(self, x_paper: np.ndarray) -> np.ndarray:
+        """Reorder paper-order vectors (..., 4) = [φ1, r2, φ3, φ4] into Pinocchio order."""
+        x_paper = np.asarray(x_paper, dtype=float)
+        out = np.empty_like(x_paper)
+        out[..., self.index] = x_paper
+        return out
+
+    def to_paper(self, x: np.ndarray) -> np.ndarray:
+        """Reorder Pinocchio-order vectors (..., 4) into the paper's [φ1, r2, φ3, φ4]."""
+        return np.asarray(x, dtype=float)[..., self.index]
+
+    def frame_id(self, name: str) -> int:
+        """Pinocchio id of the frame ``name``."""
+        return self.model.getFrameId(name)
+
+
+def load_feeder(device: str | FeederParameters = "projectile") -> Feeder:
+    """Load a built-in device by name (``"projectile"`` or ``"charge"``) or from parameters.
+
+    Raises:
+        InputError: Unknown device name.
+        InertiaError: A non-physical inertia in the parameters.
+    """
+    if isinstance(device, FeederParameters):
+        return Feeder(device)
+    if device not in DEVICES:
+        raise InputError(f"unknown device {device!r}; choose one of {sorted(DEVICES)}")
+    return Feeder(DEVICES[device])

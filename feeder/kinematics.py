@@ -1,0 +1,139 @@
+"""Closed-form kinematics of the feeder's cylinder–piston–arm loop, vectorised over samples.
+
+The rod-eye pin P lies on the arm a distance d3 from its pivot A = (L1, L2) and a distance
+r2 + d2 from the cylinder pivot B along the cylinder axis (eq. 44, corrected — see the errata):
+
+    P = A + d3 (cos φ3, sin φ3) = (r2 + d2) (cos φ1, sin φ1).
+
+So for a given arm angle φ3: r2 = |P| − d2 and φ1 = atan2(P_y, P_x). Differentiating twice
+along u = (cos φ1, sin φ1) and n = (−sin φ1, cos φ1) gives the velocity and acceleration level.
+The transmission angle μ is the angle between the piston axis u and the arm lever
+(cos φ3, sin φ3) at the pin; the lever arm of the piston force about A is d3 sin μ, and
+dr2/dφ3 = d3 sin(φ1 − φ3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .exceptions import UnreachablePoseError, check_finite
+from .parameters import FeederParameters
+
+TRANSMISSION_BAND_DEG = (40.0, 140.0)
+"""Documented band [deg] that the transmission angle stays inside over the whole elevation range
+(the reference geometry achieves [43°, 137°])."""
+
+
+@dataclass(frozen=True)
+class LoopState:
+    """Dependent coordinates of the loop and their derivatives; arrays of shape (N,).
+
+    Attributes:
+        phi1, dphi1, ddphi1: Cylinder angle [rad], rate [rad/s], acceleration [rad/s²].
+        r2, dr2, ddr2: Piston position [m], velocity [m/s], acceleration [m/s²].
+    """
+
+    phi1: np.ndarray
+    r2: np.ndarray
+    dphi1: np.ndarray
+    dr2: np.ndarray
+    ddphi1: np.ndarray
+    ddr2: np.ndarray
+
+
+def pin_position(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
+    """Rod-eye pin position P (2, N) [m] in the world x-y plane for arm angles φ3 [rad]."""
+    phi3 = np.asarray(phi3, dtype=float)
+    return np.array([p.L1 + p.d3 * np.cos(phi3), p.L2 + p.d3 * np.sin(phi3)])
+
+
+def check_reachable(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
+    """Return φ3 as an array, or raise if the loop cannot reach it.
+
+    Raises:
+        InputError: NaN or infinite φ3.
+        UnreachablePoseError: φ3 outside the arm's end stops, or a piston position outside
+            the cylinder's stroke [r2_min, r2_max].
+    """
+    phi3 = check_finite("phi3", phi3)
+    bad = (phi3 < p.phi3_min - 1e-12) | (phi3 > p.phi3_max + 1e-12)
+    if np.any(bad):
+        value = float(np.ravel(phi3)[np.flatnonzero(np.ravel(bad))[0]])
+        raise UnreachablePoseError(
+            f"arm angle φ3 = {math.degrees(value):.3f}° is outside the arm's end stops "
+            f"[{math.degrees(p.phi3_min):.1f}°, {math.degrees(p.phi3_max):.1f}°]"
+        )
+    r2 = np.linalg.norm(pin_position(p, phi3), axis=0) - p.d2
+    bad = (r2 < p.r2_min - 1e-12) | (r2 > p.r2_max + 1e-12)
+    if np.any(bad):
+        k = np.flatnonzero(np.ravel(bad))[0]
+        raise UnreachablePoseError(
+            f"arm angle φ3 = {math.degrees(float(np.ravel(phi3)[k])):.3f}° needs piston "
+            f"position r2 = {float(np.ravel(r2)[k]):.4f} m, outside the stroke "
+            f"[{p.r2_min:.4f}, {p.r2_max:.4f}] m"
+        )
+    return phi3
+
+
+def dependent_coordinates(
+    p: FeederParameters,
+    phi3: np.ndarray,
+    dphi3: np.ndarray | float = 0.0,
+    ddphi3: np.ndarray | float = 0.0,
+) -> LoopState:
+    """φ1, r2 and their first two time derivatives from φ3, φ̇3, φ̈3 (closed form).
+
+    Args:
+        p: Device parameters.
+        phi3: Arm angle(s) [rad], shape (N,) or scalar.
+        dphi3: Arm rate(s) [rad/s].
+        ddphi3: Arm acceleration(s) [rad/s²].
+
+    Raises:
+        UnreachablePoseError: See :func:`check_reachable`.
+    """
+    phi3 = check_reachable(p, phi3)
+    dphi3 = check_finite("dphi3", dphi3)
+    ddphi3 = check_finite("ddphi3", ddphi3)
+    pin_xy = pin_position(p, phi3)
+    s = np.linalg.norm(pin_xy, axis=0)
+    phi1 = np.arctan2(pin_xy[1], pin_xy[0])
+    u = np.array([np.cos(phi1), np.sin(phi1)])
+    n = np.array([-np.sin(phi1), np.cos(phi1)])
+    u3 = np.array([np.cos(phi3), np.sin(phi3)])
+    n3 = np.array([-np.sin(phi3), np.cos(phi3)])
+    dpin = p.d3 * dphi3 * n3
+    ddpin = p.d3 * (ddphi3 * n3 - dphi3**2 * u3)
+    ds = np.sum(u * dpin, axis=0)
+    dphi1 = np.sum(n * dpin, axis=0) / s
+    dds = np.sum(u * ddpin, axis=0) + s * dphi1**2
+    ddphi1 = (np.sum(n * ddpin, axis=0) - 2.0 * ds * dphi1) / s
+    return LoopState(phi1=phi1, r2=s - p.d2, dphi1=dphi1, dr2=ds, ddphi1=ddphi1, ddr2=dds)
+
+
+def stroke_ratio(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
+    """dr2/dφ3 = d3 sin(φ1 − φ3) [m/rad]: piston travel per radian of arm."""
+    state = dependent_coordinates(p, phi3)
+    return p.d3 * np.sin(state.phi1 - np.asarray(phi3, dtype=float))
+
+
+def transmission_angle(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
+    """Angle μ [rad] in [0, π] between the piston axis and the arm lever at the pin."""
+    state = dependent_coordinates(p, phi3)
+    delta = state.phi1 - np.asarray(phi3, dtype=float)
+    return np.abs(np.arctan2(np.sin(delta), np.cos(delta)))
+
+
+def arm_travel(elevation: float) -> float:
+    """Arm rotation [rad] from loading to ramming at ``elevation`` [rad]: 90° − ε."""
+    return math.pi / 2.0 - elevation
+
+
+def required_stroke(p: FeederParameters) -> float:
+    """Piston stroke [m] that the whole elevation range needs (loading to the lowest ε)."""
+    travel = arm_travel(p.elevation_min)
+    ends = dependent_coordinates(p, np.array([p.phi3_load, p.phi3_load + travel]))
+    return float(ends.r2[1] - ends.r2[0])
