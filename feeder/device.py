@@ -9,6 +9,7 @@ configuration vector by the tree, not by the paper, so :meth:`Feeder.to_pinocchi
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
 from .closure import ClosedChain
 from .exceptions import InputError
@@ -25,6 +26,9 @@ CLOSURE = ("piston_pin", "arm_pin")
 INDEPENDENT_JOINTS = ("arm_joint", "forearm_joint")
 """Joints of the independent coordinates φ3, φ4 (2 degrees of freedom)."""
 
+GRAVITY = np.array([0.0, -9.81, 0.0])
+"""Gravity [m/s²] in the world frame: −y (REFERENCE.md; Pinocchio's default is −z)."""
+
 
 class Feeder:
     """One feeding device: its parameters, URDF text and closed-chain Pinocchio model.
@@ -32,7 +36,8 @@ class Feeder:
     Attributes:
         params: The parameter set the model was generated from.
         urdf: The URDF text (as written by :func:`feeder.urdf.urdf_string`).
-        chain: Pinocchio model, data and the ``piston_pin``–``arm_pin`` closure.
+        chain: Pinocchio model (gravity set to :data:`GRAVITY`), data and the
+            ``piston_pin``–``arm_pin`` closure.
         index: Positions of φ1, r2, φ3, φ4 in Pinocchio's q (and v, since nq = nv), shape (4,).
     """
 
@@ -41,6 +46,7 @@ class Feeder:
         self.urdf = urdf_string(params)
         self.chain = ClosedChain(build_model(self.urdf, f"<{params.name} feeder URDF>"), [CLOSURE])
         model = self.chain.model
+        model.gravity = pin.Motion(GRAVITY, np.zeros(3))
         self.index = np.array([model.joints[model.getJointId(n)].idx_q for n in PAPER_JOINTS])
 
     @property
