@@ -112,6 +112,41 @@ class CycleKinematics:
         return cols
 
 
+def payload_kinematics(
+    feeder: Feeder, q: np.ndarray, v: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Payload CG position [m], velocity [m/s], axis (unit, nose first) and closure gap [m].
+
+    Pinocchio's forward kinematics of the URDF at each sample.
+
+    Args:
+        feeder: The device.
+        q, v: Paper-order coordinates and velocities, shape (N, 4).
+
+    Returns:
+        Position, velocity and axis, each (N, 3), world frame; closure gap ‖p_a − p_b‖ (N,).
+    """
+    model, data = feeder.model, feeder.chain.data
+    payload_id = feeder.frame_id("projectile")
+    pin_a, pin_b = (feeder.frame_id(name) for name in CLOSURE)
+    count = q.shape[0]
+    position, velocity, axis = (np.empty((count, 3)) for _ in range(3))
+    residual = np.empty(count)
+    q_pin, v_pin = feeder.to_pinocchio(q), feeder.to_pinocchio(v)
+    for i in range(count):
+        pin.forwardKinematics(model, data, q_pin[i], v_pin[i])
+        placement = pin.updateFramePlacement(model, data, payload_id)
+        position[i] = placement.translation
+        axis[i] = placement.rotation[:, 1]
+        velocity[i] = pin.getFrameVelocity(model, data, payload_id, pin.LOCAL_WORLD_ALIGNED).linear
+        gap = (
+            pin.updateFramePlacement(model, data, pin_a).translation
+            - pin.updateFramePlacement(model, data, pin_b).translation
+        )
+        residual[i] = np.linalg.norm(gap)
+    return position, velocity, axis, residual
+
+
 def prescribed_motion(
     feeder: Feeder, elevation: float, spec: CycleSpec
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -160,27 +195,7 @@ def feeding_cycle(
     v = np.column_stack([loop.dphi1, loop.dr2, dx[:, 0], dx[:, 1]])
     a = np.column_stack([loop.ddphi1, loop.ddr2, ddx[:, 0], ddx[:, 1]])
 
-    model, data = feeder.model, feeder.chain.data
-    payload_id = feeder.frame_id("projectile")
-    pin_a, pin_b = (feeder.frame_id(name) for name in CLOSURE)
-    position = np.empty((t.size, 3))
-    velocity = np.empty((t.size, 3))
-    axis = np.empty((t.size, 3))
-    residual = np.empty(t.size)
-    q_pin, v_pin = feeder.to_pinocchio(q), feeder.to_pinocchio(v)
-    for i in range(t.size):
-        pin.forwardKinematics(model, data, q_pin[i], v_pin[i])
-        placement = pin.updateFramePlacement(model, data, payload_id)
-        position[i] = placement.translation
-        axis[i] = placement.rotation[:, 1]
-        velocity[i] = pin.getFrameVelocity(
-            model, data, payload_id, pin.LOCAL_WORLD_ALIGNED
-        ).linear
-        gap = pin.updateFramePlacement(model, data, pin_a).translation - pin.updateFramePlacement(
-            model, data, pin_b
-        ).translation
-        residual[i] = np.linalg.norm(gap)
-
+    position, velocity, axis, residual = payload_kinematics(feeder, q, v)
     ends = spec.boundaries
     stage = np.where(t < ends[1], 1, np.where(t < ends[2], 2, 3))
     return CycleKinematics(

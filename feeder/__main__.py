@@ -1,0 +1,101 @@
+"""Command line: ``feeder <command> ...`` (also ``python -m feeder``).
+
+Commands:
+    urdf        regenerate the shipped URDF files from the parameter sets
+    kinematics  sample the feeding cycle's kinematics, write cycle.csv and Figs. 4 and 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from .exceptions import FeederError, check_finite
+from .parameters import DEVICES
+
+
+def _elevation(args: argparse.Namespace) -> float:
+    return math.radians(float(check_finite("elevation [deg]", args.elevation)))
+
+
+def cmd_urdf(args: argparse.Namespace) -> int:
+    """Write the built-in devices' URDF files."""
+    from .urdf import write_urdfs
+
+    for path in write_urdfs(args.out):
+        print(f"wrote {path}")
+    return 0
+
+
+def cmd_kinematics(args: argparse.Namespace) -> int:
+    """Kinematics of one cycle: cycle.csv, Fig. 4 (workspace), Fig. 10 (position), summary."""
+    import numpy as np
+
+    from .cycle import CycleSpec, feeding_cycle
+    from .device import load_feeder
+    from .kinematics import arm_travel, required_stroke
+    from .plots import plot_position, plot_workspace
+    from .results import write_csv
+    from .workspace import workspace
+
+    feeder = load_feeder(args.device)
+    elevation = _elevation(args)
+    cycle = feeding_cycle(feeder, elevation, CycleSpec(rate=args.rate))
+    out = Path(args.out)
+    write_csv(out / "cycle.csv", cycle.columns())
+    low, high = feeder.params.elevation_limits
+    space = workspace(feeder, np.radians(np.arange(math.degrees(low), math.degrees(high) + 1, 10)))
+    plot_workspace(out / "fig04_workspace.png", space, feeder.params.name)
+    plot_position(out / "fig10_projectile_position.png", cycle)
+    speed = np.linalg.norm(cycle.projectile_velocity, axis=1)
+    k = int(np.argmax(speed))
+    print(f"{feeder.params.name} feeder, elevation {args.elevation:g}°")
+    print(f"  piston stroke needed over the range: {required_stroke(feeder.params) * 1e3:.1f} mm")
+    print(f"  piston travel this cycle: {(cycle.q[-1, 1] - cycle.q[0, 1]) * 1e3:.1f} mm")
+    print(f"  arm travel: {math.degrees(arm_travel(elevation)):.1f}°")
+    print(f"  peak payload speed: {speed[k]:.3f} m/s at t = {cycle.t[k]:.3f} s")
+    print(f"  transmission angle: {np.degrees(cycle.transmission_angle.min()):.1f}° … "
+          f"{np.degrees(cycle.transmission_angle.max()):.1f}°")
+    print(f"  max closure residual: {cycle.closure_residual.max():.2e} m")
+    print(f"wrote {out / 'cycle.csv'} and figures in {out}")
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="feeder", description="Analysis of the 152 mm SPH M77 ammunition feeding device."
+    )
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    urdf = commands.add_parser("urdf", help="regenerate the URDF files from the parameters")
+    urdf.add_argument("--out", default="urdf", help="folder to write into (default: urdf)")
+    urdf.set_defaults(run=cmd_urdf)
+
+    def cycle_options(sub: argparse.ArgumentParser) -> None:
+        sub.add_argument("--elevation", type=float, required=True,
+                         help="barrel elevation ε [deg], −4 … 70")
+        sub.add_argument("--out", required=True, help="output folder")
+        sub.add_argument("--device", choices=sorted(DEVICES), default="projectile")
+        sub.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz]")
+
+    kinematics = commands.add_parser("kinematics", help="kinematics of the feeding cycle")
+    cycle_options(kinematics)
+    kinematics.set_defaults(run=cmd_kinematics)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (2 for bad input)."""
+    args = _parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except FeederError as exc:
+        print(f"feeder: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

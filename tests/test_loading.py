@@ -1,0 +1,91 @@
+"""Strict URDF loading: every bad input gets a clear feeder exception."""
+
+from __future__ import annotations
+
+import pytest
+import yourdfpy
+
+from feeder import (
+    ClosureFrameError,
+    InertiaError,
+    UrdfError,
+    load_closed_chain,
+    urdf_string,
+)
+from feeder.parameters import PROJECTILE_FEEDER
+
+from .conftest import REPO
+
+
+@pytest.fixture
+def urdf_text():
+    return urdf_string(PROJECTILE_FEEDER)
+
+
+def write(tmp_path, text, name="robot.urdf"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(UrdfError, match="not found"):
+        load_closed_chain(tmp_path / "nope.urdf", [("piston_pin", "arm_pin")])
+
+
+def test_malformed_xml_is_refused_although_yourdfpy_recovers(tmp_path, urdf_text):
+    broken = urdf_text.replace("</robot>", "").replace('<link name="arm">', '<link name="arm">\n<')
+    path = write(tmp_path, broken)
+    # yourdfpy silently recovers a partial model: this is why feeder parses strictly itself.
+    yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    with pytest.raises(UrdfError, match="malformed XML"):
+        load_closed_chain(path, [("piston_pin", "arm_pin")])
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ('<parent link="arm" />\n    <child link="forearm" />',
+         '<parent link="arm" />\n    <child link="forarm" />', "unknown link"),
+        ('type="revolute"', 'type="hinge"', "unknown type"),
+        ('<child link="arm" />', '<child link="cylinder" />', "two parent joints"),
+    ],
+)
+def test_broken_trees(tmp_path, urdf_text, old, new, message):
+    assert old in urdf_text
+    with pytest.raises(UrdfError, match=message):
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new, 1)), [])
+
+
+@pytest.mark.parametrize(
+    "old, new, link, message",
+    [
+        ('<mass value="18.663" />', '<mass value="-18.663" />', "arm", "positive"),
+        ('<mass value="18.663" />', '<mass value="nan" />', "arm", "finite"),
+        ('<mass value="18.663" />', '<mass value="heavy" />', "arm", "unparsable"),
+        ('iyy="0.005036"', 'iyy="0.05036"', "arm", "triangle"),
+        ('iyy="0.01054"', 'iyy="-0.01054"', "piston", "positive definite"),
+    ],
+)
+def test_non_physical_inertia_names_the_link(tmp_path, urdf_text, old, new, link, message):
+    assert old in urdf_text
+    with pytest.raises(InertiaError, match=message) as info:
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new)), [])
+    assert info.value.link == link
+
+
+def test_wrong_root_element(tmp_path):
+    with pytest.raises(UrdfError, match="root element"):
+        load_closed_chain(write(tmp_path, "<sdf><model/></sdf>"), [])
+
+
+def test_urdf_without_closure_frames(tmp_path):
+    path = REPO / "urdf" / "projectile_feeder.urdf"
+    with pytest.raises(ClosureFrameError, match="rod_eye"):
+        load_closed_chain(path, [("rod_eye", "arm_pin")])
+
+
+def test_shipped_file_loads(feeder):
+    chain = load_closed_chain(REPO / "urdf" / "projectile_feeder.urdf", [("piston_pin", "arm_pin")])
+    assert chain.model.nq == feeder.model.nq == 4
+    assert chain.nc == 3
