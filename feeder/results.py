@@ -10,7 +10,7 @@ from .exceptions import InputError
 
 
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
-    """Write equal-length columns as CSV with a header row (SI units, 12 significant digits).
+    """Write equal-length columns as CSV with a header row (SI units, 17 significant digits: exact round trip).
 
     Args:
         path: File to write (its folder is created).
@@ -26,7 +26,7 @@ def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
     table = np.column_stack([np.asarray(values, dtype=float) for values in columns.values()])
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        np.savetxt(path, table, delimiter=",", header=",".join(columns), comments="", fmt="%.12g")
+        np.savetxt(path, table, delimiter=",", header=",".join(columns), comments="", fmt="%.17g")
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc}") from exc
     return path
