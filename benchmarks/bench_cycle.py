@@ -1,0 +1,102 @@
+"""Time one loading cycle's dynamics: inverse dynamics with every joint reaction, forward run.
+
+Each figure is also given as a multiple of one bare ``constraintDynamics`` call on the same
+model, measured in the same run (so the ratios survive a noisy machine):
+
+* inverse: :func:`feeder.dynamics.inverse_dynamics` + :func:`feeder.reactions.joint_reactions`
+  over all samples, per sample (target ≤ 3 calls' worth);
+* forward: :func:`feeder.simulation.simulate` driven by the cycle's piston force and forearm
+  moment at the sample rate, per step (target ≤ 6 calls' worth; ABM5 PECE makes two calls per
+  step, the RK4 starters four).
+
+Run: ``python benchmarks/bench_cycle.py [elevation_deg]`` (default −4°).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import pinocchio as pin
+
+from feeder import feeding_cycle, load_feeder
+from feeder.dynamics import FeederDynamics, inverse_dynamics
+from feeder.reactions import joint_reactions
+from feeder.simulation import ForceRule, simulate
+
+REPEATS = 7
+
+
+def best_time(function, repeats: int = REPEATS) -> float:
+    """Smallest wall time [s] of ``repeats`` calls."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else argv
+    elevation = math.radians(float(argv[0])) if argv else math.radians(-4.0)
+    feeder = load_feeder("projectile")
+    kin = feeding_cycle(feeder, elevation)
+    dyn = FeederDynamics(feeder)
+    n = kin.t.size
+    motion = (kin.q, kin.v, kin.a, kin.payload)
+
+    loads = inverse_dynamics(dyn, *motion)
+    case = dyn.cases[1]
+    q, v, tau = (dyn.to_pinocchio(x) for x in (kin.q, kin.v, loads.generalized_forces()))
+
+    def bare_calls() -> None:
+        for k in range(n):
+            pin.constraintDynamics(
+                case.model, case.data, q[k], v[k], tau[k],
+                case.constraint_models, case.constraint_datas, case.prox,
+            )
+
+    def inverse() -> None:
+        joint_reactions(dyn, *motion, inverse_dynamics(dyn, *motion))
+
+    rule = ForceRule(kin.t, kin.stage, kin.payload, loads.piston_force, loads.forearm_torque)
+
+    def forward():
+        return simulate(dyn, rule, kin.q[0], kin.v[0])
+
+    call = best_time(bare_calls) / n
+    t_loads = best_time(lambda: inverse_dynamics(dyn, *motion)) / n
+    t_reactions = best_time(lambda: joint_reactions(dyn, *motion, loads)) / n
+    t_inverse = best_time(inverse) / n
+    t_forward = best_time(forward) / (n - 1)
+    result = forward()
+    tracking = abs(result.q - kin.q).max(axis=0)
+
+    print(f"cycle at ε = {math.degrees(elevation):g}°: {n} samples at {kin.spec.rate:g} Hz")
+    print(f"bare constraintDynamics call      {call * 1e6:8.2f} µs")
+    print(
+        f"inverse dynamics + all reactions  {t_inverse * 1e6:8.2f} µs/sample "
+        f"({1 / t_inverse:9.0f} samples/s) = {t_inverse / call:5.2f} calls (target ≤ 3)"
+    )
+    print(
+        f"  of which actuator loads + pin   {t_loads * 1e6:8.2f} µs/sample "
+        f"= {t_loads / call:5.2f} calls"
+    )
+    print(
+        f"  of which joint reactions, grip  {t_reactions * 1e6:8.2f} µs/sample "
+        f"= {t_reactions / call:5.2f} calls"
+    )
+    print(
+        f"forward simulation (force rule)   {t_forward * 1e6:8.2f} µs/step   "
+        f"({1 / t_forward:9.0f} steps/s)   = {t_forward / call:5.2f} calls (target ≤ 6)"
+    )
+    print(
+        f"forward accuracy: |Δφ3| ≤ {tracking[2]:.2e} rad, |Δφ4| ≤ {tracking[3]:.2e} rad, "
+        f"pin gap ≤ {result.closure_residual.max():.2e} m"
+    )
+
+
+if __name__ == "__main__":
+    main()

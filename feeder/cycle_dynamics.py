@@ -1,0 +1,208 @@
+"""The loading cycle's dynamics in one call: loads, every joint reaction, drives, force-rule run.
+
+:func:`cycle_dynamics` samples the cycle (:func:`~feeder.cycle.feeding_cycle`), solves the
+closed chain's inverse dynamics (:mod:`feeder.dynamics`), the joint reactions
+(:mod:`feeder.reactions`) and the drives (:mod:`feeder.hydraulics`), and integrates the forward
+dynamics driven by the computed piston force and forearm moment (:mod:`feeder.simulation`).
+:meth:`CycleDynamics.columns` gives the ``cycle.csv`` contract columns (REFERENCE.md) except
+the ``lagrange_*`` ones; vectors are in the world frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm import tqdm
+
+from .cycle import CycleKinematics, CycleSpec, feeding_cycle
+from .device import Feeder
+from .dynamics import ActuatorLoads, FeederDynamics, inverse_dynamics
+from .hydraulics import CylinderPressures, cylinder_pressures, rack_force
+from .reactions import JointReactions, joint_reactions
+from .simulation import ForceRule, ForwardMotion, simulate
+
+
+@dataclass(frozen=True)
+class Peak:
+    """Largest magnitude of one quantity over the cycle.
+
+    Attributes:
+        name: Column name.
+        value: Value at the peak (signed for signed quantities) [unit].
+        unit: SI unit.
+        time: Time of the peak [s].
+    """
+
+    name: str
+    value: float
+    unit: str
+    time: float
+
+
+@dataclass(frozen=True)
+class CycleDynamics:
+    """Kinematics, loads, joint reactions, drives and forward run of one loading cycle.
+
+    Attributes:
+        kinematics: The prescribed motion.
+        loads: Piston force, forearm moment and pin force (inverse dynamics).
+        reactions: Reaction wrenches of every joint and the grip.
+        pressures: Lift-cylinder chamber pressures.
+        rack_force: Forearm rack force [N], shape (N,).
+        forward: Motion integrated from the piston force and forearm moment.
+    """
+
+    kinematics: CycleKinematics
+    loads: ActuatorLoads
+    reactions: JointReactions
+    pressures: CylinderPressures
+    rack_force: np.ndarray
+    forward: ForwardMotion
+
+    def _vectors(self) -> dict[str, tuple[np.ndarray, str]]:
+        """World-frame vector quantities by column name, with their units."""
+        joints = self.reactions.joints
+        return {
+            "cylinder_frame_force": (joints["cylinder_frame"].force, "N"),
+            "cylinder_frame_moment": (joints["cylinder_frame"].constraint_moment, "N·m"),
+            "piston_cylinder_force": (joints["piston_cylinder"].constraint_force, "N"),
+            "piston_cylinder_moment": (joints["piston_cylinder"].moment, "N·m"),
+            "piston_arm_force": (self.reactions.closure_force, "N"),
+            "arm_frame_force": (joints["arm_frame"].force, "N"),
+            "arm_frame_moment": (joints["arm_frame"].constraint_moment, "N·m"),
+            "forearm_joint_force": (joints["forearm_arm"].force, "N"),
+            "forearm_joint_moment": (joints["forearm_arm"].constraint_moment, "N·m"),
+            "grip_force": (self.reactions.grip_force, "N"),
+            "grip_moment": (self.reactions.grip_moment, "N·m"),
+        }
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every contract column but ``lagrange_*``, plus the extra reactions and drives.
+
+        Magnitude columns are followed by their ``_x``, ``_y``, ``_z`` world components:
+
+        * ``cylinder_frame_force``, ``arm_frame_force``, ``forearm_joint_force``: the force the
+          frame (or the arm) exerts on the cylinder (arm, forearm) through the joint [N];
+        * ``cylinder_frame_moment``, ``arm_frame_moment``, ``forearm_joint_moment``: the
+          constraint moment about the joint origin, the joint's own axis excluded [N·m];
+        * ``piston_cylinder_force``: the guides' side force on the piston (axial part, the
+          piston force, excluded) [N]; ``piston_cylinder_moment``: their moment on the piston
+          about its centre of gravity S [N·m];
+        * ``piston_arm_force``: the force the piston exerts on the arm at the pin [N];
+        * ``grip_force``, ``grip_moment``: the wrench the forearm exerts on the payload, about
+          its centre of gravity (zero before the grip) [N], [N·m].
+
+        Drives: ``cylinder_cap_pressure``, ``cylinder_rod_pressure`` [Pa], ``rack_force`` [N].
+        """
+        cols = dict(self.kinematics.columns())
+        cols["piston_force"] = self.loads.piston_force
+        cols["forearm_torque"] = self.loads.forearm_torque
+        for name, (vector, _) in self._vectors().items():
+            cols[name] = np.linalg.norm(vector, axis=1)
+            for k, axis in enumerate("xyz"):
+                cols[f"{name}_{axis}"] = vector[:, k]
+        cols["cylinder_cap_pressure"] = self.pressures.cap
+        cols["cylinder_rod_pressure"] = self.pressures.rod
+        cols["rack_force"] = self.rack_force
+        cols["forward_q_phi3"] = self.forward.q[:, 2]
+        cols["forward_q_phi4"] = self.forward.q[:, 3]
+        cols["forward_closure_residual"] = self.forward.closure_residual
+        return cols
+
+    def tracking_error(self) -> tuple[float, float]:
+        """Largest |forward − prescribed| of φ3 and φ4 over the cycle [rad]."""
+        error = np.abs(self.forward.q - self.kinematics.q).max(axis=0)
+        return float(error[2]), float(error[3])
+
+    def closure_residual(self) -> float:
+        """Largest pin gap of the forward run [m]."""
+        return float(self.forward.closure_residual.max())
+
+    def peaks(self) -> list[Peak]:
+        """Peak of each actuator load, drive and joint reaction magnitude, with its time."""
+        t = self.kinematics.t
+        signed = {
+            "piston_force": (self.loads.piston_force, "N"),
+            "cylinder_cap_pressure": (self.pressures.cap, "Pa"),
+            "cylinder_rod_pressure": (self.pressures.rod, "Pa"),
+            "forearm_torque": (self.loads.forearm_torque, "N·m"),
+            "rack_force": (self.rack_force, "N"),
+        }
+        magnitudes = {
+            name: (np.linalg.norm(vector, axis=1), unit)
+            for name, (vector, unit) in self._vectors().items()
+        }
+        peaks = []
+        for name, (values, unit) in (signed | magnitudes).items():
+            k = int(np.argmax(np.abs(values)))
+            peaks.append(Peak(name, float(values[k]), unit, float(t[k])))
+        return peaks
+
+    def summary(self) -> str:
+        """Peaks and the forward run's accuracy as text, one quantity per line."""
+        lines = [
+            f"feeding cycle at elevation {np.degrees(self.kinematics.elevation):.2f}°, "
+            f"{self.kinematics.t.size} samples over {self.kinematics.t[-1]:.3f} s"
+        ]
+        peaks = self.peaks()
+        width = max(len(peak.name) for peak in peaks)
+        for peak in peaks:
+            value = f"{peak.value / 1e5:12.3f} bar" if peak.unit == "Pa" else (
+                f"{peak.value:12.3f} {peak.unit}"
+            )
+            lines.append(f"  peak {peak.name:<{width}} {value}  at t = {peak.time:.3f} s")
+        phi3, phi4 = self.tracking_error()
+        lines.append(
+            f"  forward run (force rule): |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad, "
+            f"pin gap ≤ {self.closure_residual():.2e} m"
+        )
+        return "\n".join(lines)
+
+
+def cycle_dynamics(
+    feeder: Feeder, elevation: float, spec: CycleSpec | None = None, progress: bool = False
+) -> CycleDynamics:
+    """Loads, joint reactions, drives and force-rule simulation of one loading cycle.
+
+    Args:
+        feeder: The device.
+        elevation: ε [rad].
+        spec: Stage durations and sample rate (default :class:`~feeder.cycle.CycleSpec`).
+        progress: Show a progress bar over the four phases.
+
+    Raises:
+        ElevationError, InputError: Bad elevation or timing.
+        SingularPoseError: A pose within 5° of the toggle.
+    """
+    steps = ("kinematics", "inverse dynamics", "joint reactions", "forward simulation")
+    with tqdm(total=len(steps), desc="cycle", disable=not progress) as bar:
+        bar.set_postfix_str(steps[0])
+        kinematics = feeding_cycle(feeder, elevation, spec)
+        dyn = FeederDynamics(feeder)
+        motion = (kinematics.q, kinematics.v, kinematics.a, kinematics.payload)
+        bar.update()
+        bar.set_postfix_str(steps[1])
+        loads = inverse_dynamics(dyn, *motion)
+        bar.update()
+        bar.set_postfix_str(steps[2])
+        reactions = joint_reactions(dyn, *motion, loads)
+        bar.update()
+        bar.set_postfix_str(steps[3])
+        rule = ForceRule(
+            t=kinematics.t,
+            stage=kinematics.stage,
+            payload=kinematics.payload,
+            piston_force=loads.piston_force,
+            forearm_torque=loads.forearm_torque,
+        )
+        forward = simulate(dyn, rule, kinematics.q[0], kinematics.v[0])
+        bar.update()
+    return CycleDynamics(
+        kinematics=kinematics,
+        loads=loads,
+        reactions=reactions,
+        pressures=cylinder_pressures(feeder.params, loads.piston_force),
+        rack_force=rack_force(feeder.params, loads.forearm_torque),
+        forward=forward,
+    )
