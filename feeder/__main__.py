@@ -1,8 +1,9 @@
 """Command line: ``feeder <command> ...`` (also ``python -m feeder``).
 
 Commands:
+    cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
+    kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
     urdf        regenerate the shipped URDF files from the parameter sets
-    kinematics  sample the feeding cycle's kinematics, write cycle.csv and Figs. 4 and 10
 """
 
 from __future__ import annotations
@@ -57,10 +58,27 @@ def cmd_kinematics(args: argparse.Namespace) -> int:
     print(f"  piston travel this cycle: {(cycle.q[-1, 1] - cycle.q[0, 1]) * 1e3:.1f} mm")
     print(f"  arm travel: {math.degrees(arm_travel(elevation)):.1f}°")
     print(f"  peak payload speed: {speed[k]:.3f} m/s at t = {cycle.t[k]:.3f} s")
-    print(f"  transmission angle: {np.degrees(cycle.transmission_angle.min()):.1f}° … "
-          f"{np.degrees(cycle.transmission_angle.max()):.1f}°")
+    print(
+        f"  transmission angle: {np.degrees(cycle.transmission_angle.min()):.1f}° … "
+        f"{np.degrees(cycle.transmission_angle.max()):.1f}°"
+    )
     print(f"  max closure residual: {cycle.closure_residual.max():.2e} m")
     print(f"wrote {out / 'cycle.csv'} and figures in {out}")
+    return 0
+
+
+def cmd_cycle(args: argparse.Namespace) -> int:
+    """The main study: dynamics of one cycle, cross-checked, with cycle.csv and the figures."""
+    from .cycle import CycleSpec
+    from .device import load_feeder
+    from .study import run_cycle_study, write_cycle_study
+
+    feeder = load_feeder(args.device)
+    study = run_cycle_study(feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True)
+    paths = write_cycle_study(study, feeder, args.out)
+    print(f"{feeder.params.name} feeder")
+    print(study.summary())
+    print(f"wrote {paths[0]} and {len(paths) - 1} figures in {Path(args.out)}")
     return 0
 
 
@@ -75,11 +93,16 @@ def _parser() -> argparse.ArgumentParser:
     urdf.set_defaults(run=cmd_urdf)
 
     def cycle_options(sub: argparse.ArgumentParser) -> None:
-        sub.add_argument("--elevation", type=float, required=True,
-                         help="barrel elevation ε [deg], −4 … 70")
+        sub.add_argument(
+            "--elevation", type=float, required=True, help="barrel elevation ε [deg], −4 … 70"
+        )
         sub.add_argument("--out", required=True, help="output folder")
         sub.add_argument("--device", choices=sorted(DEVICES), default="projectile")
         sub.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz]")
+
+    cycle = commands.add_parser("cycle", help="loads and reactions over a feeding cycle")
+    cycle_options(cycle)
+    cycle.set_defaults(run=cmd_cycle)
 
     kinematics = commands.add_parser("kinematics", help="kinematics of the feeding cycle")
     cycle_options(kinematics)

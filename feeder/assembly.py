@@ -90,7 +90,8 @@ class Partition:
         if np.any(outside):
             i = int(np.flatnonzero(outside)[0])
             joint = next(
-                model.names[j] for j in range(1, model.njoints)
+                model.names[j]
+                for j in range(1, model.njoints)
                 if model.joints[j].idx_q <= i < model.joints[j].idx_q + model.joints[j].nq
             )
             raise UnreachablePoseError(

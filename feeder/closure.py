@@ -49,8 +49,13 @@ class ClosedChain:
             self.frame_ids.append(ids)
             fa, fb = (model.frames[i] for i in ids)
             constraint = pin.RigidConstraintModel(
-                pin.ContactType.CONTACT_3D, model, fa.parentJoint, fa.placement,
-                fb.parentJoint, fb.placement, pin.ReferenceFrame.LOCAL,
+                pin.ContactType.CONTACT_3D,
+                model,
+                fa.parentJoint,
+                fa.placement,
+                fb.parentJoint,
+                fb.placement,
+                pin.ReferenceFrame.LOCAL,
             )
             constraint.name = f"{frame_a}-{frame_b}"
             self.constraint_models.append(constraint)
@@ -91,7 +96,10 @@ class ClosedChain:
         q = self.check_q(q)
         pin.framesForwardKinematics(self.model, self.data, q)
         return np.concatenate(
-            [self.data.oMf[a].translation - self.data.oMf[b].translation for a, b in self.frame_ids]
+            [
+                self.data.oMf[a].translation - self.data.oMf[b].translation
+                for a, b in self.frame_ids
+            ]
         )
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:

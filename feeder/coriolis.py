@@ -46,8 +46,10 @@ def kronecker_coriolis(dM_dq: np.ndarray, qd: np.ndarray) -> np.ndarray:
     qd, dM_dq = check_finite("qd", qd), check_finite("dM_dq", dM_dq)
     n = qd.shape[-1] if qd.ndim else 0
     if n == 0 or dM_dq.shape[-2:] != (n, n * n):
-        raise InputError(f"∂M/∂q must have shape (..., n, n²) for q̇ of shape (..., n); got "
-                         f"{dM_dq.shape} and {qd.shape}")
+        raise InputError(
+            f"∂M/∂q must have shape (..., n, n²) for q̇ of shape (..., n); got "
+            f"{dM_dq.shape} and {qd.shape}"
+        )
     # I ⊗ q̇ and q̇ ⊗ I per sample, (..., n², n): entries (j n + k, l) = δ_jl q̇_k, q̇_j δ_kl.
     eye_kron_qd = np.zeros((*qd.shape[:-1], n, n, n))
     qd_kron_eye = np.zeros((*qd.shape[:-1], n, n, n))
@@ -73,7 +75,9 @@ def christoffel_coriolis(dM_dq: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """
     qd = check_finite("qd", qd)
     n = qd.shape[-1]
-    d = np.asarray(dM_dq, dtype=float).reshape(*dM_dq.shape[:-2], n, n, n)  # d[..., i, j, k] = ∂M_ij/∂q_k
+    d = np.asarray(dM_dq, dtype=float).reshape(
+        *dM_dq.shape[:-2], n, n, n
+    )  # d[..., i, j, k] = ∂M_ij/∂q_k
     m_dot = np.einsum("...ijk,...k->...ij", d, qd)
     n_matrix = np.einsum("...ijl,...j->...il", d, qd)
     return 0.5 * (m_dot + n_matrix - np.swapaxes(n_matrix, -1, -2))

@@ -213,4 +213,3 @@ def feeding_cycle(
         transmission_angle=transmission_angle(p, x[:, 0]),
         closure_residual=residual,
     )
-

@@ -148,8 +148,10 @@ class CycleDynamics:
         peaks = self.peaks()
         width = max(len(peak.name) for peak in peaks)
         for peak in peaks:
-            value = f"{peak.value / 1e5:12.3f} bar" if peak.unit == "Pa" else (
-                f"{peak.value:12.3f} {peak.unit}"
+            value = (
+                f"{peak.value / 1e5:12.3f} bar"
+                if peak.unit == "Pa"
+                else (f"{peak.value:12.3f} {peak.unit}")
             )
             lines.append(f"  peak {peak.name:<{width}} {value}  at t = {peak.time:.3f} s")
         phi3, phi4 = self.tracking_error()

@@ -233,8 +233,10 @@ class FeederDynamics:
             skew = pin.skew(self.motion_subspaces[j][3:])
             if np.any(skew):
                 angle = qp[:, model.joints[j].idx_q][:, None, None]
-                local = local + np.sin(angle) * (local @ skew) + (1.0 - np.cos(angle)) * (
-                    local @ skew @ skew
+                local = (
+                    local
+                    + np.sin(angle) * (local @ skew)
+                    + (1.0 - np.cos(angle)) * (local @ skew @ skew)
                 )
             world[j] = world[model.parents[j]] @ local
         return np.stack([world[j] for j in self.joint_ids], axis=1)

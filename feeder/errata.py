@@ -86,11 +86,21 @@ def _samples(name: str, value: np.ndarray) -> np.ndarray:
 def _symbols(p: FeederParameters, q: np.ndarray) -> dict[str, np.ndarray | float]:
     q = _samples("q", q)
     return {
-        "m1": p.cylinder.mass, "m2": p.piston.mass, "m3": p.arm.mass, "m4": p.forearm.mass,
-        "I1": p.cylinder.moments[2], "I2": p.piston.moments[2], "I3": p.arm.moments[2],
+        "m1": p.cylinder.mass,
+        "m2": p.piston.mass,
+        "m3": p.arm.mass,
+        "m4": p.forearm.mass,
+        "I1": p.cylinder.moments[2],
+        "I2": p.piston.moments[2],
+        "I3": p.arm.moments[2],
         "I4": p.forearm.moments[1],
-        "q2": q[:, 1], "c1": np.cos(q[:, 0]), "s1": np.sin(q[:, 0]), "c3": np.cos(q[:, 2]),
-        "s3": np.sin(q[:, 2]), "c4": np.cos(q[:, 3]), "s4": np.sin(q[:, 3]),
+        "q2": q[:, 1],
+        "c1": np.cos(q[:, 0]),
+        "s1": np.sin(q[:, 0]),
+        "c3": np.cos(q[:, 2]),
+        "s3": np.sin(q[:, 2]),
+        "c4": np.cos(q[:, 3]),
+        "s4": np.sin(q[:, 3]),
         "P1": q[:, 1] + p.d2,
     }
 
@@ -123,11 +133,14 @@ def printed_eq46_terms(
     h = np.stack(
         [
             (s["I1"] + s["I2"] + m1 * p.l1**2 + m2 * q2**2) * qdd[:, 0]
-            + 2 * m2 * q2 * qd[:, 1] * qd[:, 0] + (m1 * G * p.l1 + m2 * G * q2) * c1,
+            + 2 * m2 * q2 * qd[:, 1] * qd[:, 0]
+            + (m1 * G * p.l1 + m2 * G * q2) * c1,
             m2 * qdd[:, 1] - 2 * m2 * q2 * qd[:, 0] * qd[:, 1] + m2 * G * s1,
             (s["I3"] + m3 * p.l3**2 + m4 * reach**2) * qdd[:, 2]
-            - 2 * m4 * reach * s4 * qd[:, 3] * qd[:, 2] - (m3 * G * p.l3 - m4 * G * reach) * c3,
-            (s["I4"] + m4 * p.e**2 * c4**2) * qdd[:, 3] + m4 * reach * s4 * qd[:, 2] ** 2
+            - 2 * m4 * reach * s4 * qd[:, 3] * qd[:, 2]
+            - (m3 * G * p.l3 - m4 * G * reach) * c3,
+            (s["I4"] + m4 * p.e**2 * c4**2) * qdd[:, 3]
+            + m4 * reach * s4 * qd[:, 2] ** 2
             - m4 * p.e**2 * c4 * s4 * qd[:, 3] ** 2,
         ],
         axis=-1,
@@ -202,9 +215,15 @@ def printed_equations(
     coriolis[:, 2, 2] = -2 * m4 * reach * s4 * qd[:, 3]
     coriolis[:, 3, 2] = m4 * reach * s4 * qd[:, 2]
     coriolis[:, 3, 3] = -m4 * p.e**2 * c4 * s4 * qd[:, 3]
-    potential = 0.5 * G * (  # (42)
-        s["m1"] * p.l1 * s1 + m2 * q2 * s1 + s["m3"] * (p.L2 - p.l3 * s3)
-        + m4 * (p.L2 - p.f - p.d + (p.a + p.b + p.e * c4) * s3)
+    potential = (
+        0.5
+        * G
+        * (  # (42)
+            s["m1"] * p.l1 * s1
+            + m2 * q2 * s1
+            + s["m3"] * (p.L2 - p.l3 * s3)
+            + m4 * (p.L2 - p.f - p.d + (p.a + p.b + p.e * c4) * s3)
+        )
     )
     gravity = 0.5 * np.stack(  # (43)
         [
@@ -223,9 +242,18 @@ def printed_equations(
     closure_jacobian[:, 1] = np.stack([s["P1"] * c1, s1, p.d3 * c3, np.zeros(n)], -1)
     lam, tau = solve_passive(*printed_eq46_terms(p, q, qd, qdd))  # (46)
     return PrintedEquations(
-        r4=r4, j_t=j_t, j_r=j_r, mass_matrix=mass, mass_matrix_derivative=d_mass,
-        coriolis=coriolis, potential=potential, gravity=gravity, closure=closure,
-        closure_jacobian=closure_jacobian, piston_force=tau[:, 1], forearm_torque=tau[:, 3],
+        r4=r4,
+        j_t=j_t,
+        j_r=j_r,
+        mass_matrix=mass,
+        mass_matrix_derivative=d_mass,
+        coriolis=coriolis,
+        potential=potential,
+        gravity=gravity,
+        closure=closure,
+        closure_jacobian=closure_jacobian,
+        piston_force=tau[:, 1],
+        forearm_torque=tau[:, 3],
         lambdas=lam,
     )
 
@@ -281,7 +309,9 @@ def errata_rows(feeder: Feeder, cycle: CycleKinematics) -> list[Erratum]:
     omega = np.einsum("nij,nj->ni", j_r4 - printed.j_r[:, 3], qd)
     moments = np.array([link.moments for link in list(p.links().values())[:4]])
     m39 = lagrange.mass_matrix_from_jacobians(
-        lagrange.body_masses(p)[:4], printed.j_t, printed.j_r,
+        lagrange.body_masses(p)[:4],
+        printed.j_t,
+        printed.j_r,
         np.stack([np.diag(m) for m in moments]),
     )
     c_q = np.einsum("nij,nj->ni", coriolis, qd)

@@ -49,8 +49,7 @@ def piston_areas(params: FeederParameters) -> tuple[float, float]:
     bore, rod = params.bore_diameter, params.rod_diameter
     if not 0.0 < rod < bore:
         raise InputError(
-            f"cylinder needs 0 < rod diameter < bore diameter, got rod {rod!r} m, "
-            f"bore {bore!r} m"
+            f"cylinder needs 0 < rod diameter < bore diameter, got rod {rod!r} m, bore {bore!r} m"
         )
     cap = math.pi * bore**2 / 4.0
     return cap, cap - math.pi * rod**2 / 4.0

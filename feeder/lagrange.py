@@ -193,13 +193,15 @@ def body_rotations(p: FeederParameters, q: np.ndarray) -> np.ndarray:
 
     def rot_z(angle):
         c, s, o, i = np.cos(angle), np.sin(angle), np.zeros_like(angle), np.ones_like(angle)
-        return np.stack([np.stack([c, -s, o], -1), np.stack([s, c, o], -1),
-                         np.stack([o, o, i], -1)], -2)
+        return np.stack(
+            [np.stack([c, -s, o], -1), np.stack([s, c, o], -1), np.stack([o, o, i], -1)], -2
+        )
 
     c4, s4 = np.cos(q[..., 3]), np.sin(q[..., 3])
     o, i = np.zeros_like(c4), np.ones_like(c4)
-    rot_y = np.stack([np.stack([c4, o, s4], -1), np.stack([o, i, o], -1),
-                      np.stack([-s4, o, c4], -1)], -2)
+    rot_y = np.stack(
+        [np.stack([c4, o, s4], -1), np.stack([o, i, o], -1), np.stack([-s4, o, c4], -1)], -2
+    )
     r1, r3 = rot_z(q[..., 0]), rot_z(q[..., 2])
     r4 = r3 @ rot_y
     return np.stack([r1, r1, r3, r4, r4], axis=-3)
@@ -249,12 +251,20 @@ def mass_matrix(
     c4, s4 = np.cos(q[..., 3:4]), np.sin(q[..., 3:4])
     _, w, rx, ry = _held_geometry(p, q)
     m = np.zeros((*q.shape[:-1], 4, 4))
-    m[..., 0, 0] = (p.cylinder.moments[2] + p.piston.moments[2] + p.cylinder.mass * p.l1**2
-                    + p.piston.mass * q[..., 1] ** 2)
+    m[..., 0, 0] = (
+        p.cylinder.moments[2]
+        + p.piston.moments[2]
+        + p.cylinder.mass * p.l1**2
+        + p.piston.mass * q[..., 1] ** 2
+    )
     m[..., 1, 1] = p.piston.mass
-    m[..., 2, 2] = p.arm.moments[2] + p.arm.mass * p.l3**2 + np.sum(
-        masses * (rx**2 + ry**2) + weight * (moments[:, 0] * s4**2 + moments[:, 2] * c4**2),
-        axis=-1,
+    m[..., 2, 2] = (
+        p.arm.moments[2]
+        + p.arm.mass * p.l3**2
+        + np.sum(
+            masses * (rx**2 + ry**2) + weight * (moments[:, 0] * s4**2 + moments[:, 2] * c4**2),
+            axis=-1,
+        )
     )
     m[..., 3, 3] = np.sum(
         masses * (points[:, 0] ** 2 + points[:, 2] ** 2) + weight * moments[:, 1], axis=-1

@@ -1,7 +1,8 @@
 """Engineering figures of the feeding cycle, after the paper's Figs. 4 and 8–15.
 
-Every time history marks the stage boundaries and names its quantity and unit; figures are
-written as PNG with the non-interactive Agg backend.
+Every time history marks the stage boundaries and names its quantity and unit. Figures are
+built as :class:`matplotlib.figure.Figure` objects (no pyplot state, so any backend, notebooks
+included, is left alone) and written as PNG.
 """
 
 from __future__ import annotations
@@ -9,35 +10,40 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .cycle import CycleKinematics  # noqa: E402
-from .workspace import Workspace  # noqa: E402
+from .cycle import CycleKinematics
+from .workspace import Workspace
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
 
 
-def _finish(fig: plt.Figure, path: str | Path) -> Path:
+def _finish(fig: Figure, path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 
-def mark_stages(ax: plt.Axes, boundaries: Sequence[float]) -> None:
+def mark_stages(ax: Axes, boundaries: Sequence[float]) -> None:
     """Dashed lines at the stage boundaries [s] and the stage names along the top."""
     for t in boundaries[1:-1]:
         ax.axvline(t, color="0.4", linestyle="--", linewidth=0.8)
     for k in range(3):
         middle = 0.5 * (boundaries[k] + boundaries[k + 1])
-        ax.text(middle, 1.01, _STAGE_NAMES[k], transform=ax.get_xaxis_transform(),
-                ha="center", va="bottom", fontsize=7, color="0.3")
+        ax.text(
+            middle,
+            1.01,
+            _STAGE_NAMES[k],
+            transform=ax.get_xaxis_transform(),
+            ha="center",
+            va="bottom",
+            fontsize=7,
+            color="0.3",
+        )
     ax.set_xlim(boundaries[0], boundaries[-1])
 
 
@@ -59,7 +65,8 @@ def time_history(
         title: Figure title (name the paper's figure it mirrors).
         ylabel: Quantity and unit.
     """
-    fig, ax = plt.subplots(figsize=(8, 4.2))
+    fig = Figure(figsize=(8, 4.2))
+    ax = fig.subplots()
     for label, values in series:
         ax.plot(t, values, label=label, linewidth=1.3)
     mark_stages(ax, boundaries)
@@ -74,18 +81,30 @@ def time_history(
 
 def plot_workspace(path: str | Path, space: Workspace, device: str) -> Path:
     """Paper Fig. 4: the payload's path in the vertical plane and its ramming poses."""
-    fig, ax = plt.subplots(figsize=(6.5, 6.0))
-    ax.plot(space.position[:, 0], space.position[:, 1], color="C0", linewidth=1.5,
-            label="payload CG path (−4°: largest travel)")
+    fig = Figure(figsize=(6.5, 6.0))
+    ax = fig.subplots()
+    ax.plot(
+        space.position[:, 0],
+        space.position[:, 1],
+        color="C0",
+        linewidth=1.5,
+        label="payload CG path (−4°: largest travel)",
+    )
     half = 0.35
-    for eps, centre, axis in zip(space.elevations, space.ram_position, space.ram_axis,
-                                 strict=True):
+    for eps, centre, axis in zip(
+        space.elevations, space.ram_position, space.ram_axis, strict=True
+    ):
         ends = np.array([centre - half * axis, centre + half * axis])
         ax.plot(ends[:, 0], ends[:, 1], color="C1", linewidth=1.0)
         ax.annotate(f"{np.degrees(eps):.0f}°", ends[1, :2], fontsize=8, color="C1")
     start = space.position[0]
-    ax.plot([start[0], start[0]], [start[1] - half, start[1] + half], color="C2",
-            linewidth=1.0, label="payload axis at loading")
+    ax.plot(
+        [start[0], start[0]],
+        [start[1] - half, start[1] + half],
+        color="C2",
+        linewidth=1.0,
+        label="payload axis at loading",
+    )
     ax.plot([], [], color="C1", label="payload axis at ramming (ε)")
     ax.set_aspect("equal")
     ax.set_xlabel("x [m] (muzzle towards −x)")
@@ -99,6 +118,119 @@ def plot_workspace(path: str | Path, space: Workspace, device: str) -> Path:
 def plot_position(path: str | Path, cycle: CycleKinematics) -> Path:
     """Paper Fig. 10: payload CG coordinates x, y, z against time."""
     series = [(f"{axis}", cycle.projectile_position[:, k]) for k, axis in enumerate("xyz")]
-    return time_history(path, cycle.t, cycle.spec.boundaries, series,
-                        f"Payload CG position, ε = {np.degrees(cycle.elevation):.1f}° "
-                        "(cf. paper Fig. 10)", "position [m]")
+    return time_history(
+        path,
+        cycle.t,
+        cycle.spec.boundaries,
+        series,
+        f"Payload CG position, ε = {np.degrees(cycle.elevation):.1f}° (cf. paper Fig. 10)",
+        "position [m]",
+    )
+
+
+CYCLE_FIGURES: tuple[tuple[str, str, str, tuple[tuple[str, str], ...]], ...] = (
+    (
+        "fig08_projectile_speed.png",
+        "Payload CG speed (cf. paper Fig. 8)",
+        "speed [m/s]",
+        (("|v_G|", "projectile_speed"),),
+    ),
+    (
+        "fig11_forearm_joint_force.png",
+        "Reaction force in the forearm–arm joint (cf. Fig. 11)",
+        "force [N]",
+        (
+            ("magnitude", "forearm_joint_force"),
+            ("x", "forearm_joint_force_x"),
+            ("y", "forearm_joint_force_y"),
+            ("z", "forearm_joint_force_z"),
+        ),
+    ),
+    (
+        "fig12_cylinder_frame_force.png",
+        "Reaction force in the cylinder–frame joint (cf. Fig. 12)",
+        "force [N]",
+        (
+            ("magnitude", "cylinder_frame_force"),
+            ("x", "cylinder_frame_force_x"),
+            ("y", "cylinder_frame_force_y"),
+            ("z", "cylinder_frame_force_z"),
+        ),
+    ),
+    (
+        "fig13_piston_arm_force.png",
+        "Pin force between piston and arm (cf. Fig. 13)",
+        "force [N]",
+        (
+            ("magnitude", "piston_arm_force"),
+            ("x", "piston_arm_force_x"),
+            ("y", "piston_arm_force_y"),
+            ("z", "piston_arm_force_z"),
+        ),
+    ),
+    (
+        "fig14_piston_force.png",
+        "Actuator force along the piston axis (cf. Fig. 14)",
+        "force [N]",
+        (("piston force", "piston_force"),),
+    ),
+    (
+        "fig15_forearm_torque.png",
+        "Actuator moment about the forearm axis (cf. Fig. 15)",
+        "moment [N·m]",
+        (("forearm moment", "forearm_torque"),),
+    ),
+    (
+        "arm_frame_force.png",
+        "Reaction force in the arm–frame joint",
+        "force [N]",
+        (
+            ("magnitude", "arm_frame_force"),
+            ("x", "arm_frame_force_x"),
+            ("y", "arm_frame_force_y"),
+            ("z", "arm_frame_force_z"),
+        ),
+    ),
+    (
+        "cylinder_pressure.png",
+        "Lift-cylinder chamber pressure (ideal, push on the cap side)",
+        "pressure [Pa]",
+        (("cap side", "cylinder_cap_pressure"), ("rod side", "cylinder_rod_pressure")),
+    ),
+    ("rack_force.png", "Forearm rack force", "force [N]", (("rack force", "rack_force"),)),
+    (
+        "lagrange_cross_check.png",
+        "Actuator loads: Pinocchio − hand-derived Lagrange equations",
+        "difference [N] / [N·m]",
+        (
+            ("piston force", "piston_force_difference"),
+            ("forearm moment", "forearm_torque_difference"),
+        ),
+    ),
+)
+"""Figures of a full cycle: file name, title, y label and (legend, column) curves."""
+
+
+def plot_cycle_figures(
+    directory: str | Path,
+    columns: dict[str, np.ndarray],
+    boundaries: Sequence[float],
+    elevation_deg: float,
+) -> list[Path]:
+    """Draw :data:`CYCLE_FIGURES` from a full cycle table's columns into ``directory``."""
+    columns = columns | {
+        "piston_force_difference": columns["piston_force"] - columns["lagrange_piston_force"],
+        "forearm_torque_difference": columns["forearm_torque"]
+        - columns["lagrange_forearm_torque"],
+    }
+    return [
+        time_history(
+            Path(directory) / name,
+            columns["t"],
+            boundaries,
+            [(label, columns[column]) for label, column in curves],
+            f"{title}, ε = {elevation_deg:g}°",
+            ylabel,
+        )
+        for name, title, ylabel, curves in CYCLE_FIGURES
+    ]

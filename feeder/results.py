@@ -10,7 +10,9 @@ from .exceptions import InputError
 
 
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
-    """Write equal-length columns as CSV with a header row (SI units, 17 significant digits: exact round trip).
+    """Write equal-length columns as CSV with a header row.
+
+    SI units; 17 significant digits, so that reading the file back gives the same floats.
 
     Args:
         path: File to write (its folder is created).

@@ -5,8 +5,8 @@ The URDF is the device's open kinematic tree (REFERENCE.md names):
     frame ─ cylinder_joint (revolute z, φ1) ─ cylinder ─ piston_joint (prismatic x, r2) ─ piston
           │                                                                └ piston_pin (fixed)
           └ arm_joint (revolute z, φ3) ─ arm ─ forearm_joint (revolute y, φ4) ─ forearm
-                                          └ arm_pin (fixed)                    └ projectile_joint
-                                                                                 (fixed) ─ projectile
+                                          └ arm_pin (fixed)                 └ projectile_joint
+                                                                              (fixed) ─ projectile
 
 The loop is cut at the rod-eye pin: the frames ``piston_pin`` and ``arm_pin`` coincide when the
 loop is assembled; the closure itself is added in code (:mod:`feeder.closure`). Visual geometry
@@ -45,8 +45,9 @@ def _origin(parent: ET.Element, xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> Non
     ET.SubElement(parent, "origin", xyz=_fmt(xyz), rpy=_fmt(rpy))
 
 
-def _visual(link: ET.Element, shape: str, size: dict[str, str], xyz, rpy=(0.0, 0.0, 0.0),
-            color: str = "") -> None:
+def _visual(
+    link: ET.Element, shape: str, size: dict[str, str], xyz, rpy=(0.0, 0.0, 0.0), color: str = ""
+) -> None:
     visual = ET.SubElement(link, "visual")
     _origin(visual, xyz, rpy)
     ET.SubElement(ET.SubElement(visual, "geometry"), shape, size)
@@ -60,8 +61,14 @@ def _box(link, size, xyz, color=""):
 
 
 def _cylinder(link, radius, length, xyz, rpy, color=""):
-    _visual(link, "cylinder", {"radius": repr(float(radius)), "length": repr(float(length))},
-            xyz, rpy, color)
+    _visual(
+        link,
+        "cylinder",
+        {"radius": repr(float(radius)), "length": repr(float(length))},
+        xyz,
+        rpy,
+        color,
+    )
 
 
 def _inertial(link: ET.Element, inertia: LinkInertia, com: tuple[float, float, float]) -> None:
@@ -69,8 +76,16 @@ def _inertial(link: ET.Element, inertia: LinkInertia, com: tuple[float, float, f
     _origin(inertial, com)
     ET.SubElement(inertial, "mass", value=repr(float(inertia.mass)))
     ixx, iyy, izz = inertia.moments
-    ET.SubElement(inertial, "inertia", ixx=repr(float(ixx)), ixy="0.0", ixz="0.0",
-                  iyy=repr(float(iyy)), iyz="0.0", izz=repr(float(izz)))
+    ET.SubElement(
+        inertial,
+        "inertia",
+        ixx=repr(float(ixx)),
+        ixy="0.0",
+        ixz="0.0",
+        iyy=repr(float(iyy)),
+        iyz="0.0",
+        izz=repr(float(izz)),
+    )
 
 
 def _joint(robot, name, kind, parent, child, xyz, axis=None, limits=None) -> None:
@@ -81,8 +96,14 @@ def _joint(robot, name, kind, parent, child, xyz, axis=None, limits=None) -> Non
     if axis is not None:
         ET.SubElement(joint, "axis", xyz=_fmt(axis))
     if limits is not None:
-        ET.SubElement(joint, "limit", lower=repr(float(limits[0])), upper=repr(float(limits[1])),
-                      effort=repr(_EFFORT), velocity=repr(_VELOCITY))
+        ET.SubElement(
+            joint,
+            "limit",
+            lower=repr(float(limits[0])),
+            upper=repr(float(limits[1])),
+            effort=repr(_EFFORT),
+            velocity=repr(_VELOCITY),
+        )
 
 
 def _payload_visuals(link: ET.Element, p: FeederParameters) -> None:
@@ -118,8 +139,16 @@ def urdf_string(p: FeederParameters) -> str:
     barrel = stroke_end + 0.03
     _cylinder(cylinder, p.bore_diameter / 2.0 + 0.008, barrel, (barrel / 2.0, 0.0, 0.0), _ALONG_X)
     _cylinder(cylinder, 0.022, 0.05, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-    _joint(robot, "cylinder_joint", "revolute", "frame", "cylinder", (0.0, 0.0, 0.0), (0, 0, 1),
-           (p.phi1_min, p.phi1_max))
+    _joint(
+        robot,
+        "cylinder_joint",
+        "revolute",
+        "frame",
+        "cylinder",
+        (0.0, 0.0, 0.0),
+        (0, 0, 1),
+        (p.phi1_min, p.phi1_max),
+    )
 
     piston = ET.SubElement(robot, "link", name="piston")
     _inertial(piston, p.piston, (0.0, 0.0, 0.0))
@@ -127,8 +156,16 @@ def urdf_string(p: FeederParameters) -> str:
     _cylinder(piston, p.rod_diameter / 2.0, rod, (p.d2 - rod / 2.0, 0.0, 0.0), _ALONG_X)
     _cylinder(piston, p.bore_diameter / 2.0, 0.03, (-0.10, 0.0, 0.0), _ALONG_X)
     _cylinder(piston, 0.02, 0.04, (p.d2, 0.0, 0.0), (0.0, 0.0, 0.0))
-    _joint(robot, "piston_joint", "prismatic", "cylinder", "piston", (0.0, 0.0, 0.0), (1, 0, 0),
-           (p.r2_min, p.r2_max))
+    _joint(
+        robot,
+        "piston_joint",
+        "prismatic",
+        "cylinder",
+        "piston",
+        (0.0, 0.0, 0.0),
+        (1, 0, 0),
+        (p.r2_min, p.r2_max),
+    )
     ET.SubElement(robot, "link", name="piston_pin")
     _joint(robot, "piston_pin_joint", "fixed", "piston", "piston_pin", (p.d2, 0.0, 0.0))
 
@@ -136,8 +173,16 @@ def urdf_string(p: FeederParameters) -> str:
     _inertial(arm, p.arm, (p.l3, 0.0, 0.0))
     _box(arm, (p.a1 + 0.06, 0.06, 0.04), (p.a1 / 2.0, 0.0, 0.0))
     _cylinder(arm, 0.035, 0.06, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-    _joint(robot, "arm_joint", "revolute", "frame", "arm", (p.L1, p.L2, 0.0), (0, 0, 1),
-           (p.phi3_min, p.phi3_max))
+    _joint(
+        robot,
+        "arm_joint",
+        "revolute",
+        "frame",
+        "arm",
+        (p.L1, p.L2, 0.0),
+        (0, 0, 1),
+        (p.phi3_min, p.phi3_max),
+    )
     arm_pin = ET.SubElement(robot, "link", name="arm_pin")
     _cylinder(arm_pin, 0.012, 0.08, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), "pin")
     _joint(robot, "arm_pin_joint", "fixed", "arm", "arm_pin", (p.d3, 0.0, 0.0))
@@ -148,8 +193,16 @@ def urdf_string(p: FeederParameters) -> str:
     _box(forearm, (p.e5, 0.04, 0.03), (p.e5 / 2.0, -p.d, p.z5 / 2.0))
     tray_z = p.z5 - math.copysign(p.payload_diameter / 2.0 + 0.01, p.z5)
     _box(forearm, (0.12, 0.6 * p.payload_length, 0.012), (p.e5, p.h5, tray_z))
-    _joint(robot, "forearm_joint", "revolute", "arm", "forearm", (p.a1, -p.f, p.c), (0, 1, 0),
-           (-p.phi4_limit, p.phi4_limit))
+    _joint(
+        robot,
+        "forearm_joint",
+        "revolute",
+        "arm",
+        "forearm",
+        (p.a1, -p.f, p.c),
+        (0, 1, 0),
+        (-p.phi4_limit, p.phi4_limit),
+    )
 
     payload = ET.SubElement(robot, "link", name="projectile")
     _inertial(payload, p.payload, (0.0, 0.0, 0.0))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 
 from feeder.__main__ import main
@@ -28,8 +27,22 @@ def test_kinematics_command(tmp_path, capsys):
 
 
 def test_charge_device(tmp_path):
-    assert main(["kinematics", "--elevation", "-4", "--out", str(tmp_path), "--device", "charge",
-                 "--rate", "100"]) == 0
+    assert (
+        main(
+            [
+                "kinematics",
+                "--elevation",
+                "-4",
+                "--out",
+                str(tmp_path),
+                "--device",
+                "charge",
+                "--rate",
+                "100",
+            ]
+        )
+        == 0
+    )
     from feeder import CHARGE_FEEDER, PROJECTILE_FEEDER
 
     z = read_csv(tmp_path / "cycle.csv")["projectile_z"]
@@ -55,3 +68,31 @@ def test_urdf_command_regenerates_the_shipped_files(tmp_path):
     assert main(["urdf", "--out", str(tmp_path)]) == 0
     for name in ("projectile_feeder.urdf", "charge_feeder.urdf"):
         assert (tmp_path / name).read_text() == (REPO / "urdf" / name).read_text()
+
+
+CONTRACT_COLUMNS = (
+    "t stage payload q_phi1 q_r2 q_phi3 q_phi4 v_phi1 v_r2 v_phi3 v_phi4 a_phi1 a_r2 a_phi3 "
+    "a_phi4 projectile_x projectile_y projectile_z projectile_speed projectile_axis_x "
+    "projectile_axis_y projectile_axis_z transmission_angle_deg closure_residual piston_force "
+    "forearm_torque cylinder_frame_force piston_arm_force arm_frame_force forearm_joint_force "
+    "forearm_joint_moment lagrange_piston_force lagrange_forearm_torque lagrange_lambda1 "
+    "lagrange_lambda2 forward_q_phi3 forward_q_phi4 forward_closure_residual"
+).split()
+"""The cycle table's columns, typed from REFERENCE.md's contract."""
+
+
+def test_cycle_command_writes_every_contract_column(tmp_path, capsys):
+    assert main(["cycle", "--elevation", "30", "--out", str(tmp_path), "--rate", "250"]) == 0
+    table = read_csv(tmp_path / "cycle.csv")
+    for name in CONTRACT_COLUMNS:
+        assert name in table, name
+    figures = sorted(path.name for path in tmp_path.glob("*.png"))
+    for number in ("04", "08", "10", "11", "12", "13", "14", "15"):
+        assert any(name.startswith(f"fig{number}") for name in figures), number
+    out = capsys.readouterr().out
+    assert "peak piston_force" in out and "Lagrange equations vs Pinocchio" in out
+
+
+def test_cycle_command_bad_elevation(tmp_path, capsys):
+    assert main(["cycle", "--elevation", "-10", "--out", str(tmp_path)]) == 2
+    assert "outside" in capsys.readouterr().err

@@ -31,17 +31,22 @@ def test_jacobian_and_bias_match_finite_differences(which, feeder, fourbar, rng)
     chain = chains(feeder, fourbar)[which]
     model = chain.model
     for _ in range(5):
-        q = rng.uniform(np.maximum(model.lowerPositionLimit, -3), np.minimum(model.upperPositionLimit, 3))
+        q = rng.uniform(
+            np.maximum(model.lowerPositionLimit, -3), np.minimum(model.upperPositionLimit, 3)
+        )
         v = rng.normal(size=model.nv)
         jac = chain.jacobian(q)
-        numeric = np.column_stack([
-            (chain.residual(q + FD_STEP * e) - chain.residual(q - FD_STEP * e)) / (2 * FD_STEP)
-            for e in np.eye(model.nv)
-        ])
+        numeric = np.column_stack(
+            [
+                (chain.residual(q + FD_STEP * e) - chain.residual(q - FD_STEP * e)) / (2 * FD_STEP)
+                for e in np.eye(model.nv)
+            ]
+        )
         np.testing.assert_allclose(jac, numeric, atol=FD_TOLERANCE)
         # J̇ v = d/dt (J(q) v) along q(t) = q + t v.
-        jdot_v = (chain.jacobian(q + FD_STEP * v) - chain.jacobian(q - FD_STEP * v)) @ v / (
-            2 * FD_STEP)
+        jdot_v = (
+            (chain.jacobian(q + FD_STEP * v) - chain.jacobian(q - FD_STEP * v)) @ v / (2 * FD_STEP)
+        )
         np.testing.assert_allclose(chain.bias(q, v), jdot_v, atol=FD_TOLERANCE * (1 + v @ v))
 
 
@@ -50,11 +55,15 @@ def test_pinocchio_constraint_is_the_same_closure(which, feeder, fourbar, rng):
     """Pinocchio's CONTACT_3D Jacobian (LOCAL frame of frame_a) is the world one, rotated."""
     chain = chains(feeder, fourbar)[which]
     model, data = chain.model, chain.data
-    q = rng.uniform(np.maximum(model.lowerPositionLimit, -3), np.minimum(model.upperPositionLimit, 3))
+    q = rng.uniform(
+        np.maximum(model.lowerPositionLimit, -3), np.minimum(model.upperPositionLimit, 3)
+    )
     pin.computeJointJacobians(model, data, q)
     for cmodel, cdata in zip(chain.constraint_models, chain.constraint_datas, strict=True):
         cmodel.calc(model, data, cdata)
-    local = pin.getConstraintsJacobian(model, data, chain.constraint_models, chain.constraint_datas)
+    local = pin.getConstraintsJacobian(
+        model, data, chain.constraint_models, chain.constraint_datas
+    )
     pin.framesForwardKinematics(model, data, q)
     rotation = data.oMf[chain.frame_ids[0][0]].rotation
     np.testing.assert_allclose(rotation @ local, chain.jacobian(q), atol=ROUND_OFF)
@@ -108,8 +117,16 @@ def test_fourbar_constraint_is_ready_for_constrained_dynamics(fourbar):
     v = partition.velocity(q, [1.5])
     settings = pin.ProximalSettings(1e-14, 1e-10, 20)
     pin.initConstraintDynamics(model, data, fourbar.constraint_models, fourbar.constraint_datas)
-    a = pin.constraintDynamics(model, data, q, v, np.zeros(model.nv), fourbar.constraint_models,
-                               fourbar.constraint_datas, settings)
+    a = pin.constraintDynamics(
+        model,
+        data,
+        q,
+        v,
+        np.zeros(model.nv),
+        fourbar.constraint_models,
+        fourbar.constraint_datas,
+        settings,
+    )
     residual = fourbar.jacobian(q) @ a + fourbar.bias(q, v)
     # The proximal solver stops at its accuracy 1e-14 relative; accelerations ~ 10² rad/s².
     assert np.linalg.norm(residual) <= 1e-9

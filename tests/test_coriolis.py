@@ -101,8 +101,9 @@ def test_christoffel_matrix_is_pinocchio_coriolis_matrix(robot):
     for q, v in zip(qs, vs, strict=True):
         d_mass = mass_matrix_derivative(model, data, q)
         expected = pin.computeCoriolisMatrix(model, data, q, v)
-        np.testing.assert_allclose(christoffel_coriolis(d_mass, v), expected, rtol=0,
-                                   atol=RTOL * np.max(np.abs(expected)))
+        np.testing.assert_allclose(
+            christoffel_coriolis(d_mass, v), expected, rtol=0, atol=RTOL * np.max(np.abs(expected))
+        )
 
 
 def test_paper_convention_relations(robot):

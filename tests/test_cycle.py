@@ -95,10 +95,15 @@ def test_payload_rises_to_its_highest_point_in_stage_3(cycle, feeder):
     assert cycle.stage[np.argmax(y)] == 3
     # "About" the highest point: at −4° the arm turns 5° past the peak angle (89°).
     assert y[-1] >= y.max() - radius * (1 - math.cos(math.radians(5.0))) - 1e-12
-    np.testing.assert_allclose(cycle.projectile_position[-1],
-                               [p.L1 + local[0] * math.cos(end_angle) - local[1] * math.sin(end_angle),
-                                p.L2 + local[0] * math.sin(end_angle) + local[1] * math.cos(end_angle),
-                                local[2]], atol=1e-12)
+    np.testing.assert_allclose(
+        cycle.projectile_position[-1],
+        [
+            p.L1 + local[0] * math.cos(end_angle) - local[1] * math.sin(end_angle),
+            p.L2 + local[0] * math.sin(end_angle) + local[1] * math.cos(end_angle),
+            local[2],
+        ],
+        atol=1e-12,
+    )
 
 
 def test_payload_speed_matches_position_differences(cycle):
@@ -123,11 +128,21 @@ def test_sample_rate_is_a_parameter(feeder):
 
 def test_columns_follow_the_contract(cycle):
     names = list(cycle.columns())
-    expected = ["t", "stage", "payload",
-                *[f"{k}_{c}" for k in "qva" for c in ("phi1", "r2", "phi3", "phi4")],
-                "projectile_x", "projectile_y", "projectile_z", "projectile_speed",
-                "projectile_axis_x", "projectile_axis_y", "projectile_axis_z",
-                "transmission_angle_deg", "closure_residual"]
+    expected = [
+        "t",
+        "stage",
+        "payload",
+        *[f"{k}_{c}" for k in "qva" for c in ("phi1", "r2", "phi3", "phi4")],
+        "projectile_x",
+        "projectile_y",
+        "projectile_z",
+        "projectile_speed",
+        "projectile_axis_x",
+        "projectile_axis_y",
+        "projectile_axis_z",
+        "transmission_angle_deg",
+        "closure_residual",
+    ]
     assert names == expected
 
 
@@ -143,8 +158,15 @@ def test_non_finite_elevation(feeder, bad):
         feeding_cycle(feeder, bad)
 
 
-@pytest.mark.parametrize("kwargs", [{"rate": 0.0}, {"rate": float("nan")},
-                                    {"durations": (1.0, -1.0, 2.0)}, {"durations": (1.0, 2.0)}])
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"rate": 0.0},
+        {"rate": float("nan")},
+        {"durations": (1.0, -1.0, 2.0)},
+        {"durations": (1.0, 2.0)},
+    ],
+)
 def test_bad_timing(kwargs):
     with pytest.raises(InputError):
         CycleSpec(**kwargs)

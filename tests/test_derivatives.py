@@ -51,27 +51,43 @@ class ConstrainedModel:
         closure = feeder.chain.constraint_models[0]
         names = [feeder.model.names[closure.joint1_id], feeder.model.names[closure.joint2_id]]
         self.cmodels = pin.StdVec_RigidConstraintModel()
-        self.cmodels.append(pin.RigidConstraintModel(
-            pin.ContactType.CONTACT_3D, model, model.getJointId(names[0]),
-            closure.joint1_placement, model.getJointId(names[1]), closure.joint2_placement,
-            pin.ReferenceFrame.LOCAL,
-        ))
+        self.cmodels.append(
+            pin.RigidConstraintModel(
+                pin.ContactType.CONTACT_3D,
+                model,
+                model.getJointId(names[0]),
+                closure.joint1_placement,
+                model.getJointId(names[1]),
+                closure.joint2_placement,
+                pin.ReferenceFrame.LOCAL,
+            )
+        )
         self.cdatas = pin.StdVec_RigidConstraintData()
         self.cdatas.append(self.cmodels[0].createData())
         pin.initConstraintDynamics(model, self.data, self.cmodels, self.cdatas)
         self.index = np.array([model.joints[model.getJointId(n)].idx_v for n in PAPER_JOINTS])
 
     def forward(self, q, v, tau):
-        a = pin.constraintDynamics(self.model, self.data, q, v, tau, self.cmodels, self.cdatas,
-                                   PROXIMAL)
+        a = pin.constraintDynamics(
+            self.model, self.data, q, v, tau, self.cmodels, self.cdatas, PROXIMAL
+        )
         assert PROXIMAL.iter < PROXIMAL.max_iter
         return a.copy(), self.data.lambda_c.copy()
 
     def analytic(self, q, v, tau):
         self.forward(q, v, tau)
-        return dict(zip(("a_q", "a_v", "a_tau", "l_q", "l_v", "l_tau"), (
-            np.array(x) for x in pin.computeConstraintDynamicsDerivatives(
-                self.model, self.data, self.cmodels, self.cdatas, PROXIMAL)), strict=True))
+        return dict(
+            zip(
+                ("a_q", "a_v", "a_tau", "l_q", "l_v", "l_tau"),
+                (
+                    np.array(x)
+                    for x in pin.computeConstraintDynamicsDerivatives(
+                        self.model, self.data, self.cmodels, self.cdatas, PROXIMAL
+                    )
+                ),
+                strict=True,
+            )
+        )
 
     def central_differences(self, q, v, tau):
         out = {}
@@ -117,8 +133,11 @@ def _state(feeder, system, sample):
     """Assembled (q, v, τ) in the system's order, from a PAPER_STATES row."""
     phi3, phi4, dphi3, dphi4, force, torque = sample
     loop = dependent_coordinates(feeder.params, np.array([phi3]), np.array([dphi3]))
-    q, v, tau = (np.full(system.model.nv, 0.2), np.full(system.model.nv, -0.3),
-                 np.zeros(system.model.nv))
+    q, v, tau = (
+        np.full(system.model.nv, 0.2),
+        np.full(system.model.nv, -0.3),
+        np.zeros(system.model.nv),
+    )
     q[system.index] = [loop.phi1[0], loop.r2[0], phi3, phi4]
     v[system.index] = [loop.dphi1[0], loop.dr2[0], dphi3, dphi4]
     tau[system.index] = [0.0, force, 0.0, torque]
@@ -156,8 +175,11 @@ def test_all_feeder_columns_behind_a_leading_joint(feeder, with_leading_joint, s
         _assert_close(analytic[key], difference[key], system.index, key)
 
 
-@pytest.mark.xfail(strict=True, reason="Pinocchio 4.1: wrong first column of ∂λ_c/∂q for a "
-                   "loop closure between two moving joints (see the module docstring)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="Pinocchio 4.1: wrong first column of ∂λ_c/∂q for a "
+    "loop closure between two moving joints (see the module docstring)",
+)
 def test_first_column(feeder, plain):
     q, v, tau = _state(feeder, plain, PAPER_STATES[0])
     analytic, difference = plain.analytic(q, v, tau), plain.central_differences(q, v, tau)

@@ -78,8 +78,12 @@ def test_joint_rotations_match_pinocchio_forward_kinematics(dyn):
     rng = np.random.default_rng(3)
     model, data = dyn.cases[1].model, dyn.cases[1].data
     q = np.column_stack(
-        [rng.uniform(-np.pi, np.pi, 20), rng.uniform(0.2, 0.5, 20),
-         rng.uniform(-np.pi, np.pi, 20), rng.uniform(-np.pi, np.pi, 20)]
+        [
+            rng.uniform(-np.pi, np.pi, 20),
+            rng.uniform(0.2, 0.5, 20),
+            rng.uniform(-np.pi, np.pi, 20),
+            rng.uniform(-np.pi, np.pi, 20),
+        ]
     )
     rotations = dyn.joint_rotations(q)
     for k in range(q.shape[0]):
@@ -127,7 +131,10 @@ def test_actuator_work_equals_energy_change(result, dyn):
         piece = power[first : last + 1].copy()
         if kin.payload[last] != flag:  # the last sample holds the loads after the grip
             before = inverse_dynamics(
-                dyn, kin.q[last : last + 1], kin.v[last : last + 1], kin.a[last : last + 1],
+                dyn,
+                kin.q[last : last + 1],
+                kin.v[last : last + 1],
+                kin.a[last : last + 1],
                 np.zeros(1),
             )
             piece[-1] = before.piston_force[0] * kin.v[last, 1] + (

@@ -68,8 +68,10 @@ def test_every_row_is_complete(feeder, cycle):
     rows = errata.errata_rows(feeder, cycle)
     assert len(rows) >= 15
     for row in rows:
-        assert all(text.strip() for text in (row.equation, row.printed, row.corrected, row.why,
-                                             row.consequence))
+        assert all(
+            text.strip()
+            for text in (row.equation, row.printed, row.corrected, row.why, row.consequence)
+        )
 
 
 def test_printed_gravity_and_closure_jacobian_follow_their_sources(feeder, cycle, printed):
@@ -95,8 +97,9 @@ def test_printed_eq45_is_plus_jf_transpose_lambda(feeder, cycle, printed):
     lam = printed.lambdas
     expected = np.einsum("nji,nj->ni", printed.closure_jacobian, lam)
     scale = np.max(np.abs(expected))
-    np.testing.assert_allclose(errata.printed_eq45(feeder.params, cycle.q, lam), expected,
-                               rtol=0, atol=EXACT_RTOL * scale)
+    np.testing.assert_allclose(
+        errata.printed_eq45(feeder.params, cycle.q, lam), expected, rtol=0, atol=EXACT_RTOL * scale
+    )
 
 
 def test_printed_eq46_against_its_components(feeder, cycle, printed):
@@ -104,8 +107,11 @@ def test_printed_eq46_against_its_components(feeder, cycle, printed):
     term, row 4's missing gravity — the errata rows 13–15."""
     p, q, qd, qdd = feeder.params, cycle.q, cycle.v, cycle.a
     h, coefficients = errata.printed_eq46_terms(p, q, qd, qdd)
-    assembled = (np.einsum("nij,nj->ni", printed.mass_matrix, qdd)
-                 + np.einsum("nij,nj->ni", printed.coriolis, qd) + 2.0 * printed.gravity)
+    assembled = (
+        np.einsum("nij,nj->ni", printed.mass_matrix, qdd)
+        + np.einsum("nij,nj->ni", printed.coriolis, qd)
+        + 2.0 * printed.gravity
+    )
     m2q2 = p.piston.mass * q[:, 1]
     assembled[:, 1] += -2 * m2q2 * qd[:, 0] * qd[:, 1] + m2q2 * qd[:, 0] ** 2
     assembled[:, 3] -= 2.0 * printed.gravity[:, 3]
@@ -144,7 +150,9 @@ def test_m44_from_eq39_with_printed_eq34(feeder, cycle, printed):
     p, c4, s4 = feeder.params, np.cos(cycle.q[:, 3]), np.sin(cycle.q[:, 3])
     moments = [link.moments for link in list(p.links().values())[:4]]
     m39 = lagrange.mass_matrix_from_jacobians(
-        lagrange.body_masses(p)[:4], printed.j_t, printed.j_r,
+        lagrange.body_masses(p)[:4],
+        printed.j_t,
+        printed.j_r,
         np.stack([np.diag(m) for m in moments]),
     )
     expected = p.forearm.mass * ((p.a1 - p.e * s4) ** 2 + p.e**2 * c4**2) + p.forearm.moments[1]

@@ -46,12 +46,16 @@ def test_closed_form_equals_generic_newton(feeder, rng):
         np.testing.assert_allclose(q, q_closed, atol=ASSEMBLY_TOLERANCE)
         v = partition.velocity(q, feeder.to_pinocchio([0, 0, dphi3, dphi4])[partition.independent])
         np.testing.assert_allclose(
-            v, feeder.to_pinocchio([loop.dphi1, loop.dr2, dphi3, dphi4]), atol=ASSEMBLY_TOLERANCE)
+            v, feeder.to_pinocchio([loop.dphi1, loop.dr2, dphi3, dphi4]), atol=ASSEMBLY_TOLERANCE
+        )
         a = partition.acceleration(
-            q, v, feeder.to_pinocchio([0, 0, ddphi3, ddphi4])[partition.independent])
+            q, v, feeder.to_pinocchio([0, 0, ddphi3, ddphi4])[partition.independent]
+        )
         np.testing.assert_allclose(
-            a, feeder.to_pinocchio([loop.ddphi1, loop.ddr2, ddphi3, ddphi4]),
-            atol=ASSEMBLY_TOLERANCE * 10)  # second derivative: one more condition factor
+            a,
+            feeder.to_pinocchio([loop.ddphi1, loop.ddr2, ddphi3, ddphi4]),
+            atol=ASSEMBLY_TOLERANCE * 10,
+        )  # second derivative: one more condition factor
 
 
 def test_velocity_and_acceleration_levels_close_the_loop(feeder, rng):
@@ -71,8 +75,10 @@ def test_velocity_and_acceleration_levels_close_the_loop(feeder, rng):
 
 def test_stroke_ratio_is_the_derivative_of_r2(feeder):
     phi3 = np.linspace(0.0, math.radians(94.0), 50)
-    numeric = (dependent_coordinates(feeder.params, phi3 + FD_STEP).r2
-               - dependent_coordinates(feeder.params, phi3 - FD_STEP).r2) / (2 * FD_STEP)
+    numeric = (
+        dependent_coordinates(feeder.params, phi3 + FD_STEP).r2
+        - dependent_coordinates(feeder.params, phi3 - FD_STEP).r2
+    ) / (2 * FD_STEP)
     np.testing.assert_allclose(stroke_ratio(feeder.params, phi3), numeric, atol=FD_TOLERANCE)
 
 

@@ -86,8 +86,14 @@ class PinocchioReference:
         """constraintDynamics: q̈ (4,) and λ (2,) in the paper's convention."""
         f, model, data = self.feeder, self.models[held], self.datas[held]
         a = pin.constraintDynamics(
-            model, data, f.to_pinocchio(q), f.to_pinocchio(v), f.to_pinocchio(tau),
-            self.cmodels, self.cdatas[held], PROXIMAL,
+            model,
+            data,
+            f.to_pinocchio(q),
+            f.to_pinocchio(v),
+            f.to_pinocchio(tau),
+            self.cmodels,
+            self.cdatas[held],
+            PROXIMAL,
         )
         assert PROXIMAL.iter < PROXIMAL.max_iter
         return f.to_paper(a), self._lambda_paper(held, data.lambda_c)
@@ -131,8 +137,14 @@ def states(feeder):
     qd = np.column_stack([loop.dphi1, loop.dr2, rates[:, 0], rates[:, 1]])
     qdd = np.column_stack([loop.ddphi1, loop.ddr2, accelerations[:, 0], accelerations[:, 1]])
     payload = rng.integers(0, 2, N_STATES)
-    tau = np.column_stack([np.zeros(N_STATES), rng.normal(0, 3000, N_STATES),
-                           np.zeros(N_STATES), rng.normal(0, 30, N_STATES)])
+    tau = np.column_stack(
+        [
+            np.zeros(N_STATES),
+            rng.normal(0, 3000, N_STATES),
+            np.zeros(N_STATES),
+            rng.normal(0, 30, N_STATES),
+        ]
+    )
     return q, qd, qdd, payload, tau
 
 
@@ -150,8 +162,9 @@ def assert_derivative(derivative, function, x, step=FD_STEP):
         dx[k] = step
         columns.append((function(x + dx) - function(x - dx)) / (2.0 * step))
     scale = max(1.0, float(np.max(np.abs(function(x)))))
-    np.testing.assert_allclose(derivative, np.stack(columns, axis=-1), rtol=0,
-                               atol=FD_RTOL * scale)
+    np.testing.assert_allclose(
+        derivative, np.stack(columns, axis=-1), rtol=0, atol=FD_RTOL * scale
+    )
 
 
 def test_positions_match_pinocchio(feeder, reference, states):
@@ -162,16 +175,21 @@ def test_positions_match_pinocchio(feeder, reference, states):
     names = ("cylinder_joint", "piston_joint", "arm_joint", "forearm_joint")
     for i in range(q.shape[0]):
         pin.framesForwardKinematics(model, data, feeder.to_pinocchio(q[i]))
-        expected = [data.oMi[model.getJointId(n)].act(empty.inertias[model.getJointId(n)].lever)
-                    for n in names]
+        expected = [
+            data.oMi[model.getJointId(n)].act(empty.inertias[model.getJointId(n)].lever)
+            for n in names
+        ]
         expected.append(data.oMf[model.getFrameId("projectile")].translation)
         np.testing.assert_allclose(positions[i], np.array(expected), rtol=0, atol=1e-14)
 
 
 def test_translational_jacobians_are_position_derivatives(feeder, states):
     q = states[0][:20]
-    assert_derivative(lagrange.translational_jacobians(feeder.params, q),
-                      lambda x: lagrange.body_positions(feeder.params, x), q)
+    assert_derivative(
+        lagrange.translational_jacobians(feeder.params, q),
+        lambda x: lagrange.body_positions(feeder.params, x),
+        q,
+    )
 
 
 def test_rotational_jacobians_match_pinocchio(feeder, states):
@@ -223,8 +241,9 @@ def test_mass_matrix_derivative_layout_and_values(feeder, reference, states):
     p, (q, _, _, payload, _) = feeder.params, states
     q, payload = q[:20], payload[:20]
     closed = lagrange.mass_matrix_derivative(p, q, payload)
-    assert_derivative(closed.reshape(-1, 4, 4, 4),
-                      lambda x: lagrange.mass_matrix(p, x, payload), q)
+    assert_derivative(
+        closed.reshape(-1, 4, 4, 4), lambda x: lagrange.mass_matrix(p, x, payload), q
+    )
     index = feeder.index
     for i in range(q.shape[0]):
         model = reference.models[payload[i]]
@@ -235,8 +254,11 @@ def test_mass_matrix_derivative_layout_and_values(feeder, reference, states):
 
 def test_gravity_is_gradient_of_potential(feeder, states):
     p, (q, _, _, payload, _) = feeder.params, states
-    assert_derivative(lagrange.gravity_vector(p, q, payload),
-                      lambda x: lagrange.potential_energy(p, x, payload), q)
+    assert_derivative(
+        lagrange.gravity_vector(p, q, payload),
+        lambda x: lagrange.potential_energy(p, x, payload),
+        q,
+    )
 
 
 def test_closure_residual_jacobian_and_bias(feeder, states):
@@ -250,18 +272,28 @@ def test_closure_residual_jacobian_and_bias(feeder, states):
     # f̈ = J_f q̈ + J̇_f q̇ = 0 along the closure-consistent motion; J̇_f q̇ by differences in t.
     bias = lagrange.closure_bias(p, q, qd)
     np.testing.assert_allclose(np.einsum("nij,nj->ni", jac, qdd), -bias, atol=1e-12)
-    jac_dot = (lagrange.closure_jacobian(p, q + FD_STEP * qd)
-               - lagrange.closure_jacobian(p, q - FD_STEP * qd)) / (2 * FD_STEP)
+    jac_dot = (
+        lagrange.closure_jacobian(p, q + FD_STEP * qd)
+        - lagrange.closure_jacobian(p, q - FD_STEP * qd)
+    ) / (2 * FD_STEP)
     scale = np.max(np.abs(jac)) * np.max(np.abs(qd)) ** 2
-    np.testing.assert_allclose(np.einsum("nij,nj->ni", jac_dot, qd), bias, rtol=0,
-                               atol=FD_RTOL * scale)
+    np.testing.assert_allclose(
+        np.einsum("nij,nj->ni", jac_dot, qd), bias, rtol=0, atol=FD_RTOL * scale
+    )
 
 
 def test_forward_dynamics_match_pinocchio(feeder, reference, states):
     p, (q, qd, _, payload, tau) = feeder.params, states
     qdd, lam = lagrange.forward_dynamics(p, q, qd, tau, payload)
-    assert np.max(np.abs(np.einsum("nij,nj->ni", lagrange.closure_jacobian(p, q), qdd)
-                         + lagrange.closure_bias(p, q, qd))) <= 1e-10
+    assert (
+        np.max(
+            np.abs(
+                np.einsum("nij,nj->ni", lagrange.closure_jacobian(p, q), qdd)
+                + lagrange.closure_bias(p, q, qd)
+            )
+        )
+        <= 1e-10
+    )
     for i in range(q.shape[0]):
         qdd_ref, lam_ref = reference.forward(q[i], qd[i], tau[i], payload[i])
         assert relative_error(qdd[i], qdd_ref, (0,)) <= SOLVE_RTOL
@@ -289,16 +321,27 @@ def test_cycle_loads_match_pinocchio(feeder, reference, cycle):
         u, lam = reference.inverse(cycle.q[i], cycle.v[i], cycle.a[i], held)
         expected[i] = np.concatenate([u, lam])
     columns = loads.columns()
-    for k, name in enumerate(("lagrange_piston_force", "lagrange_forearm_torque",
-                              "lagrange_lambda1", "lagrange_lambda2")):
+    for k, name in enumerate(
+        (
+            "lagrange_piston_force",
+            "lagrange_forearm_torque",
+            "lagrange_lambda1",
+            "lagrange_lambda2",
+        )
+    ):
         assert columns[name].shape == cycle.t.shape
         assert relative_error(columns[name], expected[:, k], (0,)) <= SOLVE_RTOL, name
     # Pinocchio's forward dynamics driven by the Lagrange loads reproduce the cycle's q̈.
-    tau = np.column_stack([np.zeros_like(cycle.t), loads.piston_force,
-                           np.zeros_like(cycle.t), loads.forearm_torque])
+    tau = np.column_stack(
+        [np.zeros_like(cycle.t), loads.piston_force, np.zeros_like(cycle.t), loads.forearm_torque]
+    )
     step = 10  # every 10th sample: the forward check costs a proximal solve each
-    accelerations = np.array([reference.forward(cycle.q[i], cycle.v[i], tau[i], held)[0]
-                              for i, held in list(enumerate(cycle.payload))[::step]])
+    accelerations = np.array(
+        [
+            reference.forward(cycle.q[i], cycle.v[i], tau[i], held)[0]
+            for i, held in list(enumerate(cycle.payload))[::step]
+        ]
+    )
     assert np.all(relative_error(accelerations, cycle.a[::step], (0,)) <= SOLVE_RTOL)
 
 
@@ -324,7 +367,10 @@ def test_power_balance_along_cycle(feeder, cycle):
 def test_columns_are_the_contract_names(feeder):
     cycle = feeding_cycle(feeder, 0.0)
     assert set(lagrange.lagrange_cycle_loads(feeder, cycle).columns()) == {
-        "lagrange_piston_force", "lagrange_forearm_torque", "lagrange_lambda1", "lagrange_lambda2"
+        "lagrange_piston_force",
+        "lagrange_forearm_torque",
+        "lagrange_lambda1",
+        "lagrange_lambda2",
     }
 
 

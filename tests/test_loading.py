@@ -45,8 +45,11 @@ def test_malformed_xml_is_refused_although_yourdfpy_recovers(tmp_path, urdf_text
 @pytest.mark.parametrize(
     "old, new, message",
     [
-        ('<parent link="arm" />\n    <child link="forearm" />',
-         '<parent link="arm" />\n    <child link="forarm" />', "unknown link"),
+        (
+            '<parent link="arm" />\n    <child link="forearm" />',
+            '<parent link="arm" />\n    <child link="forarm" />',
+            "unknown link",
+        ),
         ('type="revolute"', 'type="hinge"', "unknown type"),
         ('<child link="arm" />', '<child link="cylinder" />', "two parent joints"),
     ],
@@ -86,6 +89,8 @@ def test_urdf_without_closure_frames(tmp_path):
 
 
 def test_shipped_file_loads(feeder):
-    chain = load_closed_chain(REPO / "urdf" / "projectile_feeder.urdf", [("piston_pin", "arm_pin")])
+    chain = load_closed_chain(
+        REPO / "urdf" / "projectile_feeder.urdf", [("piston_pin", "arm_pin")]
+    )
     assert chain.model.nq == feeder.model.nq == 4
     assert chain.nc == 3

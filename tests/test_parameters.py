@@ -18,8 +18,13 @@ from feeder import (
 )
 from feeder.parameters import check_inertia
 
-TABLE_I_MASSES = {"cylinder": 4.117, "piston": 2.092, "arm": 18.663, "forearm": 16.077,
-                  "projectile": 43.500}
+TABLE_I_MASSES = {
+    "cylinder": 4.117,
+    "piston": 2.092,
+    "arm": 18.663,
+    "forearm": 16.077,
+    "projectile": 43.500,
+}
 """Table I masses [kg], typed from the paper."""
 
 TABLE_I_MOMENTS_AS_PRINTED = {
@@ -107,7 +112,7 @@ def test_every_number_has_a_unit_and_source():
     for field in dataclasses.fields(PROJECTILE_FEEDER):
         if isinstance(getattr(PROJECTILE_FEEDER, field.name), float):
             assert field.name in names
-    for name, value, unit, source in rows:
+    for name, value, _unit, source in rows:
         assert source, name
         assert value
     assert any(source.startswith("Table I") for *_, source in rows)

@@ -79,7 +79,10 @@ def test_baumgarte_closes_a_small_initial_gap(dyn):
     q0[1] += gap  # the piston moves along its axis: the pin gap is the same distance
     t = np.arange(501) / 1000.0
     rule = ForceRule(
-        t, np.ones(t.size), np.zeros(t.size), np.full(t.size, loads.piston_force[0]),
+        t,
+        np.ones(t.size),
+        np.zeros(t.size),
+        np.full(t.size, loads.piston_force[0]),
         np.full(t.size, loads.forearm_torque[0]),
     )
     motion = simulate(dyn, rule, q0, np.zeros(4))

@@ -25,15 +25,24 @@ def test_names(feeder):
     model = feeder.model
     for joint in PAPER_JOINTS:
         assert model.existJointName(joint)
-    for frame in ("frame", "cylinder", "piston", "arm", "forearm", "projectile",
-                  "projectile_joint", *CLOSURE):
+    for frame in (
+        "frame",
+        "cylinder",
+        "piston",
+        "arm",
+        "forearm",
+        "projectile",
+        "projectile_joint",
+        *CLOSURE,
+    ):
         assert model.existFrame(frame), frame
     assert model.frames[model.getFrameId("projectile_joint")].type == pin.FrameType.FIXED_JOINT
 
 
 def test_inertials_come_from_the_parameters(feeder):
-    robot = yourdfpy.URDF.load(str(REPO / "urdf" / "projectile_feeder.urdf"),
-                               build_scene_graph=False, load_meshes=False)
+    robot = yourdfpy.URDF.load(
+        str(REPO / "urdf" / "projectile_feeder.urdf"), build_scene_graph=False, load_meshes=False
+    )
     for link, inertia in feeder.params.links().items():
         inertial = robot.link_map[link].inertial
         assert inertial.mass == inertia.mass
@@ -44,18 +53,21 @@ def test_inertials_come_from_the_parameters(feeder):
 def test_pinocchio_and_yourdfpy_forward_kinematics_agree(name, rng):
     feeder = load_feeder(name)
     model, data = feeder.model, feeder.chain.data
-    robot = yourdfpy.URDF.load(str(REPO / "urdf" / f"{name}_feeder.urdf"),
-                               build_scene_graph=True, load_meshes=False)
+    robot = yourdfpy.URDF.load(
+        str(REPO / "urdf" / f"{name}_feeder.urdf"), build_scene_graph=True, load_meshes=False
+    )
     links = ("cylinder", "piston", "piston_pin", "arm", "arm_pin", "forearm", "projectile")
     for _ in range(20):
         q = rng.uniform(model.lowerPositionLimit, model.upperPositionLimit)
-        robot.update_cfg({joint: q[model.joints[model.getJointId(joint)].idx_q]
-                          for joint in PAPER_JOINTS})
+        robot.update_cfg(
+            {joint: q[model.joints[model.getJointId(joint)].idx_q] for joint in PAPER_JOINTS}
+        )
         pin.framesForwardKinematics(model, data, q)
         for link in links:
             expected = robot.get_transform(frame_to=link, frame_from="frame")
-            np.testing.assert_allclose(data.oMf[model.getFrameId(link)].homogeneous, expected,
-                                       atol=FK_TOLERANCE)
+            np.testing.assert_allclose(
+                data.oMf[model.getFrameId(link)].homogeneous, expected, atol=FK_TOLERANCE
+            )
 
 
 def test_joint_positions_are_the_paper_coordinates(feeder, rng):
@@ -65,8 +77,9 @@ def test_joint_positions_are_the_paper_coordinates(feeder, rng):
     q_paper = np.array([2.1, 0.3, 0.7, 0.4])
     pin.framesForwardKinematics(model, data, feeder.to_pinocchio(q_paper))
     piston = data.oMf[feeder.frame_id("piston")].translation
-    np.testing.assert_allclose(piston[:2], 0.3 * np.array([np.cos(2.1), np.sin(2.1)]),
-                               atol=FK_TOLERANCE)
+    np.testing.assert_allclose(
+        piston[:2], 0.3 * np.array([np.cos(2.1), np.sin(2.1)]), atol=FK_TOLERANCE
+    )
     arm = data.oMf[feeder.frame_id("arm")]
     np.testing.assert_allclose(arm.rotation[:2, 0], [np.cos(0.7), np.sin(0.7)], atol=FK_TOLERANCE)
     np.testing.assert_allclose(arm.translation, [p.L1, p.L2, 0.0], atol=FK_TOLERANCE)

@@ -1,0 +1,77 @@
+"""The standard study of one loading cycle: Pinocchio's loads cross-checked by the hand-derived
+Lagrange equations, written as ``cycle.csv`` and the figures of the paper's Figs. 4, 8, 10–15."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .cycle import CycleSpec
+from .cycle_dynamics import CycleDynamics, cycle_dynamics
+from .device import Feeder
+from .lagrange import LagrangeLoads, lagrange_cycle_loads
+from .plots import plot_cycle_figures, plot_position, plot_workspace
+from .results import write_csv
+from .workspace import workspace
+
+
+@dataclass(frozen=True)
+class CycleStudy:
+    """One cycle's results from both computations.
+
+    Attributes:
+        dynamics: Pinocchio: kinematics, loads, reactions, drives, forward run.
+        lagrange: The hand-derived equations' loads and multipliers on the same motion.
+    """
+
+    dynamics: CycleDynamics
+    lagrange: LagrangeLoads
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every column of the ``cycle.csv`` contract (REFERENCE.md), and the extras."""
+        return self.dynamics.columns() | self.lagrange.columns()
+
+    def cross_check(self) -> tuple[float, float]:
+        """Largest |Lagrange − Pinocchio| of the piston force [N] and forearm moment [N·m]."""
+        loads = self.dynamics.loads
+        return (
+            float(np.abs(self.lagrange.piston_force - loads.piston_force).max()),
+            float(np.abs(self.lagrange.forearm_torque - loads.forearm_torque).max()),
+        )
+
+    def summary(self) -> str:
+        """The dynamics summary and the cross-check, as text."""
+        force, torque = self.cross_check()
+        return (
+            f"{self.dynamics.summary()}\n  Lagrange equations vs Pinocchio: piston force "
+            f"within {force:.1e} N, forearm moment within {torque:.1e} N·m"
+        )
+
+
+def run_cycle_study(
+    feeder: Feeder, elevation: float, spec: CycleSpec | None = None, progress: bool = False
+) -> CycleStudy:
+    """Dynamics of one cycle at ``elevation`` [rad] by Pinocchio and by the Lagrange equations."""
+    dynamics = cycle_dynamics(feeder, elevation, spec, progress=progress)
+    return CycleStudy(dynamics, lagrange_cycle_loads(feeder, dynamics.kinematics))
+
+
+def write_cycle_study(study: CycleStudy, feeder: Feeder, directory: str | Path) -> list[Path]:
+    """Write ``cycle.csv`` and every figure of the study into ``directory``."""
+    directory = Path(directory)
+    kinematics = study.dynamics.kinematics
+    low, high = feeder.params.elevation_limits
+    space = workspace(feeder, np.radians(np.arange(np.degrees(low), np.degrees(high) + 1, 10)))
+    return [
+        write_csv(directory / "cycle.csv", study.columns()),
+        plot_workspace(directory / "fig04_workspace.png", space, feeder.params.name),
+        plot_position(directory / "fig10_projectile_position.png", kinematics),
+        *plot_cycle_figures(
+            directory,
+            study.columns(),
+            kinematics.spec.boundaries,
+            float(np.degrees(kinematics.elevation)),
+        ),
+    ]
