@@ -45,7 +45,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from .exceptions import InertiaError, check_finite
+from .exceptions import InertiaError, InputError, check_finite
 
 
 @dataclass(frozen=True)
@@ -310,6 +310,42 @@ CHARGE_FEEDER = replace(
 )
 """The left-hand (propellant-charge) feeder: the projectile feeder mirrored through the barrel
 plane (paper, Fig. 3 item 4), with an assumed charge case as payload (data not in the paper)."""
+
+def retrofit(params: FeederParameters, mass_factor: float, length_factor: float) -> FeederParameters:
+    """The device with a heavier and longer payload of the same calibre.
+
+    Assumptions: the payload's base stays where the tray holds it and its centre of gravity stays
+    at 40 % of its length from the base, so the CG moves along the payload axis (forearm y) by
+    0.4 ΔL; its transverse moments scale as m L², its axial moment as m (same calibre).
+
+    Args:
+        params: The original device.
+        mass_factor: New mass / old mass (e.g. 1.2 for +20 %).
+        length_factor: New length / old length (e.g. 1.15 for +15 %).
+
+    Raises:
+        InputError: A factor that is not finite and positive.
+    """
+    factors = check_finite("retrofit factors", (mass_factor, length_factor))
+    if np.any(factors <= 0.0):
+        raise InputError(f"retrofit factors must be positive, got {tuple(factors)}")
+    old = params.payload
+    ixx, iyy, izz = old.moments
+    transverse = mass_factor * length_factor**2
+    payload = LinkInertia(
+        old.mass * mass_factor,
+        (ixx * transverse, iyy * mass_factor, izz * transverse),
+        f"retrofit of ({old.source}): mass ×{mass_factor:g}, length ×{length_factor:g}",
+    )
+    length = params.payload_length * length_factor
+    return replace(
+        params,
+        name=f"{params.name} (retrofit)",
+        payload=payload,
+        payload_length=length,
+        h5=params.h5 + 0.4 * (length - params.payload_length),
+    )
+
 
 DEVICES: dict[str, FeederParameters] = {"projectile": PROJECTILE_FEEDER, "charge": CHARGE_FEEDER}
 """The built-in devices by name."""

@@ -1,5 +1,10 @@
-"""The standard study of one loading cycle: Pinocchio's loads cross-checked by the hand-derived
-Lagrange equations, written as ``cycle.csv`` and the figures of the paper's Figs. 4, 8, 10–15."""
+"""Studies built on one loading cycle.
+
+* :func:`run_cycle_study` / :func:`write_cycle_study`: the standard study, Pinocchio's loads
+  cross-checked by the hand-derived Lagrange equations, written as ``cycle.csv`` and the figures
+  of the paper's Figs. 4, 8, 10–15 (the ``feeder cycle`` command).
+* :func:`elevation_sweep`: the peak loads at each elevation of a sweep.
+"""
 
 from __future__ import annotations
 
@@ -7,10 +12,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from tqdm import tqdm
 
 from .cycle import CycleSpec
 from .cycle_dynamics import CycleDynamics, cycle_dynamics
 from .device import Feeder
+from .exceptions import check_elevation
 from .lagrange import LagrangeLoads, lagrange_cycle_loads
 from .plots import plot_cycle_figures, plot_position, plot_workspace
 from .results import write_csv
@@ -75,3 +82,50 @@ def write_cycle_study(study: CycleStudy, feeder: Feeder, directory: str | Path) 
             float(np.degrees(kinematics.elevation)),
         ),
     ]
+
+
+@dataclass(frozen=True)
+class ElevationSweep:
+    """Peak loads of a cycle at each elevation of a sweep.
+
+    Attributes:
+        elevations: ε [rad], (K,).
+        peaks: Quantity name → peak value at each elevation (signed where the quantity is
+            signed, else the magnitude) [SI unit], (K,).
+        times: Quantity name → time of that peak in its cycle [s], (K,).
+        units: Quantity name → SI unit.
+    """
+
+    elevations: np.ndarray
+    peaks: dict[str, np.ndarray]
+    times: dict[str, np.ndarray]
+    units: dict[str, str]
+
+    def worst(self, name: str) -> tuple[float, float]:
+        """Elevation [rad] and value of the largest |peak| of ``name`` over the sweep."""
+        k = int(np.argmax(np.abs(self.peaks[name])))
+        return float(self.elevations[k]), float(self.peaks[name][k])
+
+
+def elevation_sweep(
+    feeder: Feeder,
+    elevations: np.ndarray,
+    spec: CycleSpec | None = None,
+    progress: bool = True,
+) -> ElevationSweep:
+    """Peak loads and reactions of the cycle at each of ``elevations`` [rad], with a progress bar.
+
+    Raises:
+        ElevationError: An elevation outside the device's range (checked before any work).
+    """
+    elevations = np.array([check_elevation(e, feeder.params.elevation_limits) for e in elevations])
+    rows = []
+    for elevation in tqdm(elevations, desc="elevation sweep", unit="cycle", disable=not progress):
+        rows.append(cycle_dynamics(feeder, float(elevation), spec).peaks())
+    names = [peak.name for peak in rows[0]]
+    return ElevationSweep(
+        elevations=elevations,
+        peaks={n: np.array([row[i].value for row in rows]) for i, n in enumerate(names)},
+        times={n: np.array([row[i].time for row in rows]) for i, n in enumerate(names)},
+        units={peak.name: peak.unit for peak in rows[0]},
+    )
