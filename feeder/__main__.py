@@ -4,6 +4,7 @@ Commands:
     cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
     kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
     urdf        regenerate the shipped URDF files from the parameter sets
+    view        MeshCat viewer of the cycle on 127.0.0.1, or a static HTML page of it
 """
 
 from __future__ import annotations
@@ -82,6 +83,13 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_view(args: argparse.Namespace) -> int:
+    """Animate the cycle in MeshCat (127.0.0.1 only) or write it as a static HTML page."""
+    from .viewer import view_command
+
+    return view_command(args.device, args.elevation, args.html, args.port)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="feeder", description="Analysis of the 152 mm SPH M77 ammunition feeding device."
@@ -107,6 +115,13 @@ def _parser() -> argparse.ArgumentParser:
     kinematics = commands.add_parser("kinematics", help="kinematics of the feeding cycle")
     cycle_options(kinematics)
     kinematics.set_defaults(run=cmd_kinematics)
+
+    view = commands.add_parser("view", help="animate the cycle in the browser (MeshCat)")
+    view.add_argument("--elevation", type=float, required=True, help="barrel elevation ε [deg]")
+    view.add_argument("--device", choices=sorted(DEVICES), default="projectile")
+    view.add_argument("--html", help="write a self-contained HTML page to this file instead")
+    view.add_argument("--port", type=int, help="web port on 127.0.0.1 (default: a free one)")
+    view.set_defaults(run=cmd_view)
     return parser
 
 

@@ -52,6 +52,10 @@ class SingularPoseError(FeederError):
     """The pose is at or too near a singularity (toggle) for a meaningful answer."""
 
 
+class ViewerPortError(FeederError):
+    """The viewer's web port on 127.0.0.1 cannot be used (busy, or not permitted)."""
+
+
 def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.ndarray:
     """Return ``value`` as a float array, or raise :class:`InputError` if any entry is NaN/inf.
 

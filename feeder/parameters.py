@@ -311,7 +311,10 @@ CHARGE_FEEDER = replace(
 """The left-hand (propellant-charge) feeder: the projectile feeder mirrored through the barrel
 plane (paper, Fig. 3 item 4), with an assumed charge case as payload (data not in the paper)."""
 
-def retrofit(params: FeederParameters, mass_factor: float, length_factor: float) -> FeederParameters:
+
+def retrofit(
+    params: FeederParameters, mass_factor: float, length_factor: float
+) -> FeederParameters:
     """The device with a heavier and longer payload of the same calibre.
 
     Assumptions: the payload's base stays where the tray holds it and its centre of gravity stays

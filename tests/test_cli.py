@@ -96,3 +96,37 @@ def test_cycle_command_writes_every_contract_column(tmp_path, capsys):
 def test_cycle_command_bad_elevation(tmp_path, capsys):
     assert main(["cycle", "--elevation", "-10", "--out", str(tmp_path)]) == 2
     assert "outside" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["--elevation", "71"], "outside"),
+        (["--elevation", "inf"], "finite"),
+        (["--elevation", "10", "--html", "/nonexistent-folder/cycle.html"], "no directory"),
+        (["--elevation", "10", "--port", "70000"], "port"),
+    ],
+)
+def test_view_command_bad_input_exits_with_message(capsys, arguments, message):
+    assert main(["view", *arguments]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_view_command_busy_port(capsys):
+    import socket
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        assert main(["view", "--elevation", "10", "--port", str(port)]) == 2
+    err = capsys.readouterr().err
+    assert str(port) in err and "Traceback" not in err
+
+
+def test_view_command_writes_html(tmp_path, capsys):
+    page = tmp_path / "cycle.html"
+    assert main(["view", "--elevation", "10", "--html", str(page)]) == 0
+    assert page.stat().st_size > 500_000  # MeshCat's JavaScript is embedded: works offline
+    assert "<script" in page.read_text(encoding="utf-8")[:2_000_000]
