@@ -43,7 +43,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from .cycle import CycleKinematics
 from .cycle_dynamics import CycleDynamics, cycle_dynamics
 from .device import Feeder, load_feeder
-from .exceptions import InputError, ViewerPortError, check_finite
+from .exceptions import FeederError, InputError, ViewerPortError, check_finite
 from .kinematics import pin_position
 
 LOOPBACK = "127.0.0.1"
