@@ -11,10 +11,13 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from .cycle import CycleKinematics
+from .device import Feeder
+from .urdf import barrel_length
 from .workspace import Workspace
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
@@ -110,6 +113,83 @@ def plot_workspace(path: str | Path, space: Workspace, device: str) -> Path:
     ax.set_xlabel("x [m] (muzzle towards −x)")
     ax.set_ylabel("y [m] (up)")
     ax.set_title(f"Workspace of the {device} feeder (cf. paper Fig. 4)")
+    ax.grid(True, linewidth=0.4, alpha=0.6)
+    ax.legend(loc="lower left", fontsize=8)
+    return _finish(fig, path)
+
+
+def plot_mechanism(
+    path: str | Path, feeder: Feeder, cycle: CycleKinematics, poses: int = 6
+) -> Path:
+    """Side view (x-y plane) of the device at ``poses`` instants of stage 3, to scale.
+
+    Drawn from Pinocchio's forward kinematics of the URDF: the frame pivots B and A, the
+    cylinder and piston to the rod-eye pin, the arm to the forearm hinge, and the payload as a
+    rectangle of its length and calibre along its axis. The loading and ramming poses are
+    solid, the poses between them faded.
+    """
+    p, model, data = feeder.params, feeder.model, feeder.chain.data
+    names = ("cylinder", "piston_pin", "arm", "arm_pin", "forearm", "projectile")
+    ids = [feeder.frame_id(name) for name in names]
+    start = int(np.searchsorted(cycle.t, cycle.spec.boundaries[2]))
+    samples = np.linspace(start, len(cycle.t) - 1, poses).round().astype(int)
+    fig = Figure(figsize=(7.5, 6.5))
+    ax = fig.subplots()
+    for n, i in enumerate(samples):
+        pin.framesForwardKinematics(model, data, feeder.to_pinocchio(cycle.q[i]))
+        at = {name: data.oMf[k] for name, k in zip(names, ids, strict=True)}
+        solid = n in (0, len(samples) - 1)
+        alpha, width = (1.0, 1.0) if solid else (0.25, 0.7)
+        pin_xy = at["piston_pin"].translation[:2]
+        cylinder_end = barrel_length(p) * at["cylinder"].rotation[:2, 0]
+        ax.plot(
+            *np.array([[0.0, 0.0], cylinder_end]).T,
+            color="C0",
+            lw=7 * width,
+            alpha=alpha,
+            solid_capstyle="butt",
+            label="cylinder" if n == 0 else None,
+        )
+        ax.plot(
+            *np.array([cylinder_end, pin_xy]).T,
+            color="0.55",
+            lw=3 * width,
+            alpha=alpha,
+            label="piston rod" if n == 0 else None,
+        )
+        hinge = at["forearm"].translation[:2]
+        ax.plot(
+            *np.array([at["arm"].translation[:2], hinge]).T,
+            color="C1",
+            lw=5 * width,
+            alpha=alpha,
+            label="arm" if n == 0 else None,
+        )
+        centre, axis = at["projectile"].translation[:2], at["projectile"].rotation[:2, 1]
+        normal = np.array([-axis[1], axis[0]]) * p.payload_diameter / 2.0
+        base, tip = centre - 0.4 * p.payload_length * axis, centre + 0.6 * p.payload_length * axis
+        outline = np.array(
+            [base + normal, tip + normal, tip - normal, base - normal, base + normal]
+        )
+        ax.plot(
+            *outline.T,
+            color="C2",
+            lw=1.2 * width,
+            alpha=alpha,
+            label=f"{p.payload_name} (nose →)" if n == 0 else None,
+        )
+        ax.plot(*np.array([hinge, centre]).T, color="C2", lw=2 * width, alpha=alpha)
+        ax.plot(*pin_xy, "o", color="k", ms=4, alpha=alpha)
+    for xy, label in (((0.0, 0.0), "B"), ((p.L1, p.L2), "A")):
+        ax.plot(*xy, marker="^", color="k", ms=10)
+        ax.annotate(label, xy, xytext=(6, -14), textcoords="offset points")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m] (muzzle towards −x)")
+    ax.set_ylabel("y [m] (up)")
+    ax.set_title(
+        f"{p.name.capitalize()} feeder, side view: loading to ramming at "
+        f"ε = {np.degrees(cycle.elevation):g}°"
+    )
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
     return _finish(fig, path)

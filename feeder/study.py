@@ -19,7 +19,7 @@ from .cycle_dynamics import CycleDynamics, cycle_dynamics
 from .device import Feeder
 from .exceptions import check_elevation
 from .lagrange import LagrangeLoads, lagrange_cycle_loads
-from .plots import plot_cycle_figures, plot_position, plot_workspace
+from .plots import plot_cycle_figures, plot_mechanism, plot_position, plot_workspace
 from .results import write_csv
 from .workspace import workspace
 
@@ -73,6 +73,7 @@ def write_cycle_study(study: CycleStudy, feeder: Feeder, directory: str | Path) 
     space = workspace(feeder, np.radians(np.arange(np.degrees(low), np.degrees(high) + 1, 10)))
     return [
         write_csv(directory / "cycle.csv", study.columns()),
+        plot_mechanism(directory / "device_side_view.png", feeder, kinematics),
         plot_workspace(directory / "fig04_workspace.png", space, feeder.params.name),
         plot_position(directory / "fig10_projectile_position.png", kinematics),
         *plot_cycle_figures(

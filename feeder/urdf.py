@@ -122,6 +122,18 @@ def _payload_visuals(link: ET.Element, p: FeederParameters) -> None:
         _cylinder(link, 1.08 * radius, 0.02, (0.0, base + 0.01, 0.0), _ALONG_Y, "pin")
 
 
+def barrel_length(p: FeederParameters) -> float:
+    """Visual length [m] of the cylinder barrel from B: it ends 40 mm short of the rod-eye pin
+    at the retracted end stop."""
+    return p.r2_min + p.d2 - 0.04
+
+
+def piston_head_offset(p: FeederParameters) -> float:
+    """Distance [m] from the piston frame (S) back to the piston head, chosen so that the head
+    stays 15 mm inside the barrel at the extended end stop."""
+    return p.r2_max - barrel_length(p) + 0.015
+
+
 def urdf_string(p: FeederParameters) -> str:
     """The URDF of the device described by ``p``, as XML text (deterministic)."""
     p.check()
@@ -133,10 +145,9 @@ def urdf_string(p: FeederParameters) -> str:
     _cylinder(frame, 0.012, 0.14, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), "pin")
     _cylinder(frame, 0.015, 0.14, (p.L1, p.L2, 0.0), (0.0, 0.0, 0.0), "pin")
 
-    stroke_end = p.r2_max - 0.10  # piston head travels inside the barrel
     cylinder = ET.SubElement(robot, "link", name="cylinder")
     _inertial(cylinder, p.cylinder, (p.l1, 0.0, 0.0))
-    barrel = stroke_end + 0.03
+    barrel = barrel_length(p)
     _cylinder(cylinder, p.bore_diameter / 2.0 + 0.008, barrel, (barrel / 2.0, 0.0, 0.0), _ALONG_X)
     _cylinder(cylinder, 0.022, 0.05, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     _joint(
@@ -152,9 +163,10 @@ def urdf_string(p: FeederParameters) -> str:
 
     piston = ET.SubElement(robot, "link", name="piston")
     _inertial(piston, p.piston, (0.0, 0.0, 0.0))
-    rod = p.d2 + 0.10
+    head = piston_head_offset(p)
+    rod = p.d2 + head
     _cylinder(piston, p.rod_diameter / 2.0, rod, (p.d2 - rod / 2.0, 0.0, 0.0), _ALONG_X)
-    _cylinder(piston, p.bore_diameter / 2.0, 0.03, (-0.10, 0.0, 0.0), _ALONG_X)
+    _cylinder(piston, p.bore_diameter / 2.0, 0.03, (-head, 0.0, 0.0), _ALONG_X)
     _cylinder(piston, 0.02, 0.04, (p.d2, 0.0, 0.0), (0.0, 0.0, 0.0))
     _joint(
         robot,
