@@ -1,13 +1,17 @@
-"""Time one loading cycle's dynamics: inverse dynamics with every joint reaction, forward run.
+"""Time one loading cycle's dynamics: Pinocchio inverse dynamics and reactions, a forward run,
+and the hand-derived Lagrange equations' closed form.
 
-Each figure is also given as a multiple of one bare ``constraintDynamics`` call on the same
-model, measured in the same run (so the ratios survive a noisy machine):
+Each Pinocchio figure is also given as a multiple of one bare ``constraintDynamics`` call on the
+same model, measured in the same run (so the ratios survive a noisy machine):
 
 * inverse: :func:`feeder.dynamics.inverse_dynamics` + :func:`feeder.reactions.joint_reactions`
   over all samples, per sample (target ≤ 3 calls' worth);
 * forward: :func:`feeder.simulation.simulate` driven by the cycle's piston force and forearm
   moment at the sample rate, per step (target ≤ 6 calls' worth; ABM5 PECE makes two calls per
-  step, the RK4 starters four).
+  step, the RK4 starters four);
+* Lagrange: :func:`feeder.lagrange.lagrange_cycle_loads` (closed form, all samples at once) for
+  the whole cycle, as a fraction of the Pinocchio loads + pin force path above (target < 1/10)
+  and of loads + all reactions, with the largest differences of the loads.
 
 Run: ``python benchmarks/bench_cycle.py [elevation_deg]`` (default −4°).
 """
@@ -18,23 +22,28 @@ import math
 import sys
 import time
 
+import numpy as np
 import pinocchio as pin
 
 from feeder import feeding_cycle, load_feeder
 from feeder.dynamics import FeederDynamics, inverse_dynamics
+from feeder.lagrange import lagrange_cycle_loads
 from feeder.reactions import joint_reactions
 from feeder.simulation import ForceRule, simulate
 
 REPEATS = 7
+LAGRANGE_CALLS = 20
+"""Calls per timing of the Lagrange cycle (~0.5 ms each: one call alone is near timer noise)."""
 
 
-def best_time(function, repeats: int = REPEATS) -> float:
-    """Smallest wall time [s] of ``repeats`` calls."""
+def best_time(function, repeats: int = REPEATS, calls: int = 1) -> float:
+    """Smallest wall time [s] of one call, over ``repeats`` timings of ``calls`` calls each."""
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
+        for _ in range(calls):
+            function()
+        times.append((time.perf_counter() - start) / calls)
     return min(times)
 
 
@@ -54,8 +63,14 @@ def main(argv: list[str] | None = None) -> None:
     def bare_calls() -> None:
         for k in range(n):
             pin.constraintDynamics(
-                case.model, case.data, q[k], v[k], tau[k],
-                case.constraint_models, case.constraint_datas, case.prox,
+                case.model,
+                case.data,
+                q[k],
+                v[k],
+                tau[k],
+                case.constraint_models,
+                case.constraint_datas,
+                case.prox,
             )
 
     def inverse() -> None:
@@ -73,6 +88,14 @@ def main(argv: list[str] | None = None) -> None:
     t_forward = best_time(forward) / (n - 1)
     result = forward()
     tracking = abs(result.q - kin.q).max(axis=0)
+    t_lagrange = best_time(lambda: lagrange_cycle_loads(feeder, kin), calls=LAGRANGE_CALLS)
+    lagrange = lagrange_cycle_loads(feeder, kin)
+    differences = {
+        "F": (lagrange.piston_force, loads.piston_force, "N"),
+        "τ4": (lagrange.forearm_torque, loads.forearm_torque, "N·m"),
+        "λ1": (lagrange.lambda1, -loads.closure_force[:, 0], "N"),
+        "λ2": (lagrange.lambda2, -loads.closure_force[:, 1], "N"),
+    }
 
     print(f"cycle at ε = {math.degrees(elevation):g}°: {n} samples at {kin.spec.rate:g} Hz")
     print(f"bare constraintDynamics call      {call * 1e6:8.2f} µs")
@@ -95,6 +118,26 @@ def main(argv: list[str] | None = None) -> None:
     print(
         f"forward accuracy: |Δφ3| ≤ {tracking[2]:.2e} rad, |Δφ4| ≤ {tracking[3]:.2e} rad, "
         f"pin gap ≤ {result.closure_residual.max():.2e} m"
+    )
+    print(
+        f"Lagrange closed form, whole cycle {t_lagrange * 1e3:8.3f} ms "
+        f"({t_lagrange / n * 1e6:.3f} µs/sample = {t_lagrange / n / call:5.3f} calls)"
+    )
+    print(
+        f"  vs Pinocchio loads + pin        {t_loads * n * 1e3:8.3f} ms: "
+        f"ratio {t_lagrange / (t_loads * n):6.4f} (target < 0.1)"
+    )
+    print(
+        f"  vs loads + all reactions        {t_inverse * n * 1e3:8.3f} ms: "
+        f"ratio {t_lagrange / (t_inverse * n):6.4f}"
+    )
+    print(
+        "  max |Lagrange − Pinocchio|: "
+        + ", ".join(
+            f"{name} {np.abs(mine - theirs).max():.1e} {unit} "
+            f"of peak {np.abs(theirs).max():.4g} {unit}"
+            for name, (mine, theirs, unit) in differences.items()
+        )
     )
 
 

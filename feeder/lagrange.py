@@ -35,7 +35,12 @@ r2 = q2 (c1, s1, 0), r3 = A + l3 (c3, s3, 0), ω1 = ω2 = q̇1 z, ω3 = q̇3 z (
 all other entries zero. **∂M/∂q** (eq. 4 layout, entry (i, 4 (j−1) + k) = ∂M_ij/∂q_k, 1-based):
 a_{1,2} = 2 m2 q2, a_{3,12} = Σ_b [2 m_b ρx_b w_b + (I_bx − I_bz) sin 2q4],
 a_{3,16} = a_{4,12} = Σ_b m_b ρy_b u_b, every other a_ij = 0 (a_{4,16} = 0: M44 is constant).
-**C** from the Kronecker formula (27) (:func:`feeder.coriolis.kronecker_coriolis`).
+**C** from the Kronecker formula (27) (:func:`feeder.coriolis.kronecker_coriolis`). Written out
+with these a_ij, (C q̇)_i = Σ_jk ∂M_ij/∂q_k q̇_j q̇_k − ½ Σ_jk ∂M_jk/∂q_i q̇_j q̇_k is
+
+    C q̇ = [a_{1,2} q̇1 q̇2,  −½ a_{1,2} q̇1²,  a_{3,12} q̇3 q̇4 + a_{3,16} q̇4²,  −½ a_{3,12} q̇3²]
+
+(in row 4 the a_{4,12} q̇3 q̇4 of the first sum and the a_{3,16} q̇3 q̇4 of the second cancel).
 
 **Gravity** (Π = Σ m_i g y_i, eq. 42 corrected; g = (∂Π/∂q)ᵀ, eq. 43 corrected):
 
@@ -53,7 +58,8 @@ a_{3,16} = a_{4,12} = Σ_b m_b ρy_b u_b, every other a_ij = 0 (a_{4,16} = 0: M4
 Since f = p_piston_pin − p_arm_pin, the pin force that the arm exerts on the piston is −λ
 (world x, y) [N]: λ is the force of the piston on the arm. The actuators are the piston force
 τ2 = F [N] on ``piston_joint`` and the rack moment τ4 [N·m] on ``forearm_joint``; φ1 and φ3 are
-passive (τ1 = τ3 = 0). Inverse dynamics, with h = M q̈ + C q̇ + g: rows 1 and 3 give
+passive (τ1 = τ3 = 0). Inverse dynamics (:func:`inverse_dynamics`: these closed forms, every
+sample at once), with h = M q̈ + C q̇ + g: rows 1 and 3 give
 [P1 s1, −P1 c1; −d3 s3, d3 c3] λ = [h1; h3] (determinant P1 d3 sin(q1 − q3), zero only at the
 toggle), then τ2 = h2 + c1 λ1 + s1 λ2 and τ4 = h4.
 
@@ -66,6 +72,7 @@ The x, y rows of R_c1 J are J_f (its z row vanishes), so λ = −R_c1[:2, :] λ_
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -99,12 +106,6 @@ def _payload_weight(payload: bool | np.ndarray, shape: tuple[int, ...]) -> np.nd
         raise InputError(f"payload of shape {weight.shape} does not fit samples {shape}") from exc
 
 
-def _held_weight(payload: bool | np.ndarray, q: np.ndarray) -> np.ndarray:
-    """1 for the forearm, the payload flag for the payload: shape (..., 2)."""
-    flag = _payload_weight(payload, q.shape[:-1])
-    return np.stack([np.ones_like(flag), flag], axis=-1)
-
-
 def _held_points(p: FeederParameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Forearm and payload CGs in the forearm frame (2, 3) [m], masses (2,) [kg], moments (2, 3)
     [kg·m²] about their CGs in forearm-frame axes."""
@@ -114,13 +115,18 @@ def _held_points(p: FeederParameters) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return points, masses, moments
 
 
-def _held_geometry(p: FeederParameters, q: np.ndarray):
-    """u, w, ρx, ρy of the forearm and payload CGs, each of shape (..., 2)."""
-    points = _held_points(p)[0]
-    c4, s4 = np.cos(q[..., 3:4]), np.sin(q[..., 3:4])
-    u = points[:, 0] * c4 + points[:, 2] * s4
-    w = -points[:, 0] * s4 + points[:, 2] * c4
-    return u, w, p.a1 + u, np.broadcast_to(points[:, 1] - p.f, u.shape)
+def _per_body(values: np.ndarray, ndim: int) -> np.ndarray:
+    """Forearm and payload values (2,) shaped (2, 1, …, 1) to broadcast against (2, ...)."""
+    return np.reshape(values, (2,) + (1,) * ndim)
+
+
+def _held_geometry(p: FeederParameters, c4: np.ndarray, s4: np.ndarray):
+    """u, w, ρx, ρy of the forearm and payload CGs, body axis first: (2, ...) each (ρy, constant,
+    is (2, 1, …, 1)), from c4 = cos φ4, s4 = sin φ4 of shape (...)."""
+    px, py, pz = (_per_body(x, np.ndim(c4)) for x in _held_points(p)[0].T)
+    u = px * c4 + pz * s4
+    w = pz * c4 - px * s4
+    return u, w, p.a1 + u, py - p.f
 
 
 def body_masses(p: FeederParameters) -> np.ndarray:
@@ -133,9 +139,8 @@ def body_positions(p: FeederParameters, q: np.ndarray) -> np.ndarray:
     q = _coordinates("q", q)
     c1, s1, c3, s3 = np.cos(q[..., 0]), np.sin(q[..., 0]), np.cos(q[..., 2]), np.sin(q[..., 2])
     zero = np.zeros_like(c1)
-    _, w, rx, ry = _held_geometry(p, q)
-    c3h, s3h = c3[..., None], s3[..., None]
-    held = np.stack([p.L1 + rx * c3h - ry * s3h, p.L2 + rx * s3h + ry * c3h, p.c + w], axis=-1)
+    _, w, rx, ry = _held_geometry(p, np.cos(q[..., 3]), np.sin(q[..., 3]))
+    held = np.stack([p.L1 + rx * c3 - ry * s3, p.L2 + rx * s3 + ry * c3, p.c + w], axis=-1)
     links = np.stack(
         [
             np.stack([p.l1 * c1, p.l1 * s1, zero], axis=-1),
@@ -144,7 +149,7 @@ def body_positions(p: FeederParameters, q: np.ndarray) -> np.ndarray:
         ],
         axis=-2,
     )
-    return np.concatenate([links, held], axis=-2)
+    return np.concatenate([links, np.moveaxis(held, 0, -2)], axis=-2)
 
 
 def translational_jacobians(p: FeederParameters, q: np.ndarray) -> np.ndarray:
@@ -154,18 +159,18 @@ def translational_jacobians(p: FeederParameters, q: np.ndarray) -> np.ndarray:
     """
     q = _coordinates("q", q)
     c1, s1, c3, s3 = np.cos(q[..., 0]), np.sin(q[..., 0]), np.cos(q[..., 2]), np.sin(q[..., 2])
-    u, w, rx, ry = _held_geometry(p, q)
+    u, w, rx, ry = _held_geometry(p, np.cos(q[..., 3]), np.sin(q[..., 3]))
     jac = np.zeros((*q.shape[:-1], 5, 3, 4))
     jac[..., 0, 0, 0], jac[..., 0, 1, 0] = -p.l1 * s1, p.l1 * c1  # (31)
     jac[..., 1, 0, 0], jac[..., 1, 1, 0] = -q[..., 1] * s1, q[..., 1] * c1  # (32)
     jac[..., 1, 0, 1], jac[..., 1, 1, 1] = c1, s1
     jac[..., 2, 0, 2], jac[..., 2, 1, 2] = -p.l3 * s3, p.l3 * c3  # (33)
-    c3h, s3h = c3[..., None], s3[..., None]
-    jac[..., 3:, 0, 2] = -rx * s3h - ry * c3h  # (34), forearm and payload
-    jac[..., 3:, 1, 2] = rx * c3h - ry * s3h
-    jac[..., 3:, 0, 3] = w * c3h
-    jac[..., 3:, 1, 3] = w * s3h
-    jac[..., 3:, 2, 3] = -u
+    for b, body in enumerate((3, 4)):  # (34), forearm and payload
+        jac[..., body, 0, 2] = -rx[b] * s3 - ry[b] * c3
+        jac[..., body, 1, 2] = rx[b] * c3 - ry[b] * s3
+        jac[..., body, 0, 3] = w[b] * c3
+        jac[..., body, 1, 3] = w[b] * s3
+        jac[..., body, 2, 3] = -u[b]
     return jac
 
 
@@ -234,6 +239,72 @@ def mass_matrix_from_jacobians(
     return translation + np.einsum("...bki,...bkl,...blj->...ij", j_r, inertias, j_r)
 
 
+class _Terms(NamedTuple):
+    """The nonzero entries of M, ∂M/∂q and g at each sample, shape (...) each (M22 = m2 is
+    constant), with the cosines and sines of φ1 and φ3 that the closure needs as well.
+
+    m11, m33, m34 (= M43), m44: M [kg·m²] (corrected eq. 40); a1_2 = ∂M11/∂q2 [kg·m],
+    a3_12 = ∂M33/∂q4, a3_16 = a4_12 = ∂M34/∂q4 [kg·m²] (eq. 4 names, 1-based); g1 … g4: g
+    [N·m, N, N·m, N·m] (corrected eq. 43).
+    """
+
+    c1: np.ndarray
+    s1: np.ndarray
+    c3: np.ndarray
+    s3: np.ndarray
+    m11: np.ndarray
+    m33: np.ndarray
+    m34: np.ndarray
+    m44: np.ndarray
+    a1_2: np.ndarray
+    a3_12: np.ndarray
+    a3_16: np.ndarray
+    g1: np.ndarray
+    g2: np.ndarray
+    g3: np.ndarray
+    g4: np.ndarray
+
+
+def _terms(p: FeederParameters, q: np.ndarray, payload: bool | np.ndarray) -> _Terms:
+    """Every formula of M, ∂M/∂q and g (module docstring), each trigonometric function of q
+    evaluated once, for checked q of shape (..., 4) and payload flags (bool or (...) 0/1)."""
+    flag = _payload_weight(payload, q.shape[:-1])
+    r2 = q[..., 1]
+    c1, s1 = np.cos(q[..., 0]), np.sin(q[..., 0])
+    c3, s3 = np.cos(q[..., 2]), np.sin(q[..., 2])
+    c4, s4 = np.cos(q[..., 3]), np.sin(q[..., 3])
+    points, masses, moments = _held_points(p)
+    m, ix, iy, iz, px2_pz2 = (
+        _per_body(x, c4.ndim) for x in (masses, *moments.T, points[:, 0] ** 2 + points[:, 2] ** 2)
+    )
+    u, w, rx, ry = _held_geometry(p, c4, s4)
+
+    def held(per_body: np.ndarray) -> np.ndarray:
+        """Σ_b over the forearm and, where the flag is 1, the payload."""
+        return per_body[0] + flag * per_body[1]
+
+    m_rx, m_ry, m2 = m * rx, m * ry, p.piston.mass
+    return _Terms(
+        c1=c1,
+        s1=s1,
+        c3=c3,
+        s3=s3,
+        m11=p.cylinder.moments[2] + p.piston.moments[2] + p.cylinder.mass * p.l1**2 + m2 * r2**2,
+        m33=p.arm.moments[2]
+        + p.arm.mass * p.l3**2
+        + held(m_rx * rx + m_ry * ry + iz + (ix - iz) * s4**2),
+        m34=-held(m_ry * w),
+        m44=held(m * px2_pz2 + iy),
+        a1_2=2.0 * m2 * r2,
+        a3_12=2.0 * held(m_rx * w + (ix - iz) * (s4 * c4)),
+        a3_16=held(m_ry * u),
+        g1=G * (p.cylinder.mass * p.l1 + m2 * r2) * c1,
+        g2=G * m2 * s1,
+        g3=G * ((p.arm.mass * p.l3 + held(m_rx)) * c3 - held(m_ry) * s3),
+        g4=G * held(m * w) * s3,
+    )
+
+
 def mass_matrix(
     p: FeederParameters, q: np.ndarray, payload: bool | np.ndarray = True
 ) -> np.ndarray:
@@ -245,31 +316,13 @@ def mass_matrix(
         payload: Whether the forearm holds the payload (body 5), bool or (...,) array of 0/1.
     """
     q = _coordinates("q", q)
-    points, masses, moments = _held_points(p)
-    weight = _held_weight(payload, q)
-    masses = weight * masses
-    c4, s4 = np.cos(q[..., 3:4]), np.sin(q[..., 3:4])
-    _, w, rx, ry = _held_geometry(p, q)
+    t = _terms(p, q, payload)
     m = np.zeros((*q.shape[:-1], 4, 4))
-    m[..., 0, 0] = (
-        p.cylinder.moments[2]
-        + p.piston.moments[2]
-        + p.cylinder.mass * p.l1**2
-        + p.piston.mass * q[..., 1] ** 2
-    )
+    m[..., 0, 0] = t.m11
     m[..., 1, 1] = p.piston.mass
-    m[..., 2, 2] = (
-        p.arm.moments[2]
-        + p.arm.mass * p.l3**2
-        + np.sum(
-            masses * (rx**2 + ry**2) + weight * (moments[:, 0] * s4**2 + moments[:, 2] * c4**2),
-            axis=-1,
-        )
-    )
-    m[..., 3, 3] = np.sum(
-        masses * (points[:, 0] ** 2 + points[:, 2] ** 2) + weight * moments[:, 1], axis=-1
-    )
-    m[..., 2, 3] = m[..., 3, 2] = -np.sum(masses * ry * w, axis=-1)
+    m[..., 2, 2] = t.m33
+    m[..., 3, 3] = t.m44
+    m[..., 2, 3] = m[..., 3, 2] = t.m34
     return m
 
 
@@ -281,16 +334,11 @@ def mass_matrix_derivative(
     Closed form: the derivatives of the entries of :func:`mass_matrix` (module docstring).
     """
     q = _coordinates("q", q)
-    _, masses, moments = _held_points(p)
-    weight = _held_weight(payload, q)
-    u, w, rx, ry = _held_geometry(p, q)
+    t = _terms(p, q, payload)
     d = np.zeros((*q.shape[:-1], 4, 4, 4))  # d[..., i, j, k] = ∂M_ij/∂q_k
-    d[..., 0, 0, 1] = 2.0 * p.piston.mass * q[..., 1]
-    sin_2q4 = np.sin(2.0 * q[..., 3:4])
-    d[..., 2, 2, 3] = np.sum(
-        weight * (2.0 * masses * rx * w + (moments[:, 0] - moments[:, 2]) * sin_2q4), axis=-1
-    )
-    d[..., 2, 3, 3] = d[..., 3, 2, 3] = np.sum(weight * masses * ry * u, axis=-1)
+    d[..., 0, 0, 1] = t.a1_2
+    d[..., 2, 2, 3] = t.a3_12
+    d[..., 2, 3, 3] = d[..., 3, 2, 3] = t.a3_16
     return d.reshape(*q.shape[:-1], 4, 16)
 
 
@@ -317,20 +365,8 @@ def gravity_vector(
 ) -> np.ndarray:
     """g(q) = (∂Π/∂q)ᵀ (eq. 43, corrected, closed form), [N·m, N, N·m, N·m], shape (..., 4)."""
     q = _coordinates("q", q)
-    masses = _held_weight(payload, q) * _held_points(p)[1]
-    _, w, rx, ry = _held_geometry(p, q)
-    c1, s1 = np.cos(q[..., 0]), np.sin(q[..., 0])
-    c3, s3 = np.cos(q[..., 2]), np.sin(q[..., 2])
-    return G * np.stack(
-        [
-            (p.cylinder.mass * p.l1 + p.piston.mass * q[..., 1]) * c1,
-            p.piston.mass * s1,
-            p.arm.mass * p.l3 * c3
-            + np.sum(masses * (rx * c3[..., None] - ry * s3[..., None]), axis=-1),
-            np.sum(masses * w, axis=-1) * s3,
-        ],
-        axis=-1,
-    )
+    t = _terms(p, q, payload)
+    return np.stack([t.g1, t.g2, t.g3, t.g4], axis=-1)
 
 
 def closure_residual(p: FeederParameters, q: np.ndarray) -> np.ndarray:
@@ -421,6 +457,10 @@ def inverse_dynamics(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Actuator loads and λ from the motion, φ1 and φ3 passive (eq. 46 solved for τ2, τ4, λ).
 
+    Closed form, all samples at once (no matrices): h = M q̈ + C q̇ + g from the nonzero
+    entries of M, ∂M/∂q and g, with C q̇ of eq. (27) written out (module docstring); then λ
+    from rows 1 and 3 by Cramer's rule, τ2 and τ4 from rows 2 and 4.
+
     Args:
         p: Device parameters.
         q, qd, qdd: Assembled, consistent motion [φ1, r2, φ3, φ4] and derivatives, (..., 4).
@@ -434,22 +474,27 @@ def inverse_dynamics(
         SingularPoseError: Piston axis along the arm lever (sin(φ1 − φ3) ≈ 0).
     """
     q, qd, qdd = _coordinates("q", q), _coordinates("qd", qd), _coordinates("qdd", qdd)
-    h = np.einsum("...ij,...j->...i", mass_matrix(p, q, payload), qdd)
-    h = h + _generalized_forces(p, q, qd, payload)
-    reach = q[..., 1] + p.d2
-    c1, s1, c3, s3 = np.cos(q[..., 0]), np.sin(q[..., 0]), np.cos(q[..., 2]), np.sin(q[..., 2])
-    transmission = np.sin(q[..., 0] - q[..., 2])
+    t = _terms(p, q, payload)
+    qd1, qd2, qd3, qd4 = np.moveaxis(qd, -1, 0)
+    qdd1, qdd2, qdd3, qdd4 = np.moveaxis(qdd, -1, 0)
+    h1 = t.m11 * qdd1 + t.a1_2 * (qd1 * qd2) + t.g1
+    h2 = p.piston.mass * qdd2 - 0.5 * t.a1_2 * qd1**2 + t.g2
+    h3 = t.m33 * qdd3 + t.m34 * qdd4 + (t.a3_12 * qd3 + t.a3_16 * qd4) * qd4 + t.g3
+    h4 = t.m34 * qdd3 + t.m44 * qdd4 - 0.5 * t.a3_12 * qd3**2 + t.g4
+    transmission = t.s1 * t.c3 - t.c1 * t.s3  # sin(φ1 − φ3)
     if np.any(np.abs(transmission) < TOGGLE_TOLERANCE):
         k = int(np.argmin(np.abs(transmission)))
         raise SingularPoseError(
             f"piston axis along the arm lever: sin(φ1 − φ3) = {np.ravel(transmission)[k]:.3e} "
             f"at q = {np.reshape(q, (-1, 4))[k]}; the pin force is not determined"
         )
-    det = reach * p.d3 * transmission
-    lam1 = (p.d3 * c3 * h[..., 0] + reach * c1 * h[..., 2]) / det
-    lam2 = (p.d3 * s3 * h[..., 0] + reach * s1 * h[..., 2]) / det
+    reach = q[..., 1] + p.d2
+    d3_h1, reach_h3 = p.d3 * h1, reach * h3
+    inverse_det = 1.0 / (p.d3 * reach * transmission)
+    lam1 = (d3_h1 * t.c3 + reach_h3 * t.c1) * inverse_det
+    lam2 = (d3_h1 * t.s3 + reach_h3 * t.s1) * inverse_det
     zero = np.zeros_like(lam1)
-    tau = np.stack([zero, h[..., 1] + c1 * lam1 + s1 * lam2, zero, h[..., 3]], axis=-1)
+    tau = np.stack(np.broadcast_arrays(zero, h2 + t.c1 * lam1 + t.s1 * lam2, zero, h4), axis=-1)
     return tau, np.stack([lam1, lam2], axis=-1)
 
 

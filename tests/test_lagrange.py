@@ -1,15 +1,17 @@
 """The hand-derived Lagrange equations (feeder.lagrange) against Pinocchio and finite differences.
 
 Pinocchio is called directly here (crba, nonLinearEffects, computeGeneralizedGravity,
-constraintDynamics, getConstraintsJacobian), on the URDF model, so the two sides share only the
-parameter set. Pinocchio merges the payload into the forearm's body; for the samples where the
-payload is not held, the payload's inertia (placed at the ``projectile`` frame) is subtracted.
+constraintDynamics, getConstraintsJacobian) on the two models of
+:class:`feeder.dynamics.FeederDynamics` (with the payload merged into the forearm body, and
+without it), so the two sides share only the parameter set; the actuator loads are compared with
+the product's Pinocchio inverse dynamics, :func:`feeder.dynamics.inverse_dynamics`.
 
 Closure forces: Pinocchio solves M a + b − τ = Jᵀ λ_c with J = R_c1ᵀ ∂(p_piston_pin −
 p_arm_pin)/∂q (the CONTACT_3D in the LOCAL frame c1 of ``piston_pin``, rotation R_c1 = R_z(φ1)),
 the paper M q̈ + C q̇ + g − τ = −J_fᵀ λ with J_f = ∂f/∂q the x, y rows of the same difference in
 world axes (its z row is identically zero). Equating, J_fᵀ (−λ) = J_fᵀ (R_c1 λ_c)_{x,y} and J_f
-has full row rank, so λ = −(R_c1 λ_c)_{x,y} = −R_c1[:2, :] λ_c.
+has full row rank, so λ = −(R_c1 λ_c)_{x,y} = −R_c1[:2, :] λ_c. Likewise λ = −(the world-frame
+force of the arm on the piston) of :class:`feeder.dynamics.ActuatorLoads`.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import pytest
 from feeder import lagrange
 from feeder.cycle import feeding_cycle
 from feeder.device import load_feeder
+from feeder.dynamics import FeederDynamics, inverse_dynamics
 from feeder.exceptions import InputError, SingularPoseError
 from feeder.kinematics import arm_travel, dependent_coordinates
 
@@ -32,6 +35,11 @@ DYNAMICS_RTOL = 1e-10
 SOLVE_RTOL = 1e-8
 """q̈, λ, actuator loads: solves of 6×6 / 2×2 systems (condition ≲ 1e4) on top of the above, and
 Pinocchio's proximal solver run to 1e-14 — the brief's bound, measured ~1e-13."""
+CYCLE_RTOL = 1e-12
+"""Whole-cycle loads and λ, closed form vs the matrix form and vs Pinocchio, relative to the
+cycle's peak: each side sums a few dozen products of terms no larger than the peak and solves a
+2×2 or 3×3 system with |sin μ| ≥ 0.68, i.e. ~1e-15 of the peak (measured ≤ 1e-15); any missing
+or wrong term would be ≥ 1e-3 of it."""
 FD_STEP = 1e-6
 FD_RTOL = 1e-8
 """Central differences with h = 1e-6 [rad or m], error relative to the function's size |f|:
@@ -51,13 +59,8 @@ class PinocchioReference:
 
     def __init__(self, feeder):
         self.feeder = feeder
-        empty = pin.Model(feeder.model)
-        forearm = empty.getJointId("forearm_joint")
-        frame = empty.frames[empty.getFrameId("projectile")]
-        payload = feeder.params.payload
-        inertia = pin.Inertia(payload.mass, np.zeros(3), np.diag(payload.moments))
-        empty.inertias[forearm] = empty.inertias[forearm] - frame.placement.act(inertia)
-        self.models = {0: empty, 1: feeder.model}
+        self.dynamics_models = FeederDynamics(feeder)
+        self.models = {k: case.model for k, case in enumerate(self.dynamics_models.cases)}
         self.datas = {k: m.createData() for k, m in self.models.items()}
         self.cmodels = feeder.chain.constraint_models
         self.cdatas = {}
@@ -65,7 +68,6 @@ class PinocchioReference:
             self.cdatas[k] = pin.StdVec_RigidConstraintData()
             self.cdatas[k].append(self.cmodels[0].createData())
             pin.initConstraintDynamics(model, self.datas[k], self.cmodels, self.cdatas[k])
-        self.actuated = [feeder.index[1], feeder.index[3]]  # piston_joint, forearm_joint
 
     def _paper(self, matrix):
         return matrix[np.ix_(self.feeder.index, self.feeder.index)]
@@ -78,9 +80,6 @@ class PinocchioReference:
         gravity = pin.computeGeneralizedGravity(model, data, qp).copy()
         coriolis = pin.nonLinearEffects(model, data, qp, vp) - gravity
         return mass, f.to_paper(coriolis), f.to_paper(gravity)
-
-    def _lambda_paper(self, held, lambda_c):
-        return -self.cdatas[held][0].oMc1.rotation[:2, :] @ lambda_c
 
     def forward(self, q, v, tau, held):
         """constraintDynamics: q̈ (4,) and λ (2,) in the paper's convention."""
@@ -96,20 +95,28 @@ class PinocchioReference:
             PROXIMAL,
         )
         assert PROXIMAL.iter < PROXIMAL.max_iter
-        return f.to_paper(a), self._lambda_paper(held, data.lambda_c)
+        return f.to_paper(a), -self.cdatas[held][0].oMc1.rotation[:2, :] @ data.lambda_c
 
-    def inverse(self, q, v, a, held):
-        """M a + b = S u + Jᵀ λ_c solved for u = (F, τ4) and λ_c; returns u (2,), λ (2,)."""
-        f, model, data = self.feeder, self.models[held], self.datas[held]
-        qp = f.to_pinocchio(q)
-        mass = pin.crba(model, data, qp)
-        bias = pin.nonLinearEffects(model, data, qp, f.to_pinocchio(v))
-        pin.computeJointJacobians(model, data, qp)
-        self.cmodels[0].calc(model, data, self.cdatas[held][0])
-        jac = pin.getConstraintsJacobian(model, data, self.cmodels, self.cdatas[held])
-        system = np.hstack([np.eye(4)[:, self.actuated], jac.T])
-        solution = np.linalg.lstsq(system, mass @ f.to_pinocchio(a) + bias, rcond=None)[0]
-        return solution[:2], self._lambda_paper(held, solution[2:])
+    def inverse(self, q, v, a, payload):
+        """The product's Pinocchio inverse dynamics: columns F, τ4, λ1, λ2, shape (N, 4)."""
+        loads = inverse_dynamics(self.dynamics_models, q, v, a, payload)
+        return np.column_stack(
+            [loads.piston_force, loads.forearm_torque, -loads.closure_force[:, :2]]
+        )
+
+
+def matrix_inverse_dynamics(p, q, qd, qdd, payload):
+    """Eq. (46) from the matrices: h = M q̈ + C q̇ + g with C by the Kronecker formula (27), then
+    [e2  e4  −J_fᵀ] [F, τ4, λ1, λ2]ᵀ = h solved per sample by LAPACK; shape (N, 4)."""
+    h = (
+        np.einsum("nij,nj->ni", lagrange.mass_matrix(p, q, payload), qdd)
+        + np.einsum("nij,nj->ni", lagrange.coriolis_matrix(p, q, qd, payload), qd)
+        + lagrange.gravity_vector(p, q, payload)
+    )
+    system = np.zeros((q.shape[0], 4, 4))
+    system[:, 1, 0] = system[:, 3, 1] = 1.0
+    system[:, :, 2:] = -np.swapaxes(lagrange.closure_jacobian(p, q), 1, 2)
+    return np.linalg.solve(system, h[..., None])[..., 0]
 
 
 @pytest.fixture(scope="module", params=["projectile", "charge"])
@@ -304,33 +311,31 @@ def test_inverse_dynamics_match_pinocchio(feeder, reference, states):
     p, (q, qd, qdd, payload, _) = feeder.params, states
     tau, lam = lagrange.inverse_dynamics(p, q, qd, qdd, payload)
     assert np.all(tau[:, [0, 2]] == 0.0)
-    for i in range(q.shape[0]):
-        loads_ref, lam_ref = reference.inverse(q[i], qd[i], qdd[i], payload[i])
-        assert relative_error(tau[i, [1, 3]], loads_ref, (0,)) <= SOLVE_RTOL
-        assert relative_error(lam[i], lam_ref, (0,)) <= SOLVE_RTOL
+    expected = reference.inverse(q, qd, qdd, payload)
+    assert np.all(relative_error(tau[:, [1, 3]], expected[:, :2], (1,)) <= SOLVE_RTOL)
+    assert np.all(relative_error(lam, expected[:, 2:], (1,)) <= SOLVE_RTOL)
     # And back: the forward dynamics under these loads reproduce the motion.
     qdd_back, lam_back = lagrange.forward_dynamics(p, q, qd, tau, payload)
     assert np.all(relative_error(qdd_back, qdd, (1,)) <= SOLVE_RTOL)
     assert np.all(relative_error(lam_back, lam, (1,)) <= SOLVE_RTOL)
 
 
-def test_cycle_loads_match_pinocchio(feeder, reference, cycle):
+def test_cycle_loads_match_matrix_form_and_pinocchio(feeder, reference, cycle):
+    """The closed-form cycle loads equal, to round-off of the cycle's peaks, the same equations
+    in matrix form (M, Kronecker C, g, J_f, LAPACK) and Pinocchio's inverse dynamics."""
     loads = lagrange.lagrange_cycle_loads(feeder, cycle)
-    expected = np.empty((cycle.t.size, 4))
-    for i, held in enumerate(cycle.payload):
-        u, lam = reference.inverse(cycle.q[i], cycle.v[i], cycle.a[i], held)
-        expected[i] = np.concatenate([u, lam])
     columns = loads.columns()
-    for k, name in enumerate(
-        (
-            "lagrange_piston_force",
-            "lagrange_forearm_torque",
-            "lagrange_lambda1",
-            "lagrange_lambda2",
-        )
-    ):
-        assert columns[name].shape == cycle.t.shape
-        assert relative_error(columns[name], expected[:, k], (0,)) <= SOLVE_RTOL, name
+    names = (
+        "lagrange_piston_force",
+        "lagrange_forearm_torque",
+        "lagrange_lambda1",
+        "lagrange_lambda2",
+    )
+    closed = np.column_stack([columns[name] for name in names])
+    assert closed.shape == (cycle.t.size, 4)
+    motion = (cycle.q, cycle.v, cycle.a, cycle.payload)
+    for expected in (matrix_inverse_dynamics(feeder.params, *motion), reference.inverse(*motion)):
+        assert np.all(relative_error(closed, expected, (0,)) <= CYCLE_RTOL)
     # Pinocchio's forward dynamics driven by the Lagrange loads reproduce the cycle's q̈.
     tau = np.column_stack(
         [np.zeros_like(cycle.t), loads.piston_force, np.zeros_like(cycle.t), loads.forearm_torque]
