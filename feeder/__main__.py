@@ -3,6 +3,7 @@
 Commands:
     cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
     kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
+    parameters  every number of the built-in devices with its unit and source (Markdown)
     urdf        regenerate the shipped URDF files from the parameter sets
     view        MeshCat viewer of the cycle on 127.0.0.1, or a static HTML page of it
 """
@@ -21,6 +22,19 @@ from .parameters import DEVICES
 
 def _elevation(args: argparse.Namespace) -> float:
     return math.radians(float(check_finite("elevation [deg]", args.elevation)))
+
+
+def cmd_parameters(args: argparse.Namespace) -> int:
+    """Print the parameter table, or write it to a file."""
+    from .parameters import parameters_markdown
+
+    text = parameters_markdown()
+    if args.out is None:
+        print(text, end="")
+    else:
+        Path(args.out).write_text(text, encoding="utf-8")
+        print(f"wrote {args.out}")
+    return 0
 
 
 def cmd_urdf(args: argparse.Namespace) -> int:
@@ -95,6 +109,10 @@ def _parser() -> argparse.ArgumentParser:
         prog="feeder", description="Analysis of the 152 mm SPH M77 ammunition feeding device."
     )
     commands = parser.add_subparsers(dest="command", required=True)
+
+    parameters = commands.add_parser("parameters", help="the parameter table with sources")
+    parameters.add_argument("--out", help="Markdown file to write (default: print)")
+    parameters.set_defaults(run=cmd_parameters)
 
     urdf = commands.add_parser("urdf", help="regenerate the URDF files from the parameters")
     urdf.add_argument("--out", default="urdf", help="folder to write into (default: urdf)")

@@ -130,3 +130,13 @@ def test_view_command_writes_html(tmp_path, capsys):
     assert main(["view", "--elevation", "10", "--html", str(page)]) == 0
     assert page.stat().st_size > 500_000  # MeshCat's JavaScript is embedded: works offline
     assert "<script" in page.read_text(encoding="utf-8")[:2_000_000]
+
+
+def test_published_parameter_table_is_current(capsys):
+    assert main(["parameters"]) == 0
+    printed = capsys.readouterr().out
+    assert printed == (REPO / "PARAMETERS.md").read_text(encoding="utf-8"), (
+        "run `feeder parameters --out PARAMETERS.md`"
+    )
+    for source in ("Table I", "assumed"):
+        assert source in printed
