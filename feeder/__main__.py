@@ -16,12 +16,22 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .exceptions import FeederError, check_finite
+from .exceptions import FeederError, InputError, check_finite
 from .parameters import DEVICES
 
 
 def _elevation(args: argparse.Namespace) -> float:
     return math.radians(float(check_finite("elevation [deg]", args.elevation)))
+
+
+def _output_dir(path: str) -> Path:
+    """Create the output folder now, so that a bad path fails before any computation."""
+    directory = Path(path)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the output folder {directory}: {exc}") from exc
+    return directory
 
 
 def cmd_parameters(args: argparse.Namespace) -> int:
@@ -32,7 +42,10 @@ def cmd_parameters(args: argparse.Namespace) -> int:
     if args.out is None:
         print(text, end="")
     else:
-        Path(args.out).write_text(text, encoding="utf-8")
+        try:
+            Path(args.out).write_text(text, encoding="utf-8")
+        except OSError as exc:
+            raise InputError(f"cannot write {args.out}: {exc}") from exc
         print(f"wrote {args.out}")
     return 0
 
@@ -57,10 +70,10 @@ def cmd_kinematics(args: argparse.Namespace) -> int:
     from .results import write_csv
     from .workspace import workspace
 
+    out = _output_dir(args.out)
     feeder = load_feeder(args.device)
     elevation = _elevation(args)
     cycle = feeding_cycle(feeder, elevation, CycleSpec(rate=args.rate))
-    out = Path(args.out)
     write_csv(out / "cycle.csv", cycle.columns())
     low, high = feeder.params.elevation_limits
     space = workspace(feeder, np.radians(np.arange(math.degrees(low), math.degrees(high) + 1, 10)))
@@ -88,12 +101,13 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     from .device import load_feeder
     from .study import run_cycle_study, write_cycle_study
 
+    out = _output_dir(args.out)
     feeder = load_feeder(args.device)
     study = run_cycle_study(feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True)
-    paths = write_cycle_study(study, feeder, args.out)
+    paths = write_cycle_study(study, feeder, out)
     print(f"{feeder.params.name} feeder")
     print(study.summary())
-    print(f"wrote {paths[0]} and {len(paths) - 1} figures in {Path(args.out)}")
+    print(f"wrote {paths[0]} and {len(paths) - 1} figures in {out}")
     return 0
 
 

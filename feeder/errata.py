@@ -512,7 +512,8 @@ def errata_rows(feeder: Feeder, cycle: CycleKinematics) -> list[Erratum]:
             f"peak piston force {_q(_peak(printed.piston_force), 'N')} printed vs "
             f"{_q(_peak(force), 'N')} corrected; peak forearm torque "
             f"{_q(_peak(printed.forearm_torque), 'N·m')} vs {_q(_peak(torque), 'N·m')}; "
-            f"peak |λ| {_q(_peak(printed.lambdas), 'N')} vs {_q(_peak(lam), 'N')}",
+            f"peak |λ| {_q(_peak(np.linalg.norm(printed.lambdas, axis=-1)), 'N')} vs "
+            f"{_q(_peak(np.linalg.norm(lam, axis=-1)), 'N')}",
         ),
         Erratum(
             "(12), (13), (26), (28)",

@@ -90,9 +90,27 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
     roots = [link for link in links if link not in parent_of]
     if len(roots) != 1:
         raise UrdfError(f"{source}: the links must form one tree, found roots {roots}")
+    _check_numbers(root, source)
     for link in root.findall("link"):
         _check_inertial(link, source)
     return root
+
+
+def _check_numbers(root: etree._Element, source: str) -> None:
+    """Every origin, axis and joint limit must be finite numbers: Pinocchio would otherwise drop
+    the element or zero a mass silently."""
+    for owner in (*root.findall("link"), *root.findall("joint")):
+        where = f"{source}: {owner.tag} {owner.get('name')!r}"
+        for origin in owner.iter("origin"):
+            for attribute in ("xyz", "rpy"):
+                if origin.get(attribute) is not None:
+                    _floats(origin, attribute, 3, f"{where}, <{origin.getparent().tag}> origin")
+        for axis in owner.findall("axis"):
+            _floats(axis, "xyz", 3, f"{where}, axis")
+        for limit in owner.findall("limit"):
+            for attribute in ("lower", "upper", "effort", "velocity"):
+                if limit.get(attribute) is not None:
+                    _floats(limit, attribute, 1, f"{where}, limit")
 
 
 def _check_inertial(link: etree._Element, source: str) -> None:

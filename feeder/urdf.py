@@ -21,6 +21,7 @@ import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from .exceptions import InputError
 from .parameters import DEVICES, FeederParameters, LinkInertia
 
 _COLORS = {
@@ -230,12 +231,19 @@ def urdf_string(p: FeederParameters) -> str:
 
 
 def write_urdfs(directory: str | Path) -> list[Path]:
-    """Write ``<device>_feeder.urdf`` for every built-in device into ``directory``."""
+    """Write ``<device>_feeder.urdf`` for every built-in device into ``directory``.
+
+    Raises:
+        InputError: The folder cannot be created or written.
+    """
     directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, params in DEVICES.items():
-        path = directory / f"{name}_feeder.urdf"
-        path.write_text(urdf_string(params), encoding="utf-8")
-        paths.append(path)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        for name, params in DEVICES.items():
+            path = directory / f"{name}_feeder.urdf"
+            path.write_text(urdf_string(params), encoding="utf-8")
+            paths.append(path)
+    except OSError as exc:
+        raise InputError(f"cannot write the URDF files into {directory}: {exc}") from exc
     return paths

@@ -140,3 +140,20 @@ def test_published_parameter_table_is_current(capsys):
     )
     for source in ("Table I", "assumed"):
         assert source in printed
+
+
+@pytest.mark.parametrize("command", ["cycle", "kinematics"])
+def test_unwritable_output_folder_fails_before_computing(tmp_path, capsys, command):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    assert main([command, "--elevation", "0", "--out", str(blocker / "sub")]) == 2
+    err = capsys.readouterr().err
+    assert "cannot create the output folder" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("command", [["urdf", "--out"], ["parameters", "--out"]])
+def test_unwritable_urdf_and_parameter_outputs(tmp_path, capsys, command):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    assert main([*command, str(blocker / "sub" / "x")]) == 2
+    assert "cannot write" in capsys.readouterr().err

@@ -77,6 +77,22 @@ def test_non_physical_inertia_names_the_link(tmp_path, urdf_text, old, new, link
     assert info.value.link == link
 
 
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ('<origin xyz="0.18 0.0 0.0"', '<origin xyz="nan 0.0 0.0"', "link 'cylinder'"),
+        ('<origin xyz="0.18 0.0 0.0"', '<origin xyz="0.18 0.0"', "3 finite numbers"),
+        ('<axis xyz="0.0 0.0 1.0" />', '<axis xyz="0.0 0.0 inf" />', "axis"),
+        ('lower="0.2304"', 'lower="low"', "limit"),
+    ],
+)
+def test_non_finite_origins_axes_and_limits(tmp_path, urdf_text, old, new, message):
+    """Pinocchio would zero the cylinder's mass for a NaN inertial origin, without a word."""
+    assert old in urdf_text
+    with pytest.raises(UrdfError, match=message):
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new, 1)), [])
+
+
 def test_wrong_root_element(tmp_path):
     with pytest.raises(UrdfError, match="root element"):
         load_closed_chain(write(tmp_path, "<sdf><model/></sdf>"), [])
