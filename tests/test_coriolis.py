@@ -8,9 +8,6 @@ computeCoriolisMatrix; and the relations between Ṁ and C that the paper's conv
 
 from __future__ import annotations
 
-import importlib.metadata
-from pathlib import Path
-
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -24,6 +21,8 @@ from feeder.coriolis import (
     mass_matrix_derivative,
 )
 from feeder.exceptions import InputError
+
+from .conftest import robots_dir
 
 ROBOTS = {
     "ur5": "ur_description/urdf/ur5_robot.urdf",
@@ -43,11 +42,6 @@ IDENTITY_RTOL = 1e-12
 """q̇ᵀ (Ṁ − 2 C) q̇ = 0 and C = Ṁ − ½ Nᵀ: exact identities evaluated in double precision."""
 DIFFERENT = 1e-3
 """A relative difference this large is a real difference, not round-off."""
-
-
-def robots_dir() -> Path:
-    share = importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")
-    return Path(share) / "example-robot-data" / "robots"
 
 
 @pytest.fixture(scope="module", params=sorted(ROBOTS))

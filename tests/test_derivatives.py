@@ -11,7 +11,11 @@ of ∂q̈/∂q) is wrong; every other column and the v- and τ-derivatives are r
 is the arm_joint in the feeder's model. It is not specific to the feeder: with an unrelated
 pendulum joint put first (pin.appendModel), all the feeder's columns agree with the differences
 and only the pendulum's — whose true derivatives are zero — is wrong. ``test_first_column``
-keeps this visible (strict xfail: it fails loudly once Pinocchio is fixed).
+keeps this visible (strict xfail: it fails loudly once Pinocchio is fixed). Likely cause, found
+in review: Pinocchio 4.1's ``contact-info.hxx`` constructs ``loop_span_indexes`` with nv zeros and
+``init()`` then appends the real indices, so the derivative loop adds column 0's term nv extra
+times; the column-0 error was measured to grow exactly in proportion to nv (nv = 7, 10, 16) on a
+minimal spatial loop. World-anchored contacts (joint2_id = 0) are not affected.
 
 Tolerance: steps h_q = 1e-5 [rad, m], h_v = 1e-3 [rad/s, m/s] (q̈ and λ are quadratic in v:
 central differences are exact up to round-off), h_τ = 1 [N, N·m] (linear). Errors, relative to
