@@ -17,14 +17,10 @@ with its web port bound to 127.0.0.1 (its ZMQ port is on 127.0.0.1 already). The
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
 import io
 import math
 import os
-import queue
-import socket
-import threading
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -34,20 +30,14 @@ import meshcat.geometry as mg
 import meshcat.transformations as mtf
 import numpy as np
 import pinocchio as pin
-import tornado.httpserver
-import tornado.netutil
-import tornado.web
-from meshcat.servers import zmqserver
 from pinocchio.visualize import MeshcatVisualizer
 
+from ._meshcat_server import MeshcatServer
 from .cycle import CycleKinematics
 from .cycle_dynamics import CycleDynamics, cycle_dynamics
 from .device import Feeder, load_feeder
-from .exceptions import FeederError, InputError, ViewerPortError, check_finite
+from .exceptions import InputError, check_finite
 from .kinematics import pin_position
-
-LOOPBACK = "127.0.0.1"
-"""The only address the viewer's web server listens on."""
 
 FRAME_RATE = 40.0
 """Animation key frames per second of cycle time [1/s]; the 1 kHz cycle is subsampled."""
@@ -79,99 +69,6 @@ _BARREL_RADIUS, _BARREL_BEHIND, _BARREL_AHEAD = 0.006, 0.4, 0.8  # [m] around th
 _DEVICE_TO_MESHCAT = mtf.rotation_matrix(math.pi / 2.0, [1.0, 0.0, 0.0])
 
 
-class _LoopbackApplication(tornado.web.Application):
-    """MeshCat's web application on sockets bound beforehand to 127.0.0.1 (tornado's
-    ``listen`` would bind every interface)."""
-
-    def __init__(self, sockets: list[socket.socket], handlers: list):
-        super().__init__(handlers)
-        self._sockets = sockets
-        self.http_server: tornado.httpserver.HTTPServer | None = None
-
-    def listen(self, port: int, address: str = "", **kwargs) -> tornado.httpserver.HTTPServer:
-        self.http_server = tornado.httpserver.HTTPServer(self, **kwargs)
-        self.http_server.add_sockets(self._sockets)
-        return self.http_server
-
-
-class _LoopbackBridge(zmqserver.ZMQWebSocketBridge):
-    """MeshCat's ZMQ ↔ websocket bridge serving on pre-bound loopback sockets."""
-
-    def __init__(self, sockets: list[socket.socket]):
-        self._sockets = sockets
-        super().__init__(host=LOOPBACK, port=sockets[0].getsockname()[1])
-
-    def make_app(self) -> _LoopbackApplication:
-        return _LoopbackApplication(
-            self._sockets,
-            [
-                (
-                    r"/static/(.*)",
-                    zmqserver.StaticFileHandlerNoCache,
-                    {"path": zmqserver.VIEWER_ROOT, "default_filename": zmqserver.VIEWER_HTML},
-                ),
-                (r"/", zmqserver.WebSocketHandler, {"bridge": self}),
-            ],
-        )
-
-
-class _Server:
-    """A MeshCat server on a background thread, its web port on 127.0.0.1:``port``."""
-
-    def __init__(self, port: int | None):
-        try:
-            sockets = tornado.netutil.bind_sockets(port or 0, address=LOOPBACK)
-        except OSError as exc:
-            raise ViewerPortError(
-                f"cannot serve the viewer on port {port} of {LOOPBACK}: {exc.strerror}; "
-                "choose another port"
-            ) from exc
-        self.port: int = sockets[0].getsockname()[1]
-        started: queue.Queue = queue.Queue()
-        self._thread = threading.Thread(
-            target=self._run, args=(sockets, started), name="meshcat-server", daemon=True
-        )
-        self._thread.start()
-        bridge = started.get()
-        if isinstance(bridge, BaseException):
-            raise FeederError(f"cannot start the MeshCat server: {bridge}") from bridge
-        self._bridge: _LoopbackBridge = bridge
-        self.zmq_url: str = bridge.zmq_url
-        self.web_url: str = bridge.web_url
-
-    @staticmethod
-    def _run(sockets: list[socket.socket], started: queue.Queue) -> None:
-        loop = asyncio.new_event_loop()
-        asyncio.set_event_loop(loop)
-        try:
-            bridge = _LoopbackBridge(sockets)
-        except Exception as exc:  # reported to the starting thread
-            for sock in sockets:
-                sock.close()
-            started.put(exc)
-            loop.close()
-            return
-        started.put(bridge)
-        bridge.run()
-        bridge.app.http_server.stop()
-        for websocket in list(bridge.websocket_pool):
-            websocket.close()
-        bridge.zmq_stream.close()
-        bridge.ioloop.close()
-        loop.close()
-
-    def wait(self) -> None:
-        """Block until the server stops (interruptible by Ctrl-C)."""
-        while self._thread.is_alive():
-            self._thread.join(timeout=0.5)
-
-    def stop(self) -> None:
-        """Stop serving and release both ports."""
-        if self._thread.is_alive():
-            self._bridge.ioloop.add_callback(self._bridge.ioloop.stop)
-            self._thread.join()
-
-
 class CycleViewer:
     """A live MeshCat viewer of one feeding cycle, served on 127.0.0.1 only.
 
@@ -193,7 +90,7 @@ class CycleViewer:
         port: int | None = None,
     ):
         forces = _check_forces(forces or {}, cycle.t.size)
-        self._server = _Server(_check_port(port))
+        self._server = MeshcatServer(_check_port(port))
         try:
             with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL
                 viewer = meshcat.Visualizer(zmq_url=self._server.zmq_url)

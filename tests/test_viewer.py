@@ -25,12 +25,12 @@ import pytest
 import umsgpack
 
 from feeder import ElevationError, InputError, feeding_cycle
+from feeder._meshcat_server import LOOPBACK
+from feeder.exceptions import ViewerPortError
 from feeder.viewer import (
     ARROW_LENGTH,
     FRAME_RATE,
-    LOOPBACK,
     CycleViewer,
-    ViewerPortError,
     show_cycle,
     view_command,
     write_html,
