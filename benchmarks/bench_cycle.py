@@ -74,7 +74,7 @@ def main(argv: list[str] | None = None) -> None:
             )
 
     def inverse() -> None:
-        joint_reactions(dyn, *motion, inverse_dynamics(dyn, *motion))
+        joint_reactions(dyn, inverse_dynamics(dyn, *motion))
 
     rule = ForceRule(kin.t, kin.stage, kin.payload, loads.piston_force, loads.forearm_torque)
 
@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> None:
 
     call = best_time(bare_calls) / n
     t_loads = best_time(lambda: inverse_dynamics(dyn, *motion)) / n
-    t_reactions = best_time(lambda: joint_reactions(dyn, *motion, loads)) / n
+    t_reactions = best_time(lambda: joint_reactions(dyn, loads)) / n
     t_inverse = best_time(inverse) / n
     t_forward = best_time(forward) / (n - 1)
     result = forward()

@@ -21,11 +21,13 @@ from .exceptions import (
     ClosureFrameError,
     ElevationError,
     FeederError,
+    ForwardDivergenceError,
     InertiaError,
     InputError,
     SingularPoseError,
     UnreachablePoseError,
     UrdfError,
+    ViewerPortError,
 )
 from .hydraulics import CylinderPressures, cylinder_pressures, rack_force
 from .kinematics import (
@@ -74,6 +76,7 @@ __all__ = [
     "Feeder",
     "FeederDynamics",
     "FeederError",
+    "ForwardDivergenceError",
     "FeederParameters",
     "ForceRule",
     "ForwardMotion",
@@ -88,6 +91,7 @@ __all__ = [
     "SingularPoseError",
     "UnreachablePoseError",
     "UrdfError",
+    "ViewerPortError",
     "Workspace",
     "constrained_dynamics",
     "cycle_dynamics",

@@ -3,8 +3,10 @@
 Position level: Gauss–Newton on the closure residual f(q) = 0 over the dependent coordinates,
 the independent ones held fixed. Velocity and acceleration level: the linear systems
 J q̇ = 0 and J q̈ + J̇ q̇ = 0 solved for the dependent components. All solves are least squares,
-so the redundant out-of-plane row of a planar loop does no harm; a dependent Jacobian whose rank
-is below the closure's rank means the dependent coordinates are not determined (a singular pose).
+so the redundant out-of-plane row of a planar loop does no harm. The dependent Jacobian must have
+full column rank (otherwise the closure leaves some dependent coordinates free: too few
+independent joints) and the closure's rank (otherwise the dependent coordinates cannot follow
+every motion of the independent ones: too many); either fails at a singular pose.
 
 This works for any :class:`~feeder.closure.ClosedChain`; the feeder also has a closed form
 (:mod:`feeder.kinematics`), and the two agree.
@@ -42,14 +44,25 @@ class Partition:
         self.dependent = np.flatnonzero(~mask)
 
     def _dependent_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Closure Jacobian (nc, nv) and its dependent columns, after checking that the closure
+        determines the dependent velocities: rank J_dep = number of dependent coordinates (none
+        free) = rank J (the independent ones can move freely)."""
         jac = self.chain.jacobian(q)
         jac_dep = jac[:, self.dependent]
-        rank_full = np.linalg.matrix_rank(jac, tol=1e-9 * max(1.0, np.abs(jac).max()))
-        rank_dep = np.linalg.matrix_rank(jac_dep, tol=1e-9 * max(1.0, np.abs(jac).max()))
+        tol = 1e-9 * max(1.0, np.abs(jac).max())
+        rank_full = np.linalg.matrix_rank(jac, tol=tol)
+        rank_dep = np.linalg.matrix_rank(jac_dep, tol=tol) if self.dependent.size else 0
+        if rank_dep < self.dependent.size:
+            raise SingularPoseError(
+                f"the closure does not determine the {self.dependent.size} dependent "
+                f"coordinates at q = {np.round(q, 6)}: dependent Jacobian rank {rank_dep} "
+                f"(too few independent joints {list(self.independent_joints)}, or a singular pose)"
+            )
         if rank_dep < rank_full:
             raise SingularPoseError(
-                f"the dependent coordinates are not determined at q = {np.round(q, 6)}: "
-                f"closure Jacobian rank {rank_full}, dependent part rank {rank_dep}"
+                f"the dependent coordinates cannot follow the independent ones at "
+                f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
+                f"{rank_dep} (too many independent joints, or a singular pose)"
             )
         return jac, jac_dep
 

@@ -41,13 +41,24 @@ class ClosedChain:
     def __init__(self, model: pin.Model, closures: Sequence[Closure]):
         self.model = model
         self.data = model.createData()
-        self.closures = tuple(tuple(pair) for pair in closures)
+        self.closures = _check_closures(closures)
         self.frame_ids: list[tuple[int, int]] = []
         self.constraint_models = pin.StdVec_RigidConstraintModel()
         for frame_a, frame_b in self.closures:
-            ids = tuple(self._frame_id(name) for name in (frame_a, frame_b))
-            self.frame_ids.append(ids)
+            for name in (frame_a, frame_b):
+                if not model.existFrame(name):
+                    raise ClosureFrameError(
+                        f"closure frame {name!r} is not in model {model.name!r}; "
+                        f"frames: {[f.name for f in model.frames]}"
+                    )
+            ids = (model.getFrameId(frame_a), model.getFrameId(frame_b))
             fa, fb = (model.frames[i] for i in ids)
+            if fa.parentJoint == fb.parentJoint:
+                raise InputError(
+                    f"closure ({frame_a!r}, {frame_b!r}) joins two frames on the same body "
+                    f"(joint {model.names[fa.parentJoint]!r}): it closes no loop"
+                )
+            self.frame_ids.append(ids)
             constraint = pin.RigidConstraintModel(
                 pin.ContactType.CONTACT_3D,
                 model,
@@ -63,10 +74,15 @@ class ClosedChain:
         for constraint in self.constraint_models:
             self.constraint_datas.append(constraint.createData())
 
-    def _frame_id(self, name: str) -> int:
+    def frame_id(self, name: str) -> int:
+        """Pinocchio id of the frame ``name``.
+
+        Raises:
+            InputError: No frame of that name in the model (the message lists the frames).
+        """
         if not self.model.existFrame(name):
-            raise ClosureFrameError(
-                f"closure frame {name!r} is not in model {self.model.name!r}; "
+            raise InputError(
+                f"no frame {name!r} in model {self.model.name!r}; "
                 f"frames: {[f.name for f in self.model.frames]}"
             )
         return self.model.getFrameId(name)
@@ -93,11 +109,17 @@ class ClosedChain:
 
     def residual(self, q: np.ndarray) -> np.ndarray:
         """Closure error p_a − p_b of every closure, world frame [m], shape (nc,)."""
-        q = self.check_q(q)
-        pin.framesForwardKinematics(self.model, self.data, q)
+        pin.forwardKinematics(self.model, self.data, self.check_q(q))
+        return self.placed_residual()
+
+    def placed_residual(self) -> np.ndarray:
+        """Closure error p_a − p_b [m], shape (nc,), at the configuration of the last forward
+        kinematics run on :attr:`data` (by :meth:`residual` or by the caller)."""
+        model, data = self.model, self.data
         return np.concatenate(
             [
-                self.data.oMf[a].translation - self.data.oMf[b].translation
+                pin.updateFramePlacement(model, data, a).translation
+                - pin.updateFramePlacement(model, data, b).translation
                 for a, b in self.frame_ids
             ]
         )
@@ -137,6 +159,23 @@ class ClosedChain:
         return slice(j.idx_v, j.idx_v + j.nv)
 
 
+def _check_closures(closures: Sequence[Closure]) -> tuple[Closure, ...]:
+    """The closures as a tuple of (frame_a, frame_b) name pairs, or :class:`InputError`."""
+    if isinstance(closures, str | bytes) or not isinstance(closures, Sequence):
+        raise InputError(f"closures must be a sequence of frame-name pairs, got {closures!r}")
+    pairs = []
+    for pair in closures:
+        if (
+            isinstance(pair, str | bytes)
+            or not isinstance(pair, Sequence)
+            or len(pair) != 2
+            or not all(isinstance(name, str) for name in pair)
+        ):
+            raise InputError(f"a closure must be a pair of frame names, got {pair!r}")
+        pairs.append((pair[0], pair[1]))
+    return tuple(pairs)
+
+
 def load_closed_chain(urdf: str | Path, closures: Sequence[Closure]) -> ClosedChain:
     """Load a URDF file strictly and close the loops given as frame pairs.
 
@@ -148,5 +187,7 @@ def load_closed_chain(urdf: str | Path, closures: Sequence[Closure]) -> ClosedCh
         UrdfError: Missing or malformed file.
         InertiaError: A non-physical link inertia.
         ClosureFrameError: A closure frame that is not in the model.
+        InputError: ``closures`` not a sequence of name pairs, or a pair of frames on the same
+            body.
     """
     return ClosedChain(build_model(read_urdf(urdf), str(urdf)), closures)

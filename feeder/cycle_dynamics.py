@@ -6,6 +6,24 @@ closed chain's inverse dynamics (:mod:`feeder.dynamics`), the joint reactions
 dynamics driven by the computed piston force and forearm moment (:mod:`feeder.simulation`).
 :meth:`CycleDynamics.columns` gives the ``cycle.csv`` contract columns (REFERENCE.md) except
 the ``lagrange_*`` ones; vectors are in the world frame.
+
+The forward run is a check, and it needs a fine enough step: the force-driven mechanism is
+unstable (a deviation grows like e^(4…6 t)), so the integration error at a coarse step is
+amplified over the cycle. Largest |Δφ3|, |Δφ4| [rad] over both devices and ε = −4°, 10°, 30°,
+50°, 70° with the default stage durations (1, 1, 2) s, by sample rate:
+
+=========  ======  ======  ======  ======  ======  ======  ======
+rate [Hz]  50      100     200     300     400     500     1000
+=========  ======  ======  ======  ======  ======  ======  ======
+error      1.6     8.7e-2  3.4e-3  4.8e-4  1.2e-4  3.8e-5  7.1e-7
+=========  ======  ======  ======  ======  ======  ======  ======
+
+(at 10–20 Hz, and at 50 Hz for ε = −4°, the run diverges past the piston's end stop). 500 Hz is
+the lowest of these rates at which the run still meets 1e-4 rad (a factor 2.6 to spare):
+:data:`MIN_FORWARD_RATE`. Longer stages give the instability more time: with durations
+(2, 2, 4) s the run diverges even at 1 kHz, and :func:`~feeder.simulation.simulate` raises
+:class:`~feeder.exceptions.ForwardDivergenceError`. The kinematics, loads and reactions are exact
+at each sample and need no minimum rate (``forward=False`` skips the run).
 """
 
 from __future__ import annotations
@@ -18,9 +36,14 @@ from tqdm import tqdm
 from .cycle import CycleKinematics, CycleSpec, feeding_cycle
 from .device import Feeder
 from .dynamics import ActuatorLoads, FeederDynamics, inverse_dynamics
+from .exceptions import InputError
 from .hydraulics import CylinderPressures, cylinder_pressures, rack_force
 from .reactions import JointReactions, joint_reactions
 from .simulation import ForceRule, ForwardMotion, simulate
+
+MIN_FORWARD_RATE = 500.0
+"""Lowest sample rate [Hz] of a cycle with a forward run: the ABM5 integration meets 1e-4 rad
+there with the default stage durations (see the table above)."""
 
 
 @dataclass(frozen=True)
@@ -50,7 +73,8 @@ class CycleDynamics:
         reactions: Reaction wrenches of every joint and the grip.
         pressures: Lift-cylinder chamber pressures.
         rack_force: Forearm rack force [N], shape (N,).
-        forward: Motion integrated from the piston force and forearm moment.
+        forward: Motion integrated from the piston force and forearm moment, or None if the
+            forward run was skipped (``cycle_dynamics(..., forward=False)``).
     """
 
     kinematics: CycleKinematics
@@ -58,14 +82,13 @@ class CycleDynamics:
     reactions: JointReactions
     pressures: CylinderPressures
     rack_force: np.ndarray
-    forward: ForwardMotion
+    forward: ForwardMotion | None
 
     def _vectors(self) -> dict[str, tuple[np.ndarray, str]]:
         """World-frame vector quantities by column name, with their units."""
         joints = self.reactions.joints
         return {
             "cylinder_frame_force": (joints["cylinder_frame"].force, "N"),
-            "cylinder_frame_moment": (joints["cylinder_frame"].constraint_moment, "N·m"),
             "piston_cylinder_force": (joints["piston_cylinder"].constraint_force, "N"),
             "piston_cylinder_moment": (joints["piston_cylinder"].moment, "N·m"),
             "piston_arm_force": (self.reactions.closure_force, "N"),
@@ -84,8 +107,11 @@ class CycleDynamics:
 
         * ``cylinder_frame_force``, ``arm_frame_force``, ``forearm_joint_force``: the force the
           frame (or the arm) exerts on the cylinder (arm, forearm) through the joint [N];
-        * ``cylinder_frame_moment``, ``arm_frame_moment``, ``forearm_joint_moment``: the
-          constraint moment about the joint origin, the joint's own axis excluded [N·m];
+        * ``arm_frame_moment``, ``forearm_joint_moment``: the constraint moment about the joint
+          origin, the joint's own axis excluded [N·m]. The cylinder–frame joint has no such
+          column: its constraint moment is zero by construction (the cylinder and piston move
+          in the x–y plane and the out-of-plane pin force is taken as λz = 0, see
+          :mod:`feeder.dynamics`);
         * ``piston_cylinder_force``: the guides' side force on the piston (axial part, the
           piston force, excluded) [N]; ``piston_cylinder_moment``: their moment on the piston
           about its centre of gravity S [N·m];
@@ -94,6 +120,8 @@ class CycleDynamics:
           its centre of gravity (zero before the grip) [N], [N·m].
 
         Drives: ``cylinder_cap_pressure``, ``cylinder_rod_pressure`` [Pa], ``rack_force`` [N].
+        Forward run: ``forward_q_phi3``, ``forward_q_phi4`` [rad], ``forward_closure_residual``
+        [m], absent if the run was skipped.
         """
         cols = dict(self.kinematics.columns())
         cols["piston_force"] = self.loads.piston_force
@@ -105,19 +133,33 @@ class CycleDynamics:
         cols["cylinder_cap_pressure"] = self.pressures.cap
         cols["cylinder_rod_pressure"] = self.pressures.rod
         cols["rack_force"] = self.rack_force
-        cols["forward_q_phi3"] = self.forward.q[:, 2]
-        cols["forward_q_phi4"] = self.forward.q[:, 3]
-        cols["forward_closure_residual"] = self.forward.closure_residual
+        if self.forward is not None:
+            cols["forward_q_phi3"] = self.forward.q[:, 2]
+            cols["forward_q_phi4"] = self.forward.q[:, 3]
+            cols["forward_closure_residual"] = self.forward.closure_residual
         return cols
 
+    def _forward_run(self) -> ForwardMotion:
+        if self.forward is None:
+            raise InputError("this cycle has no forward run (computed with forward=False)")
+        return self.forward
+
     def tracking_error(self) -> tuple[float, float]:
-        """Largest |forward − prescribed| of φ3 and φ4 over the cycle [rad]."""
-        error = np.abs(self.forward.q - self.kinematics.q).max(axis=0)
+        """Largest |forward − prescribed| of φ3 and φ4 over the cycle [rad].
+
+        Raises:
+            InputError: The forward run was skipped.
+        """
+        error = np.abs(self._forward_run().q - self.kinematics.q).max(axis=0)
         return float(error[2]), float(error[3])
 
     def closure_residual(self) -> float:
-        """Largest pin gap of the forward run [m]."""
-        return float(self.forward.closure_residual.max())
+        """Largest pin gap of the forward run [m].
+
+        Raises:
+            InputError: The forward run was skipped.
+        """
+        return float(self._forward_run().closure_residual.max())
 
     def peaks(self) -> list[Peak]:
         """Peak of each actuator load, drive and joint reaction magnitude, with its time."""
@@ -154,16 +196,24 @@ class CycleDynamics:
                 else (f"{peak.value:12.3f} {peak.unit}")
             )
             lines.append(f"  peak {peak.name:<{width}} {value}  at t = {peak.time:.3f} s")
-        phi3, phi4 = self.tracking_error()
-        lines.append(
-            f"  forward run (force rule): |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad, "
-            f"pin gap ≤ {self.closure_residual():.2e} m"
-        )
+        if self.forward is None:
+            lines.append("  forward run (force rule): skipped")
+        else:
+            phi3, phi4 = self.tracking_error()
+            lines.append(
+                f"  forward run (force rule): |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad, "
+                f"pin gap ≤ {self.closure_residual():.2e} m"
+            )
         return "\n".join(lines)
 
 
 def cycle_dynamics(
-    feeder: Feeder, elevation: float, spec: CycleSpec | None = None, progress: bool = False
+    feeder: Feeder,
+    elevation: float,
+    spec: CycleSpec | None = None,
+    *,
+    progress: bool = False,
+    forward: bool = True,
 ) -> CycleDynamics:
     """Loads, joint reactions, drives and force-rule simulation of one loading cycle.
 
@@ -171,40 +221,57 @@ def cycle_dynamics(
         feeder: The device.
         elevation: ε [rad].
         spec: Stage durations and sample rate (default :class:`~feeder.cycle.CycleSpec`).
-        progress: Show a progress bar over the four phases.
+        progress: Show a progress bar over the phases on a terminal (none when stderr is not
+            one, e.g. in CI logs).
+        forward: Integrate the forward dynamics driven by the computed loads (the force-rule
+            check); False skips it (``CycleDynamics.forward`` is then None).
 
     Raises:
-        ElevationError, InputError: Bad elevation or timing.
+        ElevationError, InputError: Bad elevation or timing; with ``forward``, a sample rate
+            below :data:`MIN_FORWARD_RATE`.
         SingularPoseError: A pose within 5° of the toggle.
+        ForwardDivergenceError: The forward run diverged (:func:`~feeder.simulation.simulate`).
     """
-    steps = ("kinematics", "inverse dynamics", "joint reactions", "forward simulation")
-    with tqdm(total=len(steps), desc="cycle", disable=not progress) as bar:
+    spec = spec or CycleSpec()
+    if forward and spec.rate < MIN_FORWARD_RATE:
+        raise InputError(
+            f"sample rate {spec.rate:g} Hz is below {MIN_FORWARD_RATE:g} Hz, the lowest at which "
+            "the forward (force-rule) run tracks the cycle to 1e-4 rad: the force-driven "
+            "mechanism is unstable and amplifies a coarse step's error; sample faster, or skip "
+            "the forward run (cycle_dynamics(..., forward=False))"
+        )
+    steps = ["kinematics", "inverse dynamics", "joint reactions"]
+    if forward:
+        steps.append("forward simulation")
+    quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
+    with tqdm(total=len(steps), desc="cycle", disable=quiet) as bar:
         bar.set_postfix_str(steps[0])
         kinematics = feeding_cycle(feeder, elevation, spec)
         dyn = FeederDynamics(feeder)
-        motion = (kinematics.q, kinematics.v, kinematics.a, kinematics.payload)
         bar.update()
         bar.set_postfix_str(steps[1])
-        loads = inverse_dynamics(dyn, *motion)
+        loads = inverse_dynamics(dyn, kinematics.q, kinematics.v, kinematics.a, kinematics.payload)
         bar.update()
         bar.set_postfix_str(steps[2])
-        reactions = joint_reactions(dyn, *motion, loads)
+        reactions = joint_reactions(dyn, loads)
         bar.update()
-        bar.set_postfix_str(steps[3])
-        rule = ForceRule(
-            t=kinematics.t,
-            stage=kinematics.stage,
-            payload=kinematics.payload,
-            piston_force=loads.piston_force,
-            forearm_torque=loads.forearm_torque,
-        )
-        forward = simulate(dyn, rule, kinematics.q[0], kinematics.v[0])
-        bar.update()
+        run = None
+        if forward:
+            bar.set_postfix_str(steps[3])
+            rule = ForceRule(
+                t=kinematics.t,
+                stage=kinematics.stage,
+                payload=kinematics.payload,
+                piston_force=loads.piston_force,
+                forearm_torque=loads.forearm_torque,
+            )
+            run = simulate(dyn, rule, kinematics.q[0], kinematics.v[0])
+            bar.update()
     return CycleDynamics(
         kinematics=kinematics,
         loads=loads,
         reactions=reactions,
         pressures=cylinder_pressures(feeder.params, loads.piston_force),
         rack_force=rack_force(feeder.params, loads.forearm_torque),
-        forward=forward,
+        forward=run,
     )

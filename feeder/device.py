@@ -66,16 +66,21 @@ class Feeder:
         return np.asarray(x, dtype=float)[..., self.index]
 
     def frame_id(self, name: str) -> int:
-        """Pinocchio id of the frame ``name``."""
-        return self.model.getFrameId(name)
+        """Pinocchio id of the frame ``name``.
+
+        Raises:
+            InputError: No frame of that name (:meth:`ClosedChain.frame_id`).
+        """
+        return self.chain.frame_id(name)
 
 
 def load_feeder(device: str | FeederParameters = "projectile") -> Feeder:
     """Load a built-in device by name (``"projectile"`` or ``"charge"``) or from parameters.
 
     Raises:
-        InputError: Unknown device name.
+        InputError: Unknown device name; a parameter out of range (:meth:`FeederParameters.check`).
         InertiaError: A non-physical inertia in the parameters.
+        UnreachablePoseError: Parameters whose feeding cycle cannot be assembled.
     """
     if isinstance(device, FeederParameters):
         return Feeder(device)

@@ -39,15 +39,10 @@ import pinocchio as pin
 
 from .device import CLOSURE, PAPER_JOINTS, Feeder
 from .exceptions import InputError, SingularPoseError, UnreachablePoseError, check_finite
-from .kinematics import pin_position
+from .kinematics import SINGULAR_TRANSMISSION_DEG, pin_position
 
 PAYLOAD_FRAME = "projectile"
 """Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
-
-SINGULAR_TRANSMISSION_DEG = 5.0
-"""Poses with |sin μ| < sin 5° (transmission angle μ within 5° of 0° or 180°) are refused: there
-the piston force needed for a given arm moment is over 11× its value at μ = 90° and grows without
-bound at the toggle. The reference device stays inside [43°, 137°]."""
 
 CLOSURE_TOLERANCE = 1e-9
 """Largest accepted closure error [m] of a given configuration (eq. 44): the closed form and the
@@ -251,10 +246,27 @@ class FeederDynamics:
 
 
 @dataclass(frozen=True)
+class SampledMotion:
+    """A closed-chain motion that :func:`check_motion` has accepted; N ≥ 1 samples.
+
+    Attributes:
+        q, v, a: [φ1, r2, φ3, φ4] [rad, m] and their first and second time derivatives, paper
+            order, float arrays of shape (N, 4).
+        payload: 1 where the payload is gripped, else 0, int array of shape (N,).
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    payload: np.ndarray
+
+
+@dataclass(frozen=True)
 class ActuatorLoads:
     """Actuator loads and pin force along N samples (inverse dynamics of the closed chain).
 
     Attributes:
+        motion: The motion the loads produce (checked).
         piston_force: Generalized force on ``piston_joint`` [N], positive along its axis
             (extending the cylinder), shape (N,) (Fig. 14).
         forearm_torque: Generalized force on ``forearm_joint`` [N·m], positive about its axis,
@@ -264,6 +276,7 @@ class ActuatorLoads:
             the module docstring).
     """
 
+    motion: SampledMotion
     piston_force: np.ndarray
     forearm_torque: np.ndarray
     closure_force: np.ndarray
@@ -276,21 +289,41 @@ class ActuatorLoads:
         return tau
 
 
+def check_closure(feeder: Feeder, q: np.ndarray, what: str = "sample") -> None:
+    """Raise :class:`UnreachablePoseError` unless every configuration closes the loop.
+
+    Args:
+        feeder: The device.
+        q: Configurations in paper order, shape (N, 4), N ≥ 1.
+        what: How the message names a configuration ("sample" → "sample 3").
+    """
+    residual = loop_residual(feeder, q)
+    worst = int(np.argmax(residual))
+    if residual[worst] > CLOSURE_TOLERANCE:
+        name = f"{what} {worst}" if q.shape[0] > 1 else what
+        raise UnreachablePoseError(
+            f"{name} does not close the loop: pin gap {residual[worst]:.3e} m "
+            f"> {CLOSURE_TOLERANCE:g} m at q = {np.round(q[worst], 6)}"
+        )
+
+
 def check_motion(
     dyn: FeederDynamics, q: np.ndarray, v: np.ndarray, a: np.ndarray, payload: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Validate sampled motion; return float arrays (N, 4) ×3 and the int payload flags (N,).
+) -> SampledMotion:
+    """Validate a sampled motion: float arrays (N, 4) ×3, N ≥ 1, and payload flags (N,).
 
     Raises:
-        InputError: NaN/inf, wrong shapes, payload flags other than 0/1.
+        InputError: NaN/inf, wrong shapes, no samples, payload flags other than 0/1.
         UnreachablePoseError: A configuration that does not close the loop (eq. 44).
         SingularPoseError: A pose within 5° of the toggle.
     """
     arrays = []
     for name, value in (("q", q), ("v", v), ("a", a)):
         array = check_finite(name, value)
-        if array.ndim != 2 or array.shape[1] != 4:
-            raise InputError(f"{name} must have shape (N, 4) in paper order, got {array.shape}")
+        if array.ndim != 2 or array.shape[1] != 4 or array.shape[0] == 0:
+            raise InputError(
+                f"{name} must have shape (N, 4), N ≥ 1, in paper order, got {array.shape}"
+            )
         arrays.append(array)
     flags = check_finite("payload", payload)
     if flags.shape != (arrays[0].shape[0],) or any(x.shape != arrays[0].shape for x in arrays):
@@ -300,15 +333,9 @@ def check_motion(
         )
     if not np.all((flags == 0) | (flags == 1)):
         raise InputError(f"payload flags must be 0 or 1, got {np.unique(flags)}")
-    residual = loop_residual(dyn.feeder, arrays[0])
-    worst = int(np.argmax(residual))
-    if residual[worst] > CLOSURE_TOLERANCE:
-        raise UnreachablePoseError(
-            f"sample {worst} does not close the loop: pin gap {residual[worst]:.3e} m "
-            f"> {CLOSURE_TOLERANCE:g} m at q = {np.round(arrays[0][worst], 6)}"
-        )
+    check_closure(dyn.feeder, arrays[0])
     check_transmission(arrays[0])
-    return arrays[0], arrays[1], arrays[2], flags.astype(int)
+    return SampledMotion(q=arrays[0], v=arrays[1], a=arrays[2], payload=flags.astype(int))
 
 
 def inverse_dynamics(
@@ -332,9 +359,10 @@ def inverse_dynamics(
         UnreachablePoseError: A configuration that does not close the loop.
         SingularPoseError: A pose within 5° of the toggle.
     """
-    q, v, a, payload = check_motion(dyn, q, v, a, payload)
-    n = q.shape[0]
-    qp, vp, ap = dyn.to_pinocchio(q), dyn.to_pinocchio(v), dyn.to_pinocchio(a)
+    motion = check_motion(dyn, q, v, a, payload)
+    v, payload = motion.v, motion.payload
+    n = v.shape[0]
+    qp, vp, ap = (dyn.to_pinocchio(x) for x in (motion.q, motion.v, motion.a))
     tree = np.empty((n, 4))  # M q̈ + b of the open tree, Pinocchio order
     jac_a = np.empty((n, 6, 4))
     jac_b = np.empty((n, 6, 4))
@@ -374,6 +402,7 @@ def inverse_dynamics(
     closure = np.column_stack([solution[:, 1:], np.zeros(n)])
     forearm = tree[:, 3] - np.einsum("ni,ni->n", jac[:, :, 3], closure)
     return ActuatorLoads(
+        motion=motion,
         piston_force=solution[:, 0],
         forearm_torque=forearm,
         closure_force=closure,

@@ -52,6 +52,15 @@ class SingularPoseError(FeederError):
     """The pose is at or too near a singularity (toggle) for a meaningful answer."""
 
 
+class ForwardDivergenceError(FeederError):
+    """The forward run left the joints' end stops or blew up: the integration has diverged.
+
+    The force-driven mechanism is unstable (a deviation grows like e^(4…6 t)), so a coarse step
+    or a long cycle lets the integration error grow until the motion is no longer the one the
+    loads were computed for.
+    """
+
+
 class ViewerPortError(FeederError):
     """The viewer's web port on 127.0.0.1 cannot be used (busy, or not permitted)."""
 
@@ -77,10 +86,13 @@ def check_elevation(elevation: float, limits: tuple[float, float]) -> float:
     """Return the elevation [rad] if finite and inside ``limits`` [rad], else raise.
 
     Raises:
-        InputError: NaN or infinite elevation.
+        InputError: NaN, infinite or non-scalar elevation.
         ElevationError: Elevation outside the range.
     """
-    eps = float(check_finite("elevation", elevation))
+    array = check_finite("elevation", elevation)
+    if array.shape != ():
+        raise InputError(f"elevation must be one number [rad], got {elevation!r}")
+    eps = float(array)
     low, high = limits
     if not low - 1e-12 <= eps <= high + 1e-12:
         raise ElevationError(

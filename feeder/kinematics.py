@@ -19,12 +19,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .exceptions import UnreachablePoseError, check_finite
+from .exceptions import InputError, UnreachablePoseError, check_finite
 from .parameters import FeederParameters
 
 TRANSMISSION_BAND_DEG = (40.0, 140.0)
 """Documented band [deg] that the transmission angle stays inside over the whole elevation range
 (the reference geometry achieves [43°, 137°])."""
+
+SINGULAR_TRANSMISSION_DEG = 5.0
+"""Poses with |sin μ| < sin 5° (transmission angle μ within 5° of 0° or 180°) are refused: there
+the piston force needed for a given arm moment is over 11× its value at μ = 90° and grows without
+bound at the toggle. The reference device stays inside [43°, 137°]."""
+
+TRAVEL_SAMPLES = 2001
+"""Arm angles at which :func:`check_travel` checks a parameter set (≤ 0.05° apart over 94°)."""
 
 
 @dataclass(frozen=True)
@@ -55,8 +63,9 @@ def check_reachable(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
 
     Raises:
         InputError: NaN or infinite φ3.
-        UnreachablePoseError: φ3 outside the arm's end stops, or a piston position outside
-            the cylinder's stroke [r2_min, r2_max].
+        UnreachablePoseError: φ3 outside the arm's end stops, a piston position outside the
+            cylinder's stroke [r2_min, r2_max], or a cylinder angle outside its swing
+            [phi1_min, phi1_max] (the URDF's joint limits).
     """
     phi3 = check_finite("phi3", phi3)
     bad = (phi3 < p.phi3_min - 1e-12) | (phi3 > p.phi3_max + 1e-12)
@@ -75,7 +84,26 @@ def check_reachable(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
             f"position r2 = {float(np.ravel(r2)[k]):.4f} m, outside the stroke "
             f"[{p.r2_min:.4f}, {p.r2_max:.4f}] m"
         )
+    phi1 = np.arctan2(*pin_position(p, phi3)[::-1])
+    bad = (phi1 < p.phi1_min - 1e-12) | (phi1 > p.phi1_max + 1e-12)
+    if np.any(bad):
+        k = np.flatnonzero(np.ravel(bad))[0]
+        raise UnreachablePoseError(
+            f"arm angle φ3 = {math.degrees(float(np.ravel(phi3)[k])):.3f}° needs cylinder "
+            f"angle φ1 = {math.degrees(float(np.ravel(phi1)[k])):.3f}°, outside its swing "
+            f"[{math.degrees(p.phi1_min):.1f}°, {math.degrees(p.phi1_max):.1f}°]"
+        )
     return phi3
+
+
+def _check_rate(name: str, value: np.ndarray | float, phi3: np.ndarray) -> np.ndarray:
+    """``value`` as a float array: a scalar, or one entry per arm angle (φ3's shape)."""
+    rate = check_finite(name, value)
+    if rate.shape not in ((), phi3.shape):
+        raise InputError(
+            f"{name} must be a scalar or have the shape of phi3 {phi3.shape}, got {rate.shape}"
+        )
+    return rate
 
 
 def dependent_coordinates(
@@ -93,11 +121,12 @@ def dependent_coordinates(
         ddphi3: Arm acceleration(s) [rad/s²].
 
     Raises:
+        InputError: NaN/inf, or rates whose shape is neither scalar nor φ3's.
         UnreachablePoseError: See :func:`check_reachable`.
     """
     phi3 = check_reachable(p, phi3)
-    dphi3 = check_finite("dphi3", dphi3)
-    ddphi3 = check_finite("ddphi3", ddphi3)
+    dphi3 = _check_rate("dphi3", dphi3, phi3)
+    ddphi3 = _check_rate("ddphi3", ddphi3, phi3)
     pin_xy = pin_position(p, phi3)
     s = np.linalg.norm(pin_xy, axis=0)
     phi1 = np.arctan2(pin_xy[1], pin_xy[0])
@@ -137,3 +166,36 @@ def required_stroke(p: FeederParameters) -> float:
     travel = arm_travel(p.elevation_min)
     ends = dependent_coordinates(p, np.array([p.phi3_load, p.phi3_load + travel]))
     return float(ends.r2[1] - ends.r2[0])
+
+
+def check_travel(p: FeederParameters) -> None:
+    """Raise unless the loop assembles, away from the toggle, over the whole arm travel.
+
+    The travel runs from the loading pose φ3 = ``phi3_load`` to φ3 = ``phi3_load`` + 90° − ε at
+    every elevation ε of the range, i.e. over [phi3_load + 90° − ε_max, phi3_load + 90° − ε_min]
+    and the loading pose; it is checked at :data:`TRAVEL_SAMPLES` arm angles, both ends included.
+
+    Raises:
+        UnreachablePoseError: A pose of the travel outside the arm's end stops, the piston's
+            stroke or the cylinder's swing (:func:`check_reachable`).
+        InputError: A pose whose transmission angle is within
+            :data:`SINGULAR_TRANSMISSION_DEG` of the toggle.
+    """
+    ends = p.phi3_load + np.array([arm_travel(p.elevation_max), arm_travel(p.elevation_min)])
+    phi3 = np.linspace(min(p.phi3_load, ends[0]), max(p.phi3_load, ends[1]), TRAVEL_SAMPLES)
+    try:
+        mu = transmission_angle(p, phi3)
+    except UnreachablePoseError as exc:
+        raise UnreachablePoseError(
+            f"parameters {p.name!r}: the feeding cycle's arm travel "
+            f"[{math.degrees(phi3[0]):.2f}°, {math.degrees(phi3[-1]):.2f}°] cannot be assembled: "
+            f"{exc}"
+        ) from exc
+    margin = np.minimum(mu, math.pi - mu)
+    k = int(np.argmin(margin))
+    if margin[k] < math.radians(SINGULAR_TRANSMISSION_DEG):
+        raise InputError(
+            f"parameters {p.name!r}: transmission angle {math.degrees(mu[k]):.3f}° at arm angle "
+            f"φ3 = {math.degrees(phi3[k]):.3f}° of the travel is within "
+            f"{SINGULAR_TRANSMISSION_DEG:g}° of the toggle"
+        )

@@ -104,6 +104,25 @@ def check_inertia(link: str, mass: float, inertia: np.ndarray) -> None:
             )
 
 
+POSITIVE_LENGTHS = (
+    "d2",
+    "d3",
+    "a",
+    "e5",
+    "r2_min",
+    "payload_length",
+    "payload_diameter",
+    "bore_diameter",
+    "rod_diameter",
+    "pinion_radius",
+)
+"""Lengths [m] that :meth:`FeederParameters.check` requires positive: the rod-eye pin beyond the
+piston's centre of gravity (d2) and the piston ahead of the cylinder pivot (r2_min); the arm's
+lever to the pin (d3 = 0 puts the pin on the arm pivot: no moment, a singular loop); the arm
+beam (a); the payload's centre of gravity ahead of the forearm hinge (e5: the tray's length);
+the payload's and the drives' sizes."""
+
+
 def _length(unit: str, source: str):
     return field(metadata={"unit": unit, "source": source})
 
@@ -202,13 +221,73 @@ class FeederParameters:
         }
 
     def check(self) -> None:
-        """Raise :class:`InertiaError` or :class:`InputError` unless every number is usable."""
+        """Raise unless every number is usable and the feeding cycle can be assembled.
+
+        Checked, in this order: every number finite; every link inertia physical; the lengths
+        in :data:`POSITIVE_LENGTHS` positive and the CG distances l1, l3 not negative (c, d,
+        e, f, h5, z5 are offsets of either sign, L1, L2 a position); 0 < rod diameter < bore
+        diameter; each range (r2, φ1, φ3, elevation) with min < max; 0 < φ4 limit and
+        |swing| ≤ φ4 limit; then the geometry over the whole arm travel
+        (:func:`~feeder.kinematics.check_travel`): every pose from loading to the lowest
+        elevation reachable, its transmission angle away from the toggle.
+
+        Raises:
+            InputError: A non-finite or out-of-range number, an empty range, a pose near the
+                toggle.
+            InertiaError: A non-physical link inertia (names the link).
+            UnreachablePoseError: A pose of the travel outside the joint limits.
+        """
         for f_ in fields(self):
             value = getattr(self, f_.name)
             if isinstance(value, float):
                 check_finite(f_.name, value)
         for link, inertia in self.links().items():
             inertia.check(link)
+        for name in POSITIVE_LENGTHS:
+            if not getattr(self, name) > 0.0:
+                raise InputError(
+                    f"parameters {self.name!r}: {name} must be positive, got "
+                    f"{getattr(self, name)!r} m"
+                )
+        if not self.a1 > 0.0:
+            raise InputError(
+                f"parameters {self.name!r}: a1 = a + b must be positive, got {self.a1!r} m"
+            )
+        for name in ("l1", "l3"):
+            if getattr(self, name) < 0.0:
+                raise InputError(
+                    f"parameters {self.name!r}: {name} (a centre of gravity along its link "
+                    f"from the pivot) must not be negative, got {getattr(self, name)!r} m"
+                )
+        if not self.rod_diameter < self.bore_diameter:
+            raise InputError(
+                f"parameters {self.name!r}: the rod diameter {self.rod_diameter!r} m must be "
+                f"smaller than the bore diameter {self.bore_diameter!r} m"
+            )
+        for low, high in (
+            ("r2_min", "r2_max"),
+            ("phi1_min", "phi1_max"),
+            ("phi3_min", "phi3_max"),
+            ("elevation_min", "elevation_max"),
+        ):
+            if not getattr(self, low) < getattr(self, high):
+                raise InputError(
+                    f"parameters {self.name!r}: {low} = {getattr(self, low)!r} must be smaller "
+                    f"than {high} = {getattr(self, high)!r}"
+                )
+        if not self.phi4_limit > 0.0:
+            raise InputError(
+                f"parameters {self.name!r}: phi4_limit must be positive, got "
+                f"{self.phi4_limit!r} rad"
+            )
+        if not abs(self.swing) <= self.phi4_limit:
+            raise InputError(
+                f"parameters {self.name!r}: the swing {math.degrees(self.swing):.3f}° is outside "
+                f"the forearm's end stops ±{math.degrees(self.phi4_limit):.3f}°"
+            )
+        from .kinematics import check_travel  # kinematics imports this module
+
+        check_travel(self)
 
     def mirrored(self, name: str) -> FeederParameters:
         """The same device mirrored through the barrel's vertical plane (z → −z)."""

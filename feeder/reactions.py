@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .dynamics import ActuatorLoads, FeederDynamics, check_motion, payload_runs
+from .dynamics import ActuatorLoads, FeederDynamics, payload_runs
 
 JOINT_NAMES = ("cylinder_frame", "piston_cylinder", "arm_frame", "forearm_arm")
 """Names of the four joint reactions, in the order of the paper's joints (φ1, r2, φ3, φ4)."""
@@ -110,28 +110,15 @@ def _closure_wrenches(
     return wrenches
 
 
-def joint_reactions(
-    dyn: FeederDynamics,
-    q: np.ndarray,
-    v: np.ndarray,
-    a: np.ndarray,
-    payload: np.ndarray,
-    loads: ActuatorLoads,
-) -> JointReactions:
+def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions:
     """Reaction wrenches of every joint from RNEA with the pin force as external forces.
 
     Args:
         dyn: The device's dynamics models.
-        q, v, a: Motion in paper order, shape (N, 4) each (as given to
-            :func:`~feeder.dynamics.inverse_dynamics`).
-        payload: Payload flags, shape (N,).
-        loads: The inverse dynamics of the same motion.
-
-    Raises:
-        InputError, UnreachablePoseError, SingularPoseError: See
-            :func:`~feeder.dynamics.check_motion`.
+        loads: The inverse dynamics (:func:`~feeder.dynamics.inverse_dynamics`) of a motion;
+            its checked motion ``loads.motion`` is the one used here.
     """
-    q, v, a, payload = check_motion(dyn, q, v, a, payload)
+    q, v, a, payload = loads.motion.q, loads.motion.v, loads.motion.a, loads.motion.payload
     n = q.shape[0]
     qp, vp, ap = dyn.to_pinocchio(q), dyn.to_pinocchio(v), dyn.to_pinocchio(a)
     rotations = dyn.joint_rotations(q)

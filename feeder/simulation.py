@@ -36,20 +36,27 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from .device import PAPER_JOINTS
 from .dynamics import (
-    CLOSURE_TOLERANCE,
     VELOCITY_TOLERANCE,
     FeederDynamics,
     InertiaCase,
+    check_closure,
     check_transmission,
 )
-from .exceptions import InputError, SingularPoseError, UnreachablePoseError, check_finite
+from .exceptions import ForwardDivergenceError, InputError, check_finite
 
 ADAMS_ORDER = 5
 """Order of the Adams–Bashforth–Moulton pair; the RK4 starter makes ADAMS_ORDER − 1 steps."""
 
 MIN_PIECE_STEPS = ADAMS_ORDER
 """Fewest steps in a smooth piece of the force rule (the starter's steps + one Adams step)."""
+
+END_STOP_TOLERANCE = 1e-3
+"""How far [rad or m] the forward run may pass a joint's end stop before it counts as diverged:
+10× the 1e-4 rad to which it tracks a cycle sampled at
+:data:`~feeder.cycle_dynamics.MIN_FORWARD_RATE` or finer, so that only a run that has left the
+prescribed motion trips it."""
 
 _BASHFORTH = np.array([251.0, -1274.0, 2616.0, -2774.0, 1901.0]) / 720.0  # f_{k−4} … f_k
 _MOULTON = np.array([-19.0, 106.0, -264.0, 646.0, 251.0]) / 720.0  # f_{k−3} … f_{k+1}
@@ -258,20 +265,14 @@ def check_initial_state(
         UnreachablePoseError: q0 does not close the loop.
         SingularPoseError: q0 within 5° of the toggle.
     """
-    chain = dyn.feeder.chain
     q0 = check_finite("q0", q0)
     v0 = check_finite("v0", v0)
     if q0.shape != (4,) or v0.shape != (4,):
         raise InputError(f"q0 and v0 must have shape (4,), got {q0.shape} and {v0.shape}")
-    qp = dyn.to_pinocchio(q0)
-    gap = float(np.linalg.norm(chain.residual(qp)))
-    if gap > CLOSURE_TOLERANCE:
-        raise UnreachablePoseError(
-            f"the initial state does not close the loop: pin gap {gap:.3e} m > "
-            f"{CLOSURE_TOLERANCE:g} m at q0 = {np.round(q0, 6)}"
-        )
+    check_closure(dyn.feeder, q0[None, :], "the initial state")
     check_transmission(q0[None, :])
-    rate = float(np.linalg.norm(chain.jacobian(qp) @ dyn.to_pinocchio(v0)))
+    jacobian = dyn.feeder.chain.jacobian(dyn.to_pinocchio(q0))
+    rate = float(np.linalg.norm(jacobian @ dyn.to_pinocchio(v0)))
     if rate > VELOCITY_TOLERANCE:
         raise InputError(
             f"the initial velocity violates the closure: |J v0| = {rate:.3e} m/s > "
@@ -294,8 +295,9 @@ def simulate(
         InputError: NaN/inf loads or state, non-uniform times, too short pieces, velocities
             violating the closure.
         UnreachablePoseError: q0 does not close the loop.
-        SingularPoseError: q0 or the integrated motion within 5° of the toggle, or a motion
-            that blows up.
+        SingularPoseError: q0 or the integrated motion within 5° of the toggle.
+        ForwardDivergenceError: The integrated motion blows up or passes a joint's end stop
+            (:func:`check_end_stops`).
     """
     q0, v0 = check_initial_state(dyn, q0, v0)
     h = rule.step
@@ -311,8 +313,37 @@ def simulate(
         errors[first : last + 1] = piece_errors
         state = piece_states[-1]
     q, v = dyn.to_paper(states[:, :4]), dyn.to_paper(states[:, 4:])
-    if not np.all(np.isfinite(states)):
-        k = int(np.argmin(np.all(np.isfinite(states), axis=1)))
-        raise SingularPoseError(f"the forward motion blows up at t = {rule.t[k]:.4f} s")
+    check_end_stops(dyn, rule.t, q, v)
     check_transmission(q, rule.t)
     return ForwardMotion(t=rule.t, q=q, v=v, closure_residual=np.linalg.norm(errors, axis=1))
+
+
+def check_end_stops(dyn: FeederDynamics, t: np.ndarray, q: np.ndarray, v: np.ndarray) -> None:
+    """Raise :class:`ForwardDivergenceError` at the first sample of a forward run that is not
+    finite or passes a joint's end stop (the URDF's limits) by more than
+    :data:`END_STOP_TOLERANCE`.
+
+    Args:
+        dyn: The device's dynamics models.
+        t: Sample times [s], shape (N,).
+        q, v: The run's coordinates and rates in paper order, shape (N, 4).
+    """
+    model = dyn.feeder.model
+    low, high = dyn.to_paper(model.lowerPositionLimit), dyn.to_paper(model.upperPositionLimit)
+    finite = np.all(np.isfinite(q) & np.isfinite(v), axis=1)
+    outside = (q < low - END_STOP_TOLERANCE) | (q > high + END_STOP_TOLERANCE)
+    bad = ~finite | np.any(outside, axis=1)
+    if not np.any(bad):
+        return
+    k = int(np.argmax(bad))
+    advice = (
+        "the force-driven mechanism is unstable and the integration has diverged from the "
+        "motion the loads were computed for (sample more finely, or shorten the cycle)"
+    )
+    if not finite[k]:
+        raise ForwardDivergenceError(f"the forward run blows up at t = {t[k]:.4f} s: {advice}")
+    i = int(np.argmax(outside[k]))
+    raise ForwardDivergenceError(
+        f"the forward run passes the end stop of {PAPER_JOINTS[i]} at t = {t[k]:.4f} s "
+        f"({q[k, i]:.6g} outside [{low[i]:.6g}, {high[i]:.6g}]): {advice}"
+    )

@@ -17,7 +17,7 @@ from tqdm import tqdm
 from .cycle import CycleSpec
 from .cycle_dynamics import CycleDynamics, cycle_dynamics
 from .device import Feeder
-from .exceptions import check_elevation
+from .exceptions import InputError, check_elevation, check_finite
 from .lagrange import LagrangeLoads, lagrange_cycle_loads
 from .plots import plot_cycle_figures, plot_mechanism, plot_position, plot_workspace
 from .results import write_csv
@@ -69,16 +69,17 @@ def write_cycle_study(study: CycleStudy, feeder: Feeder, directory: str | Path) 
     """Write ``cycle.csv`` and every figure of the study into ``directory``."""
     directory = Path(directory)
     kinematics = study.dynamics.kinematics
+    columns = study.columns()
     low, high = feeder.params.elevation_limits
     space = workspace(feeder, np.radians(np.arange(np.degrees(low), np.degrees(high) + 1, 10)))
     return [
-        write_csv(directory / "cycle.csv", study.columns()),
+        write_csv(directory / "cycle.csv", columns),
         plot_mechanism(directory / "device_side_view.png", feeder, kinematics),
         plot_workspace(directory / "fig04_workspace.png", space, feeder.params.name),
         plot_position(directory / "fig10_projectile_position.png", kinematics),
         *plot_cycle_figures(
             directory,
-            study.columns(),
+            columns,
             kinematics.spec.boundaries,
             float(np.degrees(kinematics.elevation)),
         ),
@@ -114,15 +115,29 @@ def elevation_sweep(
     spec: CycleSpec | None = None,
     progress: bool = True,
 ) -> ElevationSweep:
-    """Peak loads and reactions of the cycle at each of ``elevations`` [rad], with a progress bar.
+    """Peak loads and reactions of the cycle at each of ``elevations`` [rad].
+
+    The forward (force-rule) run of each cycle is skipped: the peaks do not need it.
+
+    Args:
+        feeder: The device.
+        elevations: ε [rad], shape (K,), K ≥ 1.
+        spec: Stage durations and sample rate (default :class:`~feeder.cycle.CycleSpec`).
+        progress: Show a progress bar over the cycles on a terminal (none when stderr is not
+            one, e.g. in CI logs).
 
     Raises:
+        InputError: ``elevations`` empty, not one-dimensional, or not finite.
         ElevationError: An elevation outside the device's range (checked before any work).
     """
-    elevations = np.array([check_elevation(e, feeder.params.elevation_limits) for e in elevations])
+    array = check_finite("elevations", elevations)
+    if array.ndim != 1 or array.size == 0:
+        raise InputError(f"elevations must be a non-empty 1-D array [rad], got {elevations!r}")
+    elevations = np.array([check_elevation(e, feeder.params.elevation_limits) for e in array])
     rows = []
-    for elevation in tqdm(elevations, desc="elevation sweep", unit="cycle", disable=not progress):
-        rows.append(cycle_dynamics(feeder, float(elevation), spec).peaks())
+    quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
+    for elevation in tqdm(elevations, desc="elevation sweep", unit="cycle", disable=quiet):
+        rows.append(cycle_dynamics(feeder, float(elevation), spec, forward=False).peaks())
     names = [peak.name for peak in rows[0]]
     return ElevationSweep(
         elevations=elevations,

@@ -195,7 +195,7 @@ def view_command(device: str, elevation_deg: float, html: str | None, port: int 
     if html is not None:
         _check_writable(Path(html))
     _check_port(port)
-    dynamics = cycle_dynamics(feeder, elevation)
+    dynamics = cycle_dynamics(feeder, elevation, forward=False)
     cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
     if html is not None:
         path = write_html(feeder, cycle, html, forces, port=port)

@@ -82,7 +82,7 @@ CONTRACT_COLUMNS = (
 
 
 def test_cycle_command_writes_every_contract_column(tmp_path, capsys):
-    assert main(["cycle", "--elevation", "30", "--out", str(tmp_path), "--rate", "250"]) == 0
+    assert main(["cycle", "--elevation", "30", "--out", str(tmp_path), "--rate", "500"]) == 0
     table = read_csv(tmp_path / "cycle.csv")
     for name in CONTRACT_COLUMNS:
         assert name in table, name

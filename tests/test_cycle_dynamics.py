@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from feeder.cycle import feeding_cycle
-from feeder.cycle_dynamics import cycle_dynamics
+from feeder.cycle import CycleSpec, feeding_cycle
+from feeder.cycle_dynamics import MIN_FORWARD_RATE, cycle_dynamics
 from feeder.exceptions import ElevationError, InputError
 from feeder.results import read_csv, write_csv
 
@@ -73,3 +73,45 @@ def test_bad_elevation_is_refused():
         cycle_dynamics(device(), math.radians(75.0))
     with pytest.raises(InputError, match="finite"):
         cycle_dynamics(device(), float("nan"))
+
+
+def test_forward_run_needs_the_minimum_rate():
+    """Below MIN_FORWARD_RATE the forward run would miss 1e-4 rad (or diverge): refused, with
+    the rate given; the kinematics, loads and reactions alone need no minimum."""
+    slow = CycleSpec(rate=50.0)
+    with pytest.raises(InputError, match=r"sample rate 50 Hz is below 500 Hz"):
+        cycle_dynamics(device(), 0.0, slow)
+    result = cycle_dynamics(device(), 0.0, slow, forward=False)
+    assert result.forward is None and result.kinematics.t.size == 201
+    assert np.all(np.isfinite(result.loads.piston_force))
+    cycle_dynamics(device(), 0.0, CycleSpec(durations=(0.1, 0.1, 0.1), rate=MIN_FORWARD_RATE))
+
+
+def test_cycle_without_forward_run():
+    full = cycle_result(ELEVATIONS_DEG[1])
+    spec = full.kinematics.spec
+    bare = cycle_dynamics(device(), full.kinematics.elevation, spec, forward=False)
+    columns, full_columns = bare.columns(), full.columns()
+    forward = {"forward_q_phi3", "forward_q_phi4", "forward_closure_residual"}
+    assert set(full_columns) - set(columns) == forward
+    for name, values in columns.items():
+        assert np.array_equal(values, full_columns[name]), name
+    assert bare.peaks() == full.peaks()
+    assert "forward run (force rule): skipped" in bare.summary()
+    with pytest.raises(InputError, match="forward=False"):
+        bare.tracking_error()
+    with pytest.raises(InputError, match="forward=False"):
+        bare.closure_residual()
+
+
+def test_no_cylinder_frame_moment_column(result):
+    """Its constraint moment is zero by construction (planar cylinder, λz = 0): no column, no
+    peak (test_reactions checks that it is zero)."""
+    assert not any(name.startswith("cylinder_frame_moment") for name in result.columns())
+    assert "cylinder_frame_moment" not in {peak.name for peak in result.peaks()}
+
+
+def test_progress_bar_is_quiet_off_a_terminal(capsys):
+    """progress=True shows the bar only on a terminal: pytest's captured stderr is not one."""
+    cycle_dynamics(device(), 0.0, CycleSpec(rate=100.0), progress=True, forward=False)
+    assert capsys.readouterr().err == ""

@@ -13,6 +13,7 @@ from feeder.dynamics import (
     FeederDynamics,
     check_transmission,
     inverse_dynamics,
+    loop_residual,
 )
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 from feeder.kinematics import arm_travel, dependent_coordinates, stroke_ratio, transmission_angle
@@ -252,12 +253,21 @@ def test_pose_near_the_toggle_is_refused():
         inverse_dynamics(dyn, near, np.zeros_like(near), np.zeros_like(near), np.ones(1))
     with pytest.raises(SingularPoseError):
         check_transmission(near)
-    # Just outside the band the loads are large but finite and correct (statics).
+    # Just outside the band the loads are large but finite and correct (statics by virtual
+    # work, as in test_statics_by_virtual_work).
     phi3 = toggle + math.radians(8.0)
     ok = _rest_pose(p, phi3)
     assert _from_toggle_deg(p, phi3) > SINGULAR_TRANSMISSION_DEG
     loads = inverse_dynamics(dyn, ok, np.zeros_like(ok), np.zeros_like(ok), np.ones(1))
-    assert np.isfinite(loads.piston_force[0])
+    h = FD_STEP
+    dv_dphi3 = (
+        _potential_energy(dyn, 1, phi3 + h, 0.0) - _potential_energy(dyn, 1, phi3 - h, 0.0)
+    ) / (2 * h)
+    virtual_work = loads.piston_force[0] * stroke_ratio(p, phi3)
+    assert virtual_work == pytest.approx(dv_dphi3, rel=STATICS_TOLERANCE)
+    far = _rest_pose(p, p.phi3_load)  # μ ≈ 90° further from the toggle: the force is smaller
+    far_loads = inverse_dynamics(dyn, far, np.zeros_like(far), np.zeros_like(far), np.ones(1))
+    assert abs(loads.piston_force[0]) > 2 * abs(far_loads.piston_force[0])
 
 
 def test_bad_motion_is_refused(dyn):
@@ -277,8 +287,24 @@ def test_bad_motion_is_refused(dyn):
         inverse_dynamics(dyn, kin.q[2500:2501], moving, kin.a[2500:2501], np.ones(1))
     with pytest.raises(InputError, match="payload"):
         inverse_dynamics(dyn, q, v, a, np.full(5, 2))
-    with pytest.raises(InputError, match="shape"):
+    with pytest.raises(InputError, match=r"got \(5, 3\)"):
         inverse_dynamics(dyn, q[:, :3], v, a, flags)
+    with pytest.raises(InputError, match=r"N ≥ 1, in paper order, got \(0, 4\)"):
+        inverse_dynamics(dyn, q[:0], v[:0], a[:0], flags[:0])
+    with pytest.raises(InputError, match=r"N samples each, got shapes \[\(5, 4\), \(4, 4\)"):
+        inverse_dynamics(dyn, q, v[:4], a, flags)
+    with pytest.raises(InputError, match=r"\(5, 4\), \(5, 4\)\] and \(4,\)"):
+        inverse_dynamics(dyn, q, v, a, flags[:4])
+
+
+def test_loads_carry_their_checked_motion(dyn):
+    """The reactions use the motion the loads were computed for, checked once."""
+    kin = cycle_result(ELEVATIONS_DEG[1]).kinematics
+    loads = inverse_dynamics(dyn, kin.q.tolist(), kin.v, kin.a, kin.payload.astype(float))
+    motion = loads.motion
+    assert np.array_equal(motion.q, kin.q) and motion.q.dtype == float
+    assert np.array_equal(motion.payload, kin.payload) and motion.payload.dtype.kind == "i"
+    assert motion.v is kin.v and motion.a is kin.a  # float input is not copied
 
 
 def test_charge_feeder_round_trip():
@@ -295,3 +321,20 @@ def test_charge_feeder_round_trip():
             loads.closure_force[k]
         )
     assert device("charge").params.c == -device().params.c
+
+
+def test_closure_check_measures_pinocchio_s_pin_gap(dyn):
+    """The closure check (eq. 44, closed form) and Pinocchio's frames give the same pin gap on
+    configurations that do not close, to rounding (~1e-16 of the ~1 m lengths)."""
+    rng = np.random.default_rng(11)
+    q = np.column_stack(
+        [
+            rng.uniform(2.0, 2.8, 20),
+            rng.uniform(0.2, 0.6, 20),
+            rng.uniform(0.0, 1.6, 20),
+            rng.uniform(-1.5, 1.5, 20),
+        ]
+    )
+    chain = dyn.feeder.chain
+    pinocchio = [np.linalg.norm(chain.residual(dyn.to_pinocchio(x))) for x in q]
+    np.testing.assert_allclose(loop_residual(dyn.feeder, q), pinocchio, rtol=0, atol=1e-14)

@@ -14,6 +14,7 @@ from feeder import (
     InertiaError,
     InputError,
     LinkInertia,
+    UnreachablePoseError,
     parameter_table,
 )
 from feeder.parameters import check_inertia
@@ -122,3 +123,61 @@ def test_every_number_has_a_unit_and_source():
 def test_nan_parameter_is_refused():
     with pytest.raises(InputError, match="d3"):
         dataclasses.replace(PROJECTILE_FEEDER, d3=float("nan")).check()
+
+
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        ({"d3": 0.0}, "d3 must be positive, got 0.0 m"),
+        ({"d2": -0.1}, "d2 must be positive, got -0.1 m"),
+        ({"e5": 0.0}, "e5 must be positive"),
+        ({"payload_length": -0.7}, "payload_length must be positive, got -0.7"),
+        ({"pinion_radius": 0.0}, "pinion_radius must be positive"),
+        ({"a": 0.4, "b": -0.5}, r"a1 = a \+ b must be positive, got -0.0999"),
+        ({"l3": -0.2}, "l3 .* must not be negative, got -0.2 m"),
+        ({"rod_diameter": 0.06}, "rod diameter 0.06 m must be smaller than the bore .* 0.05 m"),
+        ({"r2_max": 0.2}, "r2_min = 0.2304 must be smaller than r2_max = 0.2"),
+        ({"phi1_min": 3.0}, "phi1_min = 3.0 must be smaller than phi1_max"),
+        ({"phi3_max": -0.1}, "phi3_min = .* must be smaller than phi3_max = -0.1"),
+        ({"elevation_max": -0.1}, "elevation_min = .* must be smaller than elevation_max = -0.1"),
+        ({"phi4_limit": 0.0}, "phi4_limit must be positive, got 0.0"),
+        ({"swing": 10.0}, "swing 572.958° is outside the forearm's end stops ±100.000°"),
+        ({"swing": -2.0}, "swing -114.592° is outside"),
+    ],
+)
+def test_out_of_range_parameters_are_refused(changes, message):
+    with pytest.raises(InputError, match=message):
+        dataclasses.replace(PROJECTILE_FEEDER, **changes).check()
+
+
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        # The loading pose needs r2 = 0.2404 m: the stroke is moved past it.
+        ({"r2_min": 0.25}, r"φ3 = 0.000° needs piston position r2 = 0.2404 m, outside"),
+        # At −20° the arm would turn 110°, past its end stop at 100°.
+        (
+            {"elevation_min": math.radians(-20.0)},
+            "φ3 = 100.0[0-9]*° is outside the arm's end stops",
+        ),
+        ({"phi1_max": math.radians(130.0)}, r"φ1 = 136.975°, outside its swing"),
+    ],
+)
+def test_unreachable_cycle_is_refused(changes, message):
+    with pytest.raises(UnreachablePoseError, match=message) as info:
+        dataclasses.replace(PROJECTILE_FEEDER, **changes).check()
+    assert "arm travel [0.00°," in str(info.value)
+
+
+def test_travel_through_the_toggle_is_refused():
+    """Loading at φ3 = −30° puts the toggle (φ3 ≈ −29.7°, B, the arm pivot and the pin in line)
+    on the travel, with the end stops opened so that every pose is otherwise reachable."""
+    toggle = dataclasses.replace(
+        PROJECTILE_FEEDER,
+        phi3_min=math.radians(-45.0),
+        r2_min=0.15,
+        phi3_load=math.radians(-30.0),
+        elevation_max=math.radians(30.0),
+    )
+    with pytest.raises(InputError, match=r"transmission angle [0-9.]+° at arm angle φ3 = -29"):
+        toggle.check()

@@ -9,9 +9,19 @@ import pytest
 
 from feeder.cycle import CycleSpec, feeding_cycle
 from feeder.dynamics import BAUMGARTE_RATE, FeederDynamics, inverse_dynamics
-from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
+from feeder.exceptions import (
+    ForwardDivergenceError,
+    InputError,
+    SingularPoseError,
+    UnreachablePoseError,
+)
 from feeder.kinematics import dependent_coordinates
-from feeder.simulation import ForceRule, simulate
+from feeder.simulation import (
+    END_STOP_TOLERANCE,
+    ForceRule,
+    check_end_stops,
+    simulate,
+)
 
 from ._dynamics_cases import (
     ELEVATIONS_DEG,
@@ -140,3 +150,29 @@ def test_initial_state_near_the_toggle_is_refused():
     rule = ForceRule(t, np.ones(11), np.zeros(11), np.zeros(11), np.zeros(11))
     with pytest.raises(SingularPoseError, match="toggle"):
         simulate(FeederDynamics(feeder), rule, q0, np.zeros(4))
+
+
+def test_diverged_run_is_reported_as_such(dyn):
+    """At 20 Hz the force-driven run drifts off the cycle until it passes the piston's end stop:
+    a ForwardDivergenceError that names the joint and the time, not a toggle."""
+    kin = feeding_cycle(device(), math.radians(30.0), CycleSpec(rate=20.0))
+    loads = inverse_dynamics(dyn, kin.q, kin.v, kin.a, kin.payload)
+    with pytest.raises(ForwardDivergenceError, match=r"end stop of piston_joint at t = 3\.\d+ s"):
+        simulate(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
+
+
+def test_end_stops_and_blow_up_of_a_run(dyn):
+    """check_end_stops: the URDF's limits (paper order) with END_STOP_TOLERANCE, and NaN."""
+    t = np.arange(3) * 1e-3
+    q = np.tile([2.4, 0.3, 0.5, 0.0], (3, 1))
+    v = np.zeros_like(q)
+    check_end_stops(dyn, t, q, v)
+    limit = dyn.feeder.params.phi4_limit
+    q[2, 3] = limit + 0.5 * END_STOP_TOLERANCE  # past the stop, within the tolerance
+    check_end_stops(dyn, t, q, v)
+    q[1, 3] = -limit - 2 * END_STOP_TOLERANCE
+    with pytest.raises(ForwardDivergenceError, match=r"forearm_joint at t = 0\.0010 s"):
+        check_end_stops(dyn, t, q, v)
+    v[0, 1] = np.nan
+    with pytest.raises(ForwardDivergenceError, match=r"blows up at t = 0\.0000 s"):
+        check_end_stops(dyn, t, q, v)
