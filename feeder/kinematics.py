@@ -68,32 +68,33 @@ def check_reachable(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
             [phi1_min, phi1_max] (the URDF's joint limits).
     """
     phi3 = check_finite("phi3", phi3)
-    bad = (phi3 < p.phi3_min - 1e-12) | (phi3 > p.phi3_max + 1e-12)
-    if np.any(bad):
-        value = float(np.ravel(phi3)[np.flatnonzero(np.ravel(bad))[0]])
+    pin_xy = pin_position(p, phi3)
+    r2 = np.linalg.norm(pin_xy, axis=0) - p.d2
+    phi1 = np.arctan2(pin_xy[1], pin_xy[0])
+    deg = math.degrees
+    if (k := _first_outside(phi3, p.phi3_min, p.phi3_max)) is not None:
         raise UnreachablePoseError(
-            f"arm angle φ3 = {math.degrees(value):.3f}° is outside the arm's end stops "
-            f"[{math.degrees(p.phi3_min):.1f}°, {math.degrees(p.phi3_max):.1f}°]"
+            f"arm angle φ3 = {deg(np.ravel(phi3)[k]):.3f}° is outside the arm's end stops "
+            f"[{deg(p.phi3_min):.1f}°, {deg(p.phi3_max):.1f}°]"
         )
-    r2 = np.linalg.norm(pin_position(p, phi3), axis=0) - p.d2
-    bad = (r2 < p.r2_min - 1e-12) | (r2 > p.r2_max + 1e-12)
-    if np.any(bad):
-        k = np.flatnonzero(np.ravel(bad))[0]
+    if (k := _first_outside(r2, p.r2_min, p.r2_max)) is not None:
         raise UnreachablePoseError(
-            f"arm angle φ3 = {math.degrees(float(np.ravel(phi3)[k])):.3f}° needs piston "
-            f"position r2 = {float(np.ravel(r2)[k]):.4f} m, outside the stroke "
-            f"[{p.r2_min:.4f}, {p.r2_max:.4f}] m"
+            f"arm angle φ3 = {deg(np.ravel(phi3)[k]):.3f}° needs piston position "
+            f"r2 = {np.ravel(r2)[k]:.4f} m, outside the stroke [{p.r2_min:.4f}, {p.r2_max:.4f}] m"
         )
-    phi1 = np.arctan2(*pin_position(p, phi3)[::-1])
-    bad = (phi1 < p.phi1_min - 1e-12) | (phi1 > p.phi1_max + 1e-12)
-    if np.any(bad):
-        k = np.flatnonzero(np.ravel(bad))[0]
+    if (k := _first_outside(phi1, p.phi1_min, p.phi1_max)) is not None:
         raise UnreachablePoseError(
-            f"arm angle φ3 = {math.degrees(float(np.ravel(phi3)[k])):.3f}° needs cylinder "
-            f"angle φ1 = {math.degrees(float(np.ravel(phi1)[k])):.3f}°, outside its swing "
-            f"[{math.degrees(p.phi1_min):.1f}°, {math.degrees(p.phi1_max):.1f}°]"
+            f"arm angle φ3 = {deg(np.ravel(phi3)[k]):.3f}° needs cylinder angle "
+            f"φ1 = {deg(np.ravel(phi1)[k]):.3f}°, outside its swing "
+            f"[{deg(p.phi1_min):.1f}°, {deg(p.phi1_max):.1f}°]"
         )
     return phi3
+
+
+def _first_outside(values: np.ndarray, low: float, high: float) -> int | None:
+    """Flat index of the first value outside [low, high] (1e-12 slack for rounding), or None."""
+    outside = np.flatnonzero(np.ravel((values < low - 1e-12) | (values > high + 1e-12)))
+    return int(outside[0]) if outside.size else None
 
 
 def _check_rate(name: str, value: np.ndarray | float, phi3: np.ndarray) -> np.ndarray:

@@ -32,6 +32,22 @@ def cycle(request, feeder):
     return feeding_cycle(feeder, math.radians(request.param))
 
 
+@pytest.fixture(scope="session", params=ELEVATIONS_DEG, ids=lambda e: f"eps{e:g}")
+def result(request):
+    """Full cycle dynamics of the projectile feeder, cached across modules."""
+    from ._dynamics_cases import cycle_result
+
+    return cycle_result(request.param)
+
+
+@pytest.fixture(scope="session")
+def dyn():
+    """The projectile feeder's dynamics models (with and without payload), cached."""
+    from ._dynamics_cases import device_dynamics
+
+    return device_dynamics()
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)

@@ -50,16 +50,6 @@ STATICS_TOLERANCE = 1e-7
 50 and is far below a wrong sign, a missing body or a wrong lever (all ≥ 1e-2)."""
 
 
-@pytest.fixture(scope="session", params=ELEVATIONS_DEG, ids=lambda e: f"eps{e:g}")
-def result(request):
-    return cycle_result(request.param)
-
-
-@pytest.fixture(scope="session")
-def dyn():
-    return device_dynamics()
-
-
 def test_empty_forearm_is_the_forearm_link_alone(dyn):
     """Loaded model − payload inertia = the forearm link's own inertia from the parameters."""
     p = dyn.feeder.params

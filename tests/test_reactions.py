@@ -4,11 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-import pytest
 
 from feeder.device import GRAVITY
-
-from ._dynamics_cases import ELEVATIONS_DEG, cycle_result, device_dynamics
 
 BALANCE_TOLERANCE = 1e-10
 """Relative to the peak reaction: Newton–Euler of the whole mechanism from two Pinocchio
@@ -22,16 +19,6 @@ zero up to the rounding of the 3 × 3 solves (~1e-13)."""
 GRIP_TOLERANCE = 1e-10
 """Relative to the payload's weight: the grip wrench from the payload's spatial inertia vs the
 difference of two RNEA runs (with and without payload), both exact up to rounding."""
-
-
-@pytest.fixture(scope="session", params=ELEVATIONS_DEG, ids=lambda e: f"eps{e:g}")
-def result(request):
-    return cycle_result(request.param)
-
-
-@pytest.fixture(scope="session")
-def dyn():
-    return device_dynamics()
 
 
 def _peak(result) -> float:

@@ -25,9 +25,7 @@ from feeder.simulation import (
 
 from ._dynamics_cases import (
     ELEVATIONS_DEG,
-    cycle_result,
     device,
-    device_dynamics,
     toggle_device,
 )
 
@@ -41,16 +39,6 @@ CLOSURE_TOLERANCE = 1e-8
 
 ORDER = 4
 """The integrator must be at least fourth order: doubling the rate divides the error by 2⁴."""
-
-
-@pytest.fixture(scope="session", params=ELEVATIONS_DEG, ids=lambda e: f"eps{e:g}")
-def result(request):
-    return cycle_result(request.param)
-
-
-@pytest.fixture(scope="session")
-def dyn():
-    return device_dynamics()
 
 
 def _rule(kin, loads) -> ForceRule:
