@@ -7,6 +7,7 @@ included, is left alone) and written as PNG.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -70,11 +71,16 @@ def time_history(
     """
     fig = Figure(figsize=(8, 4.2))
     ax = fig.subplots()
+    peak = max(float(np.abs(values).max()) for _, values in series)
+    exponent = 3 * math.floor(math.log10(peak) / 3) if peak > 0 else 0
+    if -3 < exponent < 6:  # plain numbers read best; otherwise scale in the label, not an offset
+        exponent = 0
     for label, values in series:
-        ax.plot(t, values, label=label, linewidth=1.3)
+        ax.plot(t, np.asarray(values) / 10.0**exponent, label=label, linewidth=1.3)
+    ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     mark_stages(ax, boundaries)
     ax.set_xlabel("time t [s]")
-    ax.set_ylabel(ylabel)
+    ax.set_ylabel(ylabel if exponent == 0 else f"{ylabel} × 1e{exponent}")
     ax.set_title(title, pad=16)
     ax.grid(True, linewidth=0.4, alpha=0.6)
     if len(series) > 1:
