@@ -1,8 +1,8 @@
 """Cycle dynamics shared by the dynamics tests, computed once per session (cached).
 
-The elevations are conftest's. These are cached functions rather than conftest fixtures so that
-the dynamics test modules share one result per device and elevation; each module wraps them in
-its own session-scoped fixture.
+The elevations are conftest's. These are cached functions, so that the dynamics test modules
+(through conftest's ``result`` and ``dyn`` fixtures, or directly for other devices) share one
+result per device and elevation.
 """
 
 from __future__ import annotations
