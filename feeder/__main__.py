@@ -103,7 +103,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
 
     out = _output_dir(args.out)
     feeder = load_feeder(args.device)
-    study = run_cycle_study(feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True)
+    study = run_cycle_study(
+        feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True, forward=args.forward
+    )
     paths = write_cycle_study(study, feeder, out)
     print(f"{feeder.params.name} feeder")
     print(study.summary())
@@ -142,6 +144,12 @@ def _parser() -> argparse.ArgumentParser:
 
     cycle = commands.add_parser("cycle", help="loads and reactions over a feeding cycle")
     cycle_options(cycle)
+    cycle.add_argument(
+        "--no-forward",
+        dest="forward",
+        action="store_false",
+        help="skip the force-rule forward run (and its forward_* columns)",
+    )
     cycle.set_defaults(run=cmd_cycle)
 
     kinematics = commands.add_parser("kinematics", help="kinematics of the feeding cycle")

@@ -187,10 +187,15 @@ def check_travel(p: FeederParameters) -> None:
     try:
         mu = transmission_angle(p, phi3)
     except UnreachablePoseError as exc:
+        pin_xy = pin_position(p, phi3)
+        r2 = np.linalg.norm(pin_xy, axis=0) - p.d2
+        phi1 = np.degrees(np.arctan2(pin_xy[1], pin_xy[0]))
         raise UnreachablePoseError(
             f"parameters {p.name!r}: the feeding cycle's arm travel "
             f"[{math.degrees(phi3[0]):.2f}°, {math.degrees(phi3[-1]):.2f}°] cannot be assembled: "
-            f"{exc}"
+            f"{exc}. This geometry needs r2 in [{r2.min():.5f}, {r2.max():.5f}] m and φ1 in "
+            f"[{phi1.min():.2f}°, {phi1.max():.2f}°]: widen r2_min/r2_max (phi1_min/phi1_max, "
+            "phi3_min/phi3_max) to match, or narrow the elevation range"
         ) from exc
     margin = np.minimum(mu, math.pi - mu)
     k = int(np.argmin(margin))

@@ -54,8 +54,8 @@ MIN_PIECE_STEPS = ADAMS_ORDER
 
 END_STOP_TOLERANCE = 1e-3
 """How far [rad or m] the forward run may pass a joint's end stop before it counts as diverged:
-10× the 1e-4 rad to which it tracks a cycle sampled at
-:data:`~feeder.cycle_dynamics.MIN_FORWARD_RATE` or finer, so that only a run that has left the
+10× the 1e-4 rad to which a valid run tracks the cycle
+(:data:`~feeder.cycle_dynamics.FORWARD_TOLERANCE`), so that only a run that has left the
 prescribed motion trips it."""
 
 _BASHFORTH = np.array([251.0, -1274.0, 2616.0, -2774.0, 1901.0]) / 720.0  # f_{k−4} … f_k

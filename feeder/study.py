@@ -58,10 +58,16 @@ class CycleStudy:
 
 
 def run_cycle_study(
-    feeder: Feeder, elevation: float, spec: CycleSpec | None = None, progress: bool = False
+    feeder: Feeder,
+    elevation: float,
+    spec: CycleSpec | None = None,
+    progress: bool = False,
+    forward: bool = True,
 ) -> CycleStudy:
-    """Dynamics of one cycle at ``elevation`` [rad] by Pinocchio and by the Lagrange equations."""
-    dynamics = cycle_dynamics(feeder, elevation, spec, progress=progress)
+    """Dynamics of one cycle at ``elevation`` [rad] by Pinocchio and by the Lagrange equations.
+
+    ``forward=False`` skips the force-rule forward run (and its ``forward_*`` columns)."""
+    dynamics = cycle_dynamics(feeder, elevation, spec, progress=progress, forward=forward)
     return CycleStudy(dynamics, lagrange_cycle_loads(feeder, dynamics.kinematics))
 
 

@@ -157,3 +157,16 @@ def test_unwritable_urdf_and_parameter_outputs(tmp_path, capsys, command):
     blocker.write_text("")
     assert main([*command, str(blocker / "sub" / "x")]) == 2
     assert "cannot write" in capsys.readouterr().err
+
+
+def test_cycle_command_low_rate_forward_run_refused_or_skipped(tmp_path, capsys):
+    """At 100 Hz the force-driven forward run cannot track the cycle: a clear error that names
+    the remedy; with --no-forward the loads are written without the forward_* columns."""
+    assert main(["cycle", "--elevation", "10", "--out", str(tmp_path), "--rate", "100"]) == 2
+    err = capsys.readouterr().err
+    assert "--no-forward" in err and "Traceback" not in err
+    arguments = ["cycle", "--elevation", "10", "--out", str(tmp_path), "--rate", "100"]
+    assert main([*arguments, "--no-forward"]) == 0
+    table = read_csv(tmp_path / "cycle.csv")
+    assert "piston_force" in table and "forward_q_phi3" not in table
+    assert "forward run" in capsys.readouterr().out

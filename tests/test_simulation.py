@@ -54,7 +54,8 @@ def test_force_rule_reproduces_the_prescribed_motion(result):
 
 
 def test_integrator_order(dyn):
-    """Tracking error at 500 Hz vs 1 kHz: the ratio shows the order (≥ 4)."""
+    """Tracking error at 500 Hz vs 1 kHz: the ratio shows the order (≥ 4), and 500 Hz still
+    meets the tracking requirement (the rate the docs recommend as the lowest)."""
     errors = []
     for rate in (500.0, 1000.0):
         kin = feeding_cycle(device(), math.radians(ELEVATIONS_DEG[1]), CycleSpec(rate=rate))
@@ -62,6 +63,7 @@ def test_integrator_order(dyn):
         motion = simulate(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
         errors.append(np.abs(motion.q - kin.q)[:, 2:].max())
     assert errors[0] / errors[1] >= 2.0**ORDER
+    assert errors[0] <= TRACKING_TOLERANCE
 
 
 def test_baumgarte_closes_a_small_initial_gap(dyn):
@@ -145,7 +147,9 @@ def test_diverged_run_is_reported_as_such(dyn):
     a ForwardDivergenceError that names the joint and the time, not a toggle."""
     kin = feeding_cycle(device(), math.radians(30.0), CycleSpec(rate=20.0))
     loads = inverse_dynamics(dyn, kin.q, kin.v, kin.a, kin.payload)
-    with pytest.raises(ForwardDivergenceError, match=r"end stop of piston_joint at t = 3\.\d+ s"):
+    with pytest.raises(
+        ForwardDivergenceError, match=r"end stop of piston_joint at t = \d+\.\d+ s"
+    ):
         simulate(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
 
 
