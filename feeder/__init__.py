@@ -16,7 +16,7 @@ from .coriolis import kronecker_coriolis
 from .cycle import CycleKinematics, CycleSpec, feeding_cycle
 from .cycle_dynamics import CycleDynamics, Peak, cycle_dynamics
 from .device import CLOSURE, INDEPENDENT_JOINTS, PAPER_JOINTS, Feeder, load_feeder
-from .dynamics import SINGULAR_TRANSMISSION_DEG, ActuatorLoads, FeederDynamics, inverse_dynamics
+from .dynamics import ActuatorLoads, FeederDynamics, inverse_dynamics
 from .exceptions import (
     ClosureFrameError,
     ElevationError,
@@ -31,6 +31,7 @@ from .exceptions import (
 )
 from .hydraulics import CylinderPressures, cylinder_pressures, rack_force
 from .kinematics import (
+    SINGULAR_TRANSMISSION_DEG,
     TRANSMISSION_BAND_DEG,
     dependent_coordinates,
     required_stroke,

@@ -22,7 +22,7 @@ mechanics cannot tell. We report the minimum-norm answer λz = 0: the arm–fram
 the whole out-of-plane load of the arm, forearm and payload (stages 1–2 swing the forearm in the
 horizontal plane), and the piston and cylinder carry none of it. The remaining 3 × 3 system in
 (τ_piston, λx, λy) is singular at the toggle (transmission angle 0° or 180°), which is refused
-(:data:`SINGULAR_TRANSMISSION_DEG`).
+(:data:`~feeder.kinematics.SINGULAR_TRANSMISSION_DEG`).
 
 The payload is gripped at the end of stage 1: samples with ``payload == 0`` use a copy of the
 model whose forearm body lacks the payload's spatial inertia (:func:`payload_inertia`), so the
@@ -31,15 +31,14 @@ loads step at the grip. No URDF is regenerated.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from .device import CLOSURE, PAPER_JOINTS, Feeder
-from .exceptions import InputError, SingularPoseError, UnreachablePoseError, check_finite
-from .kinematics import SINGULAR_TRANSMISSION_DEG, pin_position
+from .exceptions import InputError, UnreachablePoseError, check_finite
+from .kinematics import check_transmission, pin_position
 
 PAYLOAD_FRAME = "projectile"
 """Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
@@ -84,38 +83,6 @@ def payload_inertia(feeder: Feeder) -> pin.Inertia:
     link = feeder.params.payload
     central = pin.Inertia(link.mass, np.zeros(3), np.diag(link.moments))
     return frame.placement.act(central)
-
-
-def transmission_sine(q: np.ndarray) -> np.ndarray:
-    """|sin μ| of the transmission angle μ = ∠(piston axis, arm lever) = |φ1 − φ3| (wrapped).
-
-    Args:
-        q: Configurations [φ1, r2, φ3, φ4] in paper order, shape (N, 4).
-
-    Returns:
-        Shape (N,); 1 at μ = 90°, 0 at the toggle.
-    """
-    return np.abs(np.sin(q[:, 0] - q[:, 2]))
-
-
-def check_transmission(q: np.ndarray, times: np.ndarray | None = None) -> None:
-    """Raise :class:`SingularPoseError` if any pose is within 5° of the toggle.
-
-    Args:
-        q: Configurations in paper order, shape (N, 4).
-        times: Sample times [s] for the message (default: sample indices).
-    """
-    sine = transmission_sine(q)
-    bad = np.flatnonzero(sine < math.sin(math.radians(SINGULAR_TRANSMISSION_DEG)))
-    if bad.size:
-        k = int(bad[np.argmin(sine[bad])])
-        delta = math.remainder(q[k, 0] - q[k, 2], 2.0 * math.pi)
-        where = f"t = {times[k]:.4f} s" if times is not None else f"sample {k}"
-        raise SingularPoseError(
-            f"transmission angle {math.degrees(abs(delta)):.3f}° at {where} "
-            f"(φ1 = {math.degrees(q[k, 0]):.3f}°, φ3 = {math.degrees(q[k, 2]):.3f}°) is within "
-            f"{SINGULAR_TRANSMISSION_DEG:g}° of the toggle: the loads are unbounded there"
-        )
 
 
 def loop_residual(feeder: Feeder, q: np.ndarray) -> np.ndarray:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .exceptions import InputError, UnreachablePoseError, check_finite
+from .exceptions import InputError, SingularPoseError, UnreachablePoseError, check_finite
 from .parameters import FeederParameters
 
 TRANSMISSION_BAND_DEG = (40.0, 140.0)
@@ -157,6 +157,38 @@ def transmission_angle(p: FeederParameters, phi3: np.ndarray) -> np.ndarray:
     return np.abs(np.arctan2(np.sin(delta), np.cos(delta)))
 
 
+def transmission_sine(q: np.ndarray) -> np.ndarray:
+    """|sin μ| of the transmission angle μ = ∠(piston axis, arm lever) = |φ1 − φ3| (wrapped).
+
+    Args:
+        q: Configurations [φ1, r2, φ3, φ4] in paper order, shape (N, 4).
+
+    Returns:
+        Shape (N,); 1 at μ = 90°, 0 at the toggle.
+    """
+    return np.abs(np.sin(q[:, 0] - q[:, 2]))
+
+
+def check_transmission(q: np.ndarray, times: np.ndarray | None = None) -> None:
+    """Raise :class:`SingularPoseError` if any pose is within 5° of the toggle.
+
+    Args:
+        q: Configurations in paper order, shape (N, 4).
+        times: Sample times [s] for the message (default: sample indices).
+    """
+    sine = transmission_sine(q)
+    bad = np.flatnonzero(sine < math.sin(math.radians(SINGULAR_TRANSMISSION_DEG)))
+    if bad.size:
+        k = int(bad[np.argmin(sine[bad])])
+        delta = math.remainder(q[k, 0] - q[k, 2], 2.0 * math.pi)
+        where = f"t = {times[k]:.4f} s" if times is not None else f"sample {k}"
+        raise SingularPoseError(
+            f"transmission angle {math.degrees(abs(delta)):.3f}° at {where} "
+            f"(φ1 = {math.degrees(q[k, 0]):.3f}°, φ3 = {math.degrees(q[k, 2]):.3f}°) is within "
+            f"{SINGULAR_TRANSMISSION_DEG:g}° of the toggle: the loads are unbounded there"
+        )
+
+
 def arm_travel(elevation: float) -> float:
     """Arm rotation [rad] from loading to ramming at ``elevation`` [rad]: 90° − ε."""
     return math.pi / 2.0 - elevation
@@ -185,7 +217,7 @@ def check_travel(p: FeederParameters) -> None:
     ends = p.phi3_load + np.array([arm_travel(p.elevation_max), arm_travel(p.elevation_min)])
     phi3 = np.linspace(min(p.phi3_load, ends[0]), max(p.phi3_load, ends[1]), TRAVEL_SAMPLES)
     try:
-        mu = transmission_angle(p, phi3)
+        loop = dependent_coordinates(p, phi3)
     except UnreachablePoseError as exc:
         pin_xy = pin_position(p, phi3)
         r2 = np.linalg.norm(pin_xy, axis=0) - p.d2
@@ -197,11 +229,8 @@ def check_travel(p: FeederParameters) -> None:
             f"[{phi1.min():.2f}°, {phi1.max():.2f}°]: widen r2_min/r2_max (phi1_min/phi1_max, "
             "phi3_min/phi3_max) to match, or narrow the elevation range"
         ) from exc
-    margin = np.minimum(mu, math.pi - mu)
-    k = int(np.argmin(margin))
-    if margin[k] < math.radians(SINGULAR_TRANSMISSION_DEG):
-        raise InputError(
-            f"parameters {p.name!r}: transmission angle {math.degrees(mu[k]):.3f}° at arm angle "
-            f"φ3 = {math.degrees(phi3[k]):.3f}° of the travel is within "
-            f"{SINGULAR_TRANSMISSION_DEG:g}° of the toggle"
-        )
+    poses = np.column_stack([loop.phi1, loop.r2, phi3, np.zeros_like(phi3)])
+    try:
+        check_transmission(poses)
+    except SingularPoseError as exc:
+        raise InputError(f"parameters {p.name!r}, the feeding cycle's arm travel: {exc}") from exc

@@ -42,9 +42,9 @@ from .dynamics import (
     FeederDynamics,
     InertiaCase,
     check_closure,
-    check_transmission,
 )
 from .exceptions import ForwardDivergenceError, InputError, check_finite
+from .kinematics import check_transmission
 
 ADAMS_ORDER = 5
 """Order of the Adams–Bashforth–Moulton pair; the RK4 starter makes ADAMS_ORDER − 1 steps."""

@@ -8,15 +8,16 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.dynamics import (
-    SINGULAR_TRANSMISSION_DEG,
-    FeederDynamics,
-    check_transmission,
-    inverse_dynamics,
-    loop_residual,
-)
+from feeder.dynamics import FeederDynamics, inverse_dynamics, loop_residual
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
-from feeder.kinematics import arm_travel, dependent_coordinates, stroke_ratio, transmission_angle
+from feeder.kinematics import (
+    SINGULAR_TRANSMISSION_DEG,
+    arm_travel,
+    check_transmission,
+    dependent_coordinates,
+    stroke_ratio,
+    transmission_angle,
+)
 from feeder.simulation import constrained_dynamics
 
 from ._dynamics_cases import (
