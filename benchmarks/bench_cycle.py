@@ -4,12 +4,12 @@ and the hand-derived Lagrange equations' closed form.
 Each Pinocchio figure is also given as a multiple of one bare ``constraintDynamics`` call on the
 same model, measured in the same run (so the ratios survive a noisy machine):
 
-* inverse: :func:`feeder.dynamics.inverse_dynamics` + :func:`feeder.reactions.joint_reactions`
+* inverse: :func:`feeder.dynamics.actuator_loads` + :func:`feeder.dynamics.joint_reactions`
   over all samples, per sample (target ≤ 3 calls' worth);
-* forward: :func:`feeder.simulation.simulate` driven by the cycle's piston force and forearm
+* forward: :func:`feeder.dynamics.simulate` driven by the cycle's piston force and forearm
   moment at the sample rate, per step (target ≤ 6 calls' worth; ABM5 PECE makes two calls per
   step, the RK4 starters four);
-* Lagrange: :func:`feeder.lagrange.lagrange_cycle_loads` (closed form, all samples at once) for
+* Lagrange: :func:`feeder.paper.inverse_dynamics` (closed form, all samples at once) for
   the whole cycle, as a fraction of the Pinocchio loads + pin force path above (target < 1/10)
   and of loads + all reactions, with the largest differences of the loads.
 
@@ -26,10 +26,15 @@ import numpy as np
 import pinocchio as pin
 
 from feeder import feeding_cycle, load_feeder
-from feeder.dynamics import FeederDynamics, inverse_dynamics
-from feeder.lagrange import lagrange_cycle_loads
-from feeder.reactions import joint_reactions
-from feeder.simulation import ForceRule, simulate
+from feeder.dynamics import (
+    FeederDynamics,
+    ForceRule,
+    actuator_loads,
+    check_motion,
+    joint_reactions,
+    simulate,
+)
+from feeder.paper import inverse_dynamics as lagrange_loads
 
 REPEATS = 7
 LAGRANGE_CALLS = 20
@@ -54,9 +59,9 @@ def main(argv: list[str] | None = None) -> None:
     kin = feeding_cycle(feeder, elevation)
     dyn = FeederDynamics(feeder)
     n = kin.t.size
-    motion = (kin.q, kin.v, kin.a, kin.payload)
+    motion = check_motion(dyn, kin.q, kin.v, kin.a, kin.gripped)
 
-    loads = inverse_dynamics(dyn, *motion)
+    loads = actuator_loads(dyn, motion)
     case = dyn.cases[1]
     q, v, tau = (dyn.to_pinocchio(x) for x in (kin.q, kin.v, loads.generalized_forces()))
 
@@ -74,27 +79,28 @@ def main(argv: list[str] | None = None) -> None:
             )
 
     def inverse() -> None:
-        joint_reactions(dyn, inverse_dynamics(dyn, *motion))
+        joint_reactions(dyn, actuator_loads(dyn, motion))
 
-    rule = ForceRule(kin.t, kin.stage, kin.payload, loads.piston_force, loads.forearm_torque)
+    rule = ForceRule(kin.t, kin.stage, kin.gripped, loads.piston_force, loads.forearm_torque)
 
     def forward():
         return simulate(dyn, rule, kin.q[0], kin.v[0])
 
     call = best_time(bare_calls) / n
-    t_loads = best_time(lambda: inverse_dynamics(dyn, *motion)) / n
+    t_loads = best_time(lambda: actuator_loads(dyn, motion)) / n
     t_reactions = best_time(lambda: joint_reactions(dyn, loads)) / n
     t_inverse = best_time(inverse) / n
     t_forward = best_time(forward) / (n - 1)
     result = forward()
     tracking = abs(result.q - kin.q).max(axis=0)
-    t_lagrange = best_time(lambda: lagrange_cycle_loads(feeder, kin), calls=LAGRANGE_CALLS)
-    lagrange = lagrange_cycle_loads(feeder, kin)
+    hand = (feeder.params, kin.q, kin.v, kin.a, kin.gripped)
+    t_lagrange = best_time(lambda: lagrange_loads(*hand), calls=LAGRANGE_CALLS)
+    lagrange = lagrange_loads(*hand)
     differences = {
         "F": (lagrange.piston_force, loads.piston_force, "N"),
         "τ4": (lagrange.forearm_torque, loads.forearm_torque, "N·m"),
-        "λ1": (lagrange.lambda1, -loads.closure_force[:, 0], "N"),
-        "λ2": (lagrange.lambda2, -loads.closure_force[:, 1], "N"),
+        "λ1": (lagrange.lambdas[:, 0], -loads.closure_force[:, 0], "N"),
+        "λ2": (lagrange.lambdas[:, 1], -loads.closure_force[:, 1], "N"),
     }
 
     print(f"cycle at ε = {math.degrees(elevation):g}°: {n} samples at {kin.spec.rate:g} Hz")

@@ -1,121 +1,60 @@
 """feeder: rigid-body analysis of the 152 mm SPH M77 ammunition feeding device, on Pinocchio.
 
-Data flow: parameters (:mod:`feeder.parameters`) → URDF (:mod:`feeder.urdf`) → Pinocchio model
-with the pin closure (:mod:`feeder.loading`, :mod:`feeder.closure`, :mod:`feeder.device`) →
-kinematics (:mod:`feeder.assembly`, :mod:`feeder.kinematics`, :mod:`feeder.cycle`,
-:mod:`feeder.workspace`) → dynamics (:mod:`feeder.dynamics`, :mod:`feeder.reactions`,
-:mod:`feeder.simulation`, :mod:`feeder.hydraulics`, :mod:`feeder.cycle_dynamics`) → cross-check
-with the paper's hand-derived equations (:mod:`feeder.lagrange`, :mod:`feeder.coriolis`,
-:mod:`feeder.errata`) → results (:mod:`feeder.study`, :mod:`feeder.results`, :mod:`feeder.plots`,
-:mod:`feeder.viewer`).
+The package is layered in the order of the data (each layer imports only the ones above it;
+tests/test_layers.py checks it):
+
+* :mod:`feeder.chain` — any URDF with loop closures: strict reading, closures, assembly;
+* :mod:`feeder.device` — the feeding device: parameters → URDF → Pinocchio model with the
+  rod-eye pin closure, and the loop in closed form;
+* :mod:`feeder.motion` — the feeding cycle and the payload's workspace;
+* :mod:`feeder.dynamics` — inverse dynamics, every joint reaction, drives, forward run;
+* :mod:`feeder.paper` — the paper's hand-derived equations (numpy only): the cross-check;
+* :mod:`feeder.study` — a cycle cross-checked, the ``cycle.csv`` contract, sweeps, retrofit;
+* :mod:`feeder.viz` — figures (matplotlib Figures) and the MeshCat viewer;
+* :mod:`feeder.outputs` — the files a study writes.
+
+The names below are the public API that the README, the notebooks and the command line use.
+Errors are :class:`FeederError` and its subclasses in :mod:`feeder.exceptions`.
 """
 
-from .assembly import Partition
-from .closure import ClosedChain, load_closed_chain
-from .coriolis import kronecker_coriolis
-from .cycle import CycleKinematics, CycleSpec, feeding_cycle
-from .cycle_dynamics import CycleDynamics, Peak, cycle_dynamics
-from .device import CLOSURE, INDEPENDENT_JOINTS, PAPER_JOINTS, Feeder, load_feeder
-from .dynamics import ActuatorLoads, FeederDynamics, inverse_dynamics
-from .exceptions import (
-    ClosureFrameError,
-    ElevationError,
-    FeederError,
-    ForwardDivergenceError,
-    InertiaError,
-    InputError,
-    SingularPoseError,
-    UnreachablePoseError,
-    UrdfError,
-    ViewerPortError,
+from .chain import ClosedChain, Partition, load_closed_chain
+from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
+from .device.loop import required_stroke, transmission_angle
+from .exceptions import FeederError
+from .motion import CycleSpec, feeding_cycle, workspace
+from .outputs import write_cycle_outputs
+from .study import (
+    CycleStudy,
+    elevation_sweep,
+    paper_errata,
+    read_csv,
+    retrofit,
+    run_cycle_study,
 )
-from .hydraulics import CylinderPressures, cylinder_pressures, rack_force
-from .kinematics import (
-    SINGULAR_TRANSMISSION_DEG,
-    TRANSMISSION_BAND_DEG,
-    dependent_coordinates,
-    required_stroke,
-    stroke_ratio,
-    transmission_angle,
-)
-from .lagrange import LagrangeLoads, lagrange_cycle_loads
-from .parameters import (
-    CHARGE_FEEDER,
-    DEVICES,
-    PROJECTILE_FEEDER,
-    FeederParameters,
-    LinkInertia,
-    parameter_table,
-)
-from .reactions import JointReactions, JointWrench, joint_reactions
-from .results import read_csv, write_csv
-from .simulation import ForceRule, ForwardMotion, constrained_dynamics, simulate
-from .study import CycleStudy, run_cycle_study, write_cycle_study
-from .urdf import urdf_string, write_urdfs
-from .workspace import Workspace, workspace
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "CHARGE_FEEDER",
-    "CLOSURE",
     "DEVICES",
-    "INDEPENDENT_JOINTS",
-    "PAPER_JOINTS",
-    "PROJECTILE_FEEDER",
-    "SINGULAR_TRANSMISSION_DEG",
-    "TRANSMISSION_BAND_DEG",
-    "ActuatorLoads",
     "ClosedChain",
-    "ClosureFrameError",
-    "CycleDynamics",
-    "CycleKinematics",
     "CycleSpec",
     "CycleStudy",
-    "CylinderPressures",
-    "ElevationError",
     "Feeder",
-    "FeederDynamics",
     "FeederError",
-    "ForwardDivergenceError",
     "FeederParameters",
-    "ForceRule",
-    "ForwardMotion",
-    "InertiaError",
-    "InputError",
-    "JointReactions",
-    "JointWrench",
-    "LagrangeLoads",
     "LinkInertia",
     "Partition",
-    "Peak",
-    "SingularPoseError",
-    "UnreachablePoseError",
-    "UrdfError",
-    "ViewerPortError",
-    "Workspace",
-    "constrained_dynamics",
-    "cycle_dynamics",
-    "cylinder_pressures",
-    "dependent_coordinates",
+    "elevation_sweep",
     "feeding_cycle",
-    "inverse_dynamics",
-    "joint_reactions",
-    "kronecker_coriolis",
-    "lagrange_cycle_loads",
     "load_closed_chain",
     "load_feeder",
-    "parameter_table",
-    "rack_force",
+    "loop_state",
+    "paper_errata",
     "read_csv",
     "required_stroke",
+    "retrofit",
     "run_cycle_study",
-    "simulate",
-    "stroke_ratio",
     "transmission_angle",
-    "urdf_string",
     "workspace",
-    "write_csv",
-    "write_cycle_study",
-    "write_urdfs",
+    "write_cycle_outputs",
 ]

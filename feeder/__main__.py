@@ -1,10 +1,11 @@
-"""Command line: ``feeder <command> ...`` (also ``python -m feeder``).
+"""Command line: ``feeder <command> ...`` (also ``python -m feeder``). Parse, call, print.
 
 Commands:
     cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
     kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
     parameters  every number of the built-in devices with its unit and source (Markdown)
     urdf        regenerate the shipped URDF files from the parameter sets
+    errata      the table of the paper's errata measured on the reference cycle (Markdown)
     view        MeshCat viewer of the cycle on 127.0.0.1, or a static HTML page of it
 """
 
@@ -14,45 +15,45 @@ import argparse
 import math
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
-from .exceptions import FeederError, InputError, check_finite
-from .parameters import DEVICES
+from .device.builtin import DEVICES
+from .exceptions import FeederError
+from .validation import check_number
 
 
 def _elevation(args: argparse.Namespace) -> float:
-    return math.radians(float(check_finite("elevation [deg]", args.elevation)))
+    """The ``--elevation`` option [deg] in radians."""
+    return math.radians(check_number("elevation [deg]", args.elevation))
 
 
-def _output_dir(path: str) -> Path:
-    """Create the output folder now, so that a bad path fails before any computation."""
-    directory = Path(path)
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the output folder {directory}: {exc}") from exc
-    return directory
+def _write_or_print(text: str, out: str | None) -> None:
+    from .files import write_text
+
+    if out is None:
+        print(text, end="")
+    else:
+        print(f"wrote {write_text(out, text)}")
 
 
 def cmd_parameters(args: argparse.Namespace) -> int:
     """Print the parameter table, or write it to a file."""
-    from .parameters import parameters_markdown
+    from .device.table import parameters_markdown
 
-    text = parameters_markdown()
-    if args.out is None:
-        print(text, end="")
-    else:
-        try:
-            Path(args.out).write_text(text, encoding="utf-8")
-        except OSError as exc:
-            raise InputError(f"cannot write {args.out}: {exc}") from exc
-        print(f"wrote {args.out}")
+    _write_or_print(parameters_markdown(), args.out)
+    return 0
+
+
+def cmd_errata(args: argparse.Namespace) -> int:
+    """Print the errata table, or write it to a file."""
+    from .study.errata import paper_errata
+
+    _write_or_print(paper_errata(), args.out)
     return 0
 
 
 def cmd_urdf(args: argparse.Namespace) -> int:
     """Write the built-in devices' URDF files."""
-    from .urdf import write_urdfs
+    from .device.urdf_writer import write_urdfs
 
     for path in write_urdfs(args.out):
         print(f"wrote {path}")
@@ -61,52 +62,34 @@ def cmd_urdf(args: argparse.Namespace) -> int:
 
 def cmd_kinematics(args: argparse.Namespace) -> int:
     """Kinematics of one cycle: cycle.csv, Fig. 4 (workspace), Fig. 10 (position), summary."""
-    import numpy as np
+    from .device.feeder import load_feeder
+    from .motion.cycle import feeding_cycle
+    from .motion.laws import CycleSpec
+    from .outputs import output_folder, write_kinematics_outputs
+    from .study.summary import kinematics_summary
 
-    from .cycle import CycleSpec, feeding_cycle
-    from .device import load_feeder
-    from .kinematics import arm_travel, required_stroke
-    from .plots import plot_position, plot_workspace
-    from .results import write_csv
-    from .workspace import workspace
-
-    out = _output_dir(args.out)
+    out = output_folder(args.out)
     feeder = load_feeder(args.device)
-    elevation = _elevation(args)
-    cycle = feeding_cycle(feeder, elevation, CycleSpec(rate=args.rate))
-    write_csv(out / "cycle.csv", cycle.columns())
-    low, high = feeder.params.elevation_limits
-    space = workspace(feeder, np.radians(np.arange(math.degrees(low), math.degrees(high) + 1, 10)))
-    plot_workspace(out / "fig04_workspace.png", space, feeder.params.name)
-    plot_position(out / "fig10_projectile_position.png", cycle)
-    speed = np.linalg.norm(cycle.projectile_velocity, axis=1)
-    k = int(np.argmax(speed))
-    print(f"{feeder.params.name} feeder, elevation {args.elevation:g}°")
-    print(f"  piston stroke needed over the range: {required_stroke(feeder.params) * 1e3:.1f} mm")
-    print(f"  piston travel this cycle: {(cycle.q[-1, 1] - cycle.q[0, 1]) * 1e3:.1f} mm")
-    print(f"  arm travel: {math.degrees(arm_travel(elevation)):.1f}°")
-    print(f"  peak payload speed: {speed[k]:.3f} m/s at t = {cycle.t[k]:.3f} s")
-    print(
-        f"  transmission angle: {np.degrees(cycle.transmission_angle.min()):.1f}° … "
-        f"{np.degrees(cycle.transmission_angle.max()):.1f}°"
-    )
-    print(f"  max closure residual: {cycle.closure_residual.max():.2e} m")
-    print(f"wrote {out / 'cycle.csv'} and figures in {out}")
+    cycle = feeding_cycle(feeder, _elevation(args), CycleSpec(rate=args.rate))
+    paths = write_kinematics_outputs(feeder, cycle, out)
+    print(kinematics_summary(feeder, cycle))
+    print(f"wrote {paths[0]} and figures in {out}")
     return 0
 
 
 def cmd_cycle(args: argparse.Namespace) -> int:
     """The main study: dynamics of one cycle, cross-checked, with cycle.csv and the figures."""
-    from .cycle import CycleSpec
-    from .device import load_feeder
-    from .study import run_cycle_study, write_cycle_study
+    from .device.feeder import load_feeder
+    from .motion.laws import CycleSpec
+    from .outputs import output_folder, write_cycle_outputs
+    from .study.cycle_study import run_cycle_study
 
-    out = _output_dir(args.out)
+    out = output_folder(args.out)
     feeder = load_feeder(args.device)
     study = run_cycle_study(
         feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True, forward=args.forward
     )
-    paths = write_cycle_study(study, feeder, out)
+    paths = write_cycle_outputs(study, out)
     print(f"{feeder.params.name} feeder")
     print(study.summary())
     print(f"wrote {paths[0]} and {len(paths) - 1} figures in {out}")
@@ -115,9 +98,24 @@ def cmd_cycle(args: argparse.Namespace) -> int:
 
 def cmd_view(args: argparse.Namespace) -> int:
     """Animate the cycle in MeshCat (127.0.0.1 only) or write it as a static HTML page."""
-    from .viewer import view_command
+    from .device.feeder import load_feeder
+    from .dynamics.cycle import cycle_dynamics
+    from .viz.viewer import check_port, check_writable, cycle_forces, show_cycle, write_html
 
-    return view_command(args.device, args.elevation, args.html, args.port)
+    feeder = load_feeder(args.device)
+    elevation = _elevation(args)
+    html = None if args.html is None else check_writable(args.html)
+    port = check_port(args.port)
+    dynamics = cycle_dynamics(feeder, elevation, forward=False)
+    cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
+    if html is not None:
+        print(f"wrote {write_html(feeder, cycle, html, forces, port=port)}")
+        return 0
+    with show_cycle(feeder, cycle, forces, port=port) as viewer:
+        print(f"{feeder.params.name} feeder at {args.elevation:g}°: open {viewer.url}")
+        print("press Ctrl-C to stop the viewer")
+        viewer.serve_forever()
+    return 0
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -129,6 +127,10 @@ def _parser() -> argparse.ArgumentParser:
     parameters = commands.add_parser("parameters", help="the parameter table with sources")
     parameters.add_argument("--out", help="Markdown file to write (default: print)")
     parameters.set_defaults(run=cmd_parameters)
+
+    errata = commands.add_parser("errata", help="the paper's errata on the reference cycle")
+    errata.add_argument("--out", help="Markdown file to write (default: print)")
+    errata.set_defaults(run=cmd_errata)
 
     urdf = commands.add_parser("urdf", help="regenerate the URDF files from the parameters")
     urdf.add_argument("--out", default="urdf", help="folder to write into (default: urdf)")

@@ -1,15 +1,9 @@
-"""Exceptions raised by feeder.
+"""Exceptions raised by feeder: one hierarchy, rooted at :class:`FeederError`.
 
 Every error a user can provoke with bad input is a subclass of :class:`FeederError`, carries the
-offending value in its message, and is raised before any library sees the input.
+offending value in its message, and is raised at the boundary (:mod:`feeder.validation`) before
+any library sees the input. This module imports nothing, so every layer may use it.
 """
-
-from __future__ import annotations
-
-import math
-from collections.abc import Iterable
-
-import numpy as np
 
 
 class FeederError(Exception):
@@ -63,40 +57,3 @@ class ForwardDivergenceError(FeederError):
 
 class ViewerPortError(FeederError):
     """The viewer's web port on 127.0.0.1 cannot be used (busy, or not permitted)."""
-
-
-def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.ndarray:
-    """Return ``value`` as a float array, or raise :class:`InputError` if any entry is NaN/inf.
-
-    Args:
-        name: What the value is, for the message.
-        value: Scalar or array-like.
-    """
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be numeric, got {value!r}") from exc
-    if not np.all(np.isfinite(array)):
-        bad = array.flat[int(np.argmin(np.isfinite(array).ravel()))]
-        raise InputError(f"{name} must be finite, got {bad!r}")
-    return array
-
-
-def check_elevation(elevation: float, limits: tuple[float, float]) -> float:
-    """Return the elevation [rad] if finite and inside ``limits`` [rad], else raise.
-
-    Raises:
-        InputError: NaN, infinite or non-scalar elevation.
-        ElevationError: Elevation outside the range.
-    """
-    array = check_finite("elevation", elevation)
-    if array.shape != ():
-        raise InputError(f"elevation must be one number [rad], got {elevation!r}")
-    eps = float(array)
-    low, high = limits
-    if not low - 1e-12 <= eps <= high + 1e-12:
-        raise ElevationError(
-            f"elevation {math.degrees(eps):.3f}° is outside the device's range "
-            f"[{math.degrees(low):.1f}°, {math.degrees(high):.1f}°]"
-        )
-    return eps

@@ -35,7 +35,7 @@ def cycle(request, feeder):
 @pytest.fixture(scope="session", params=ELEVATIONS_DEG, ids=lambda e: f"eps{e:g}")
 def result(request):
     """Full cycle dynamics of the projectile feeder, cached across modules."""
-    from ._dynamics_cases import cycle_result
+    from .dynamics.cases import cycle_result
 
     return cycle_result(request.param)
 
@@ -43,7 +43,7 @@ def result(request):
 @pytest.fixture(scope="session")
 def dyn():
     """The projectile feeder's dynamics models (with and without payload), cached."""
-    from ._dynamics_cases import device_dynamics
+    from .dynamics.cases import device_dynamics
 
     return device_dynamics()
 

@@ -1,0 +1,150 @@
+"""Strict URDF reading: parse, check the tree and every inertia, then build the Pinocchio model.
+
+Pinocchio and yourdfpy are lenient (yourdfpy silently recovers broken XML; Pinocchio accepts a
+negative mass or a non-physical inertia and zeroes a mass it cannot parse), so every URDF is
+checked here first and refused with a :class:`~feeder.exceptions.UrdfError` or
+:class:`~feeder.exceptions.InertiaError` that names the file and the element.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+from lxml import etree
+
+from ..exceptions import InertiaError, UrdfError
+from .inertia import check_inertia
+
+_JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
+_PARSER = etree.XMLParser(
+    recover=False, resolve_entities=False, no_network=True, load_dtd=False, remove_comments=True
+)
+
+
+def read_urdf(path: str | Path) -> str:
+    """Return the text of the URDF file at ``path``.
+
+    Raises:
+        UrdfError: The file does not exist or cannot be read.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise UrdfError(f"URDF file not found: {path}")
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UrdfError(f"cannot read URDF file {path}: {exc}") from exc
+
+
+def _floats(element: etree._Element, attribute: str, count: int, where: str) -> np.ndarray:
+    text = element.get(attribute)
+    try:
+        values = np.array([float(x) for x in (text or "").split()])
+    except ValueError:
+        values = np.array([])
+    if values.size != count or not np.all(np.isfinite(values)):
+        raise UrdfError(f"{where}: attribute {attribute}={text!r} is not {count} finite numbers")
+    return values
+
+
+def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
+    """Parse ``xml`` strictly and check the kinematic tree and every link's inertia.
+
+    Args:
+        xml: URDF text.
+        source: File name for the messages.
+
+    Returns:
+        The parsed ``<robot>`` element.
+
+    Raises:
+        UrdfError: Malformed XML, or a tree that is not a tree (unknown links, several parents
+            or roots, unknown joint type).
+        InertiaError: A link whose mass or inertia no rigid body can have.
+    """
+    try:
+        root = etree.fromstring(xml.encode("utf-8"), _PARSER)
+    except etree.XMLSyntaxError as exc:
+        raise UrdfError(f"{source}: malformed XML: {exc}") from exc
+    if root.tag != "robot":
+        raise UrdfError(f"{source}: root element is <{root.tag}>, expected <robot>")
+    links = [link.get("name") for link in root.findall("link")]
+    if not links or None in links or len(set(links)) != len(links):
+        raise UrdfError(f"{source}: links must exist and have unique names, got {links}")
+    parent_of: dict[str, str] = {}
+    for joint in root.findall("joint"):
+        name, kind = joint.get("name"), joint.get("type")
+        if name is None or kind not in _JOINT_TYPES:
+            raise UrdfError(f"{source}: joint {name!r} has no name or unknown type {kind!r}")
+        parent, child = joint.find("parent"), joint.find("child")
+        if parent is None or child is None:
+            raise UrdfError(f"{source}: joint {name!r} lacks <parent> or <child>")
+        for end in (parent.get("link"), child.get("link")):
+            if end not in links:
+                raise UrdfError(f"{source}: joint {name!r} refers to unknown link {end!r}")
+        if child.get("link") in parent_of:
+            raise UrdfError(f"{source}: link {child.get('link')!r} has two parent joints")
+        parent_of[child.get("link")] = parent.get("link")
+    roots = [link for link in links if link not in parent_of]
+    if len(roots) != 1:
+        raise UrdfError(f"{source}: the links must form one tree, found roots {roots}")
+    _check_numbers(root, source)
+    for link in root.findall("link"):
+        _check_inertial(link, source)
+    return root
+
+
+def _check_numbers(root: etree._Element, source: str) -> None:
+    """Every origin, axis and joint limit must be finite numbers: Pinocchio would otherwise drop
+    the element or zero a mass silently."""
+    for owner in (*root.findall("link"), *root.findall("joint")):
+        where = f"{source}: {owner.tag} {owner.get('name')!r}"
+        for origin in owner.iter("origin"):
+            for attribute in ("xyz", "rpy"):
+                if origin.get(attribute) is not None:
+                    _floats(origin, attribute, 3, f"{where}, <{origin.getparent().tag}> origin")
+        for axis in owner.findall("axis"):
+            _floats(axis, "xyz", 3, f"{where}, axis")
+        for limit in owner.findall("limit"):
+            for attribute in ("lower", "upper", "effort", "velocity"):
+                if limit.get(attribute) is not None:
+                    _floats(limit, attribute, 1, f"{where}, limit")
+
+
+def _check_inertial(link: etree._Element, source: str) -> None:
+    inertial = link.find("inertial")
+    name = link.get("name")
+    if inertial is None:
+        return
+    where = f"{source}: link {name!r}"
+    mass_element, inertia_element = inertial.find("mass"), inertial.find("inertia")
+    if mass_element is None or inertia_element is None:
+        raise UrdfError(f"{where}: <inertial> needs <mass> and <inertia>")
+    try:
+        mass = float(mass_element.get("value"))
+        i = {k: float(inertia_element.get(k)) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+    except (TypeError, ValueError) as exc:
+        raise InertiaError(name, f"unparsable mass or inertia in {source}: {exc}") from exc
+    tensor = np.array(
+        [
+            [i["ixx"], i["ixy"], i["ixz"]],
+            [i["ixy"], i["iyy"], i["iyz"]],
+            [i["ixz"], i["iyz"], i["izz"]],
+        ]
+    )
+    check_inertia(name, mass, tensor)
+
+
+def build_model(xml: str, source: str = "<string>") -> pin.Model:
+    """Check ``xml`` (:func:`check_urdf`) and build its Pinocchio model (fixed base).
+
+    Raises:
+        UrdfError, InertiaError: See :func:`check_urdf`; also Pinocchio's own refusals.
+    """
+    check_urdf(xml, source)
+    try:
+        return pin.buildModelFromXML(xml)
+    except (ValueError, RuntimeError) as exc:
+        raise UrdfError(f"{source}: Pinocchio cannot build the model: {exc}") from exc

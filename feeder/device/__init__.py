@@ -1,0 +1,34 @@
+"""The feeding device: its parameters, the built-in devices, the URDF writer, the closed-form
+loop and the device loaded in Pinocchio.
+
+Data flow: :class:`FeederParameters` (numbers with units and sources) →
+:func:`~feeder.device.loop.check_device` → :func:`urdf_string` → :class:`Feeder` (Pinocchio model
+and the rod-eye pin closure, through :mod:`feeder.chain`). The loop's geometry lives once, in
+:mod:`feeder.device.loop`.
+"""
+
+from .builtin import CHARGE_FEEDER, DEVICES, PROJECTILE_FEEDER
+from .feeder import CLOSURE, INDEPENDENT_JOINTS, PAPER_JOINTS, Feeder, load_feeder
+from .loop import LoopState, loop_state, required_stroke, transmission_angle
+from .parameters import GRAVITY, FeederParameters, LinkInertia
+from .urdf_writer import urdf_string, write_urdfs
+
+__all__ = [
+    "CHARGE_FEEDER",
+    "CLOSURE",
+    "DEVICES",
+    "GRAVITY",
+    "INDEPENDENT_JOINTS",
+    "PAPER_JOINTS",
+    "PROJECTILE_FEEDER",
+    "Feeder",
+    "FeederParameters",
+    "LinkInertia",
+    "LoopState",
+    "load_feeder",
+    "loop_state",
+    "required_stroke",
+    "transmission_angle",
+    "urdf_string",
+    "write_urdfs",
+]

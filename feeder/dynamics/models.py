@@ -1,0 +1,161 @@
+"""The device's dynamics models: the open tree with and without the payload, their constraint
+containers for ``constraintDynamics``, and the batched forward kinematics of the joint frames.
+
+The payload is gripped at the end of stage 1: samples with ``gripped == 0`` use a copy of the
+model whose forearm body lacks the payload's spatial inertia (:func:`payload_inertia`), so the
+loads step at the grip. No URDF is regenerated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
+
+PAYLOAD_FRAME = "projectile"
+"""Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
+
+PROXIMAL_MU = 1e-8
+"""Proximal regularisation of ``constraintDynamics`` [1/kg, the Delassus matrix's unit]. It must
+be positive: the planar loop's out-of-plane row makes the Delassus matrix J M⁻¹ Jᵀ singular, and
+mu = 0 gives NaN. Its in-plane eigenvalues are 0.48–0.64 1/kg along the cycle (the light piston
+dominates), so each proximal iteration shrinks the in-plane force error by ~2e-8: 3 iterations
+reach the accuracy below."""
+
+PROXIMAL_ACCURACY = 1e-12
+"""Stopping accuracy of the proximal iterations (relative)."""
+
+PROXIMAL_MAX_ITERATIONS = 20
+"""Iteration cap of the proximal solver (3 are used in practice)."""
+
+BAUMGARTE_RATE = 20.0
+"""Baumgarte corrector of the pin constraint in ``constraintDynamics`` [rad/s]: critically
+damped, Kp = ω², Kd = 2ω (see :mod:`feeder.dynamics.forward` for the choice)."""
+
+
+def payload_inertia(feeder: Feeder) -> pin.Inertia:
+    """Spatial inertia of the payload in the forearm joint frame (mass [kg], CG [m], [kg·m²]).
+
+    Built from the parameters (mass and central moments in the payload link frame) and the
+    payload frame's placement in the forearm joint frame; Pinocchio merged the same body into
+    the forearm joint's inertia when it read the URDF.
+    """
+    model = feeder.model
+    frame = model.frames[feeder.frame_id(PAYLOAD_FRAME)]
+    link = feeder.params.payload
+    central = pin.Inertia(link.mass, np.zeros(3), np.diag(link.moments))
+    return frame.placement.act(central)
+
+
+def gripped_runs(gripped: np.ndarray) -> list[tuple[int, int, int]]:
+    """Maximal runs of a constant grip flag: [(start, stop, flag)], stop exclusive."""
+    gripped = np.asarray(gripped, dtype=int)
+    edges = np.flatnonzero(np.diff(gripped)) + 1
+    starts = np.concatenate([[0], edges])
+    stops = np.concatenate([edges, [gripped.size]])
+    return [(int(a), int(b), int(gripped[a])) for a, b in zip(starts, stops, strict=True)]
+
+
+class InertiaCase:
+    """One Pinocchio model of the device (with or without payload) and its reusable containers.
+
+    Attributes:
+        model: The open tree, gravity −y.
+        data: Its data.
+        constraint_models: The pin closure (``CONTACT_3D``, LOCAL frame of ``piston_pin``), a
+            copy of the device's with the Baumgarte corrector set.
+        constraint_datas: Their data, initialised for ``constraintDynamics``.
+        prox: Proximal settings of ``constraintDynamics``.
+        pool: Model pool for ``rneaInParallel`` (one thread).
+    """
+
+    def __init__(self, model: pin.Model, constraint_models: pin.StdVec_RigidConstraintModel):
+        self.model = model
+        self.data = model.createData()
+        self.constraint_models = pin.StdVec_RigidConstraintModel()
+        self.constraint_datas = pin.StdVec_RigidConstraintData()
+        for constraint in constraint_models:
+            own = pin.RigidConstraintModel(constraint)
+            gains = own.m_baumgarte_parameters
+            gains.Kp = BAUMGARTE_RATE**2
+            gains.Kd = 2.0 * BAUMGARTE_RATE
+            self.constraint_models.append(own)
+            self.constraint_datas.append(own.createData())
+        pin.initConstraintDynamics(
+            self.model, self.data, self.constraint_models, self.constraint_datas
+        )
+        self.prox = pin.ProximalSettings(
+            PROXIMAL_ACCURACY, PROXIMAL_ACCURACY, PROXIMAL_MU, PROXIMAL_MAX_ITERATIONS
+        )
+        self.pool = pin.ModelPool(model, 1)
+
+
+class FeederDynamics:
+    """Everything the dynamics of one device needs that does not change along a cycle.
+
+    Attributes:
+        feeder: The device.
+        payload_inertia: Payload spatial inertia in the forearm joint frame
+            (:func:`payload_inertia`).
+        cases: (without payload, with payload): index it with the ``gripped`` flag.
+        joint_ids: Pinocchio ids of ``cylinder_joint``, ``piston_joint``, ``arm_joint``,
+            ``forearm_joint`` (paper order).
+        index: Positions of [φ1, r2, φ3, φ4] in Pinocchio's v (``feeder.index``).
+        closure_frames: Ids of the ``piston_pin`` and ``arm_pin`` frames.
+        motion_subspaces: Joint id → its motion subspace S (6,) [linear, angular] in the joint
+            frame (all joints have one degree of freedom).
+    """
+
+    def __init__(self, feeder: Feeder):
+        self.feeder = feeder
+        loaded = feeder.model
+        self.joint_ids = tuple(loaded.getJointId(name) for name in PAPER_JOINTS)
+        forearm = self.joint_ids[3]
+        self.payload_inertia = payload_inertia(feeder)
+        empty = pin.Model(loaded)
+        empty.inertias[forearm] = loaded.inertias[forearm] - self.payload_inertia
+        constraints = feeder.chain.constraint_models
+        self.cases = (InertiaCase(empty, constraints), InertiaCase(pin.Model(loaded), constraints))
+        self.index = feeder.index
+        self.closure_frames = tuple(feeder.frame_id(name) for name in CLOSURE)
+        joints = self.cases[1].data.joints
+        self.motion_subspaces = {
+            j: np.asarray(joints[j].S, dtype=float).reshape(6) for j in range(1, loaded.njoints)
+        }
+
+    def joint_rotations(self, q: np.ndarray) -> np.ndarray:
+        """World orientation of the frames of ``cylinder_joint``, ``piston_joint``,
+        ``arm_joint``, ``forearm_joint`` at every sample, shape (N, 4, 3, 3).
+
+        Forward kinematics of the orientations, all samples at once, from the model's joint
+        placements and axes (R_j = R_parent R_placement exp(θ_j ω_j), ω_j = 0 for a prismatic
+        joint): the same numbers as Pinocchio's ``data.oMi[j].rotation``, without a
+        per-sample Python call.
+
+        Args:
+            q: Configurations in paper order, shape (N, 4).
+        """
+        model = self.cases[1].model
+        qp = self.to_pinocchio(np.asarray(q, dtype=float))
+        world: dict[int, np.ndarray] = {0: np.eye(3)}
+        for j in range(1, model.njoints):
+            local = model.jointPlacements[j].rotation
+            skew = pin.skew(self.motion_subspaces[j][3:])
+            if np.any(skew):
+                angle = qp[:, model.joints[j].idx_q][:, None, None]
+                local = (
+                    local
+                    + np.sin(angle) * (local @ skew)
+                    + (1.0 - np.cos(angle)) * (local @ skew @ skew)
+                )
+            world[j] = world[model.parents[j]] @ local
+        return np.stack([world[j] for j in self.joint_ids], axis=1)
+
+    def to_pinocchio(self, x: np.ndarray) -> np.ndarray:
+        """Paper order (..., 4) → Pinocchio order."""
+        return self.feeder.to_pinocchio(x)
+
+    def to_paper(self, x: np.ndarray) -> np.ndarray:
+        """Pinocchio order (..., 4) → paper order."""
+        return self.feeder.to_paper(x)

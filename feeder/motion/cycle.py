@@ -1,0 +1,118 @@
+"""The sampled feeding cycle: the prescribed laws (:mod:`feeder.motion.laws`), the closed loop
+(:mod:`feeder.device.loop`) and the payload's path from Pinocchio's forward kinematics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..device.feeder import Feeder
+from ..device.loop import solve_loop, transmission_angle
+from ..validation import check_elevation
+from .laws import CycleSpec, prescribed_motion
+
+
+@dataclass(frozen=True)
+class CycleKinematics:
+    """Sampled kinematics of one feeding cycle; N samples, world frame, SI units.
+
+    Attributes:
+        elevation: ε [rad].
+        spec: The timing.
+        t: Times [s], (N,).
+        stage: Stage number 1–3, (N,).
+        gripped: 1 once the payload is gripped (t ≥ T1), else 0, int (N,).
+        q, v, a: [φ1, r2, φ3, φ4] and derivatives, paper order, (N, 4).
+        payload_position: Payload CG [m], (N, 3).
+        payload_velocity: Payload CG velocity [m/s], (N, 3).
+        payload_axis: Unit payload axis, nose first, (N, 3).
+        transmission_angle: μ [rad], (N,).
+        closure_residual: Distance between ``piston_pin`` and ``arm_pin`` [m], (N,).
+    """
+
+    elevation: float
+    spec: CycleSpec
+    t: np.ndarray
+    stage: np.ndarray
+    gripped: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    payload_position: np.ndarray
+    payload_velocity: np.ndarray
+    payload_axis: np.ndarray
+    transmission_angle: np.ndarray
+    closure_residual: np.ndarray
+
+
+def payload_kinematics(
+    feeder: Feeder, q: np.ndarray, v: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Payload CG position [m], velocity [m/s], axis (unit, nose first) and closure gap [m].
+
+    Pinocchio's forward kinematics of the URDF at each sample.
+
+    Args:
+        feeder: The device.
+        q, v: Paper-order coordinates and velocities, shape (N, 4).
+
+    Returns:
+        Position, velocity and axis, each (N, 3), world frame; closure gap ‖p_a − p_b‖ (N,).
+    """
+    chain = feeder.chain
+    model, data = chain.model, chain.data
+    payload_id = feeder.frame_id("projectile")
+    count = q.shape[0]
+    position, velocity, axis = (np.empty((count, 3)) for _ in range(3))
+    residual = np.empty(count)
+    q_pin, v_pin = feeder.to_pinocchio(q), feeder.to_pinocchio(v)
+    for i in range(count):
+        pin.forwardKinematics(model, data, q_pin[i], v_pin[i])
+        placement = pin.updateFramePlacement(model, data, payload_id)
+        position[i] = placement.translation
+        axis[i] = placement.rotation[:, 1]
+        velocity[i] = pin.getFrameVelocity(model, data, payload_id, pin.LOCAL_WORLD_ALIGNED).linear
+        residual[i] = np.linalg.norm(chain.placed_residual())
+    return position, velocity, axis, residual
+
+
+def feeding_cycle(
+    feeder: Feeder, elevation: float, spec: CycleSpec | None = None
+) -> CycleKinematics:
+    """Sample the feeding cycle at ``elevation`` ε [rad].
+
+    The independent coordinates follow :func:`~feeder.motion.laws.prescribed_motion`; φ1, r2
+    come from the closed form (:func:`~feeder.device.loop.solve_loop`); the payload's position,
+    velocity and axis and the closure residual come from Pinocchio's forward kinematics of the
+    URDF.
+
+    Raises:
+        ElevationError: ε outside the device's range.
+        InputError: NaN, infinite or non-scalar ε, bad timing.
+    """
+    p = feeder.params
+    spec = spec or CycleSpec()
+    elevation = check_elevation(elevation, p.elevation_limits)
+    t, x, dx, ddx = prescribed_motion(p, elevation, spec)
+    loop = solve_loop(p, x[:, 0], x[:, 1], (dx[:, 0], dx[:, 1]), (ddx[:, 0], ddx[:, 1]))
+    position, velocity, axis, residual = payload_kinematics(feeder, loop.q, loop.v)
+    ends = spec.boundaries
+    stage = np.where(t < ends[1], 1, np.where(t < ends[2], 2, 3))
+    return CycleKinematics(
+        elevation=elevation,
+        spec=spec,
+        t=t,
+        stage=stage,
+        gripped=(t >= ends[1]).astype(int),
+        q=loop.q,
+        v=loop.v,
+        a=loop.a,
+        payload_position=position,
+        payload_velocity=velocity,
+        payload_axis=axis,
+        transmission_angle=transmission_angle(loop.q),
+        closure_residual=residual,
+    )

@@ -1,0 +1,65 @@
+"""Reading and writing the cycle table (``cycle.csv``, columns: :mod:`feeder.study.columns`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import InputError
+from ..files import atomic_path
+
+
+def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
+    """Write equal-length, finite columns as CSV with a header row, atomically.
+
+    SI units; 17 significant digits, so that reading the file back gives the same floats.
+
+    Args:
+        path: File to write (its folder is created).
+        columns: Column name → array of shape (N,).
+
+    Raises:
+        InputError: Columns of different lengths, a NaN or infinite value, or the file cannot
+            be written.
+    """
+    path = Path(path)
+    lengths = {name: np.shape(values) for name, values in columns.items()}
+    if len({shape for shape in lengths.values()}) != 1 or len(next(iter(lengths.values()))) != 1:
+        raise InputError(f"columns must be 1-D arrays of one length, got shapes {lengths}")
+    table = np.column_stack([np.asarray(values, dtype=float) for values in columns.values()])
+    if not np.all(np.isfinite(table)):
+        bad = list(columns)[int(np.flatnonzero(~np.all(np.isfinite(table), axis=0))[0])]
+        raise InputError(f"column {bad!r} has a NaN or infinite value: not written to {path}")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    with atomic_path(path) as temporary:
+        np.savetxt(
+            temporary, table, delimiter=",", header=",".join(columns), comments="", fmt="%.17g"
+        )
+    return path
+
+
+def read_csv(path: str | Path) -> dict[str, np.ndarray]:
+    """Read a table written by :func:`write_csv` back into named columns, each (N,).
+
+    Raises:
+        InputError: The file is missing or unreadable, or is not a table of numbers with a
+            header row.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"no such file: {path}")
+    try:
+        table = np.genfromtxt(path, delimiter=",", names=True, invalid_raise=True)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path} is not a cycle table: {exc}") from exc
+    if (
+        table.dtype.names is None
+        or table.size == 0
+        or np.any([np.isnan(table[name]).any() for name in table.dtype.names])
+    ):
+        raise InputError(f"{path} is not a cycle table (a header row, then rows of numbers)")
+    return {name: np.atleast_1d(np.asarray(table[name])) for name in table.dtype.names}

@@ -1,0 +1,114 @@
+"""Checks at the boundaries: the public API, the command line and the file readers.
+
+Every function here returns the value converted to what the internals expect (a float, a float
+array of a known shape, an int array of 0/1 flags) or raises an
+:class:`~feeder.exceptions.InputError` that names the value and shows it. Internals trust what
+has passed through here and do not check again. This module imports nothing from feeder but
+its exceptions, so every layer may use it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+from .exceptions import ElevationError, InputError
+
+LIMIT_SLACK = 1e-12
+"""Rounding slack [rad or m] when a value is compared with a range's ends: a limit computed by
+a formula may differ from the same limit typed in by a few ulps."""
+
+
+def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.ndarray:
+    """Return ``value`` as a float array, or raise :class:`InputError` if it is not numeric or any
+    entry is NaN/inf.
+
+    Text is refused even where numpy would parse it (``"0.5"``): a number typed as a string is a
+    mistake of the caller's, not a number.
+
+    Args:
+        name: What the value is, for the message.
+        value: Scalar or array-like.
+    """
+    if isinstance(value, str | bytes):
+        raise InputError(f"{name} must be numeric, got the text {value!r}")
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be numeric, got {value!r}") from exc
+    if np.asarray(value).dtype.kind in "USO" and array.size:
+        raise InputError(f"{name} must be numeric, got {value!r}")
+    if not np.all(np.isfinite(array)):
+        bad = array.flat[int(np.argmin(np.isfinite(array).ravel()))]
+        raise InputError(f"{name} must be finite, got {bad!r}")
+    return array
+
+
+def check_number(name: str, value: float) -> float:
+    """Return ``value`` as a float if it is one finite real number (not a bool, not text)."""
+    if isinstance(value, bool | np.bool_):
+        raise InputError(f"{name} must be a number, got the truth value {value!r}")
+    array = check_finite(name, value)
+    if array.shape != ():
+        raise InputError(f"{name} must be one number, got {value!r}")
+    return float(array)
+
+
+def check_elevation(elevation: float, limits: tuple[float, float]) -> float:
+    """Return the elevation [rad] if it is one finite number inside ``limits`` [rad], else raise.
+
+    Raises:
+        InputError: NaN, infinite, non-scalar, text or truth-value elevation.
+        ElevationError: Elevation outside the range.
+    """
+    eps = check_number("elevation [rad]", elevation)
+    low, high = limits
+    if not low - LIMIT_SLACK <= eps <= high + LIMIT_SLACK:
+        raise ElevationError(
+            f"elevation {math.degrees(eps):.3f}° is outside the device's range "
+            f"[{math.degrees(low):.1f}°, {math.degrees(high):.1f}°]"
+        )
+    return eps
+
+
+def check_vector(name: str, value: np.ndarray, size: int) -> np.ndarray:
+    """``value`` as a finite float array of shape (size,)."""
+    array = check_finite(name, value)
+    if array.shape != (size,):
+        raise InputError(f"{name} must have shape ({size},), got {array.shape}")
+    return array
+
+
+def check_samples(name: str, value: np.ndarray, width: int, what: str = "") -> np.ndarray:
+    """``value`` as a finite float array of shape (N, width), N ≥ 1.
+
+    Args:
+        name: What the value is, for the message.
+        value: Array-like.
+        width: Number of columns.
+        what: What the columns are, for the message (e.g. "[φ1, r2, φ3, φ4]").
+    """
+    array = check_finite(name, value)
+    if array.ndim != 2 or array.shape[1] != width or array.shape[0] == 0:
+        columns = f" = {what}" if what else ""
+        raise InputError(f"{name} must have shape (N, {width}){columns}, N ≥ 1, got {array.shape}")
+    return array
+
+
+def check_flags(name: str, value: np.ndarray, count: int) -> np.ndarray:
+    """``value`` as an int array of shape (count,) whose entries are 0 or 1."""
+    flags = check_finite(name, value)
+    if flags.shape != (count,):
+        raise InputError(f"{name} must have shape ({count},), got {flags.shape}")
+    if not np.all((flags == 0) | (flags == 1)):
+        raise InputError(f"{name} must be 0 or 1, got {np.unique(flags)}")
+    return flags.astype(int)
+
+
+def first_outside(values: np.ndarray, low: float, high: float) -> int | None:
+    """Flat index of the first value outside [low, high] (with :data:`LIMIT_SLACK`), or None."""
+    values = np.ravel(values)
+    outside = np.flatnonzero((values < low - LIMIT_SLACK) | (values > high + LIMIT_SLACK))
+    return int(outside[0]) if outside.size else None

@@ -1,0 +1,117 @@
+"""A MeshCat server whose web port listens on 127.0.0.1 only.
+
+MeshCat 0.3.2's tornado server binds every interface (0.0.0.0 and [::]) unless told otherwise.
+Here its web sockets are bound to the loopback address before tornado starts, so a busy port
+fails cleanly (:class:`~feeder.exceptions.ViewerPortError`) and nothing else is ever bound; the
+ZMQ port is on 127.0.0.1 already. The server runs on a background thread.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import queue
+import socket
+import threading
+
+import tornado.httpserver
+import tornado.netutil
+import tornado.web
+from meshcat.servers import zmqserver
+
+from ..exceptions import FeederError, ViewerPortError
+
+LOOPBACK = "127.0.0.1"
+"""The only address the viewer's web server listens on."""
+
+
+class _LoopbackApplication(tornado.web.Application):
+    """MeshCat's web application on sockets bound beforehand to 127.0.0.1 (tornado's
+    ``listen`` would bind every interface)."""
+
+    def __init__(self, sockets: list[socket.socket], handlers: list):
+        super().__init__(handlers)
+        self._sockets = sockets
+        self.http_server: tornado.httpserver.HTTPServer | None = None
+
+    def listen(self, port: int, address: str = "", **kwargs) -> tornado.httpserver.HTTPServer:
+        self.http_server = tornado.httpserver.HTTPServer(self, **kwargs)
+        self.http_server.add_sockets(self._sockets)
+        return self.http_server
+
+
+class _LoopbackBridge(zmqserver.ZMQWebSocketBridge):
+    """MeshCat's ZMQ ↔ websocket bridge serving on pre-bound loopback sockets."""
+
+    def __init__(self, sockets: list[socket.socket]):
+        self._sockets = sockets
+        super().__init__(host=LOOPBACK, port=sockets[0].getsockname()[1])
+
+    def make_app(self) -> _LoopbackApplication:
+        return _LoopbackApplication(
+            self._sockets,
+            [
+                (
+                    r"/static/(.*)",
+                    zmqserver.StaticFileHandlerNoCache,
+                    {"path": zmqserver.VIEWER_ROOT, "default_filename": zmqserver.VIEWER_HTML},
+                ),
+                (r"/", zmqserver.WebSocketHandler, {"bridge": self}),
+            ],
+        )
+
+
+class MeshcatServer:
+    """A MeshCat server on a background thread, its web port on 127.0.0.1:``port``."""
+
+    def __init__(self, port: int | None):
+        try:
+            sockets = tornado.netutil.bind_sockets(port or 0, address=LOOPBACK)
+        except OSError as exc:
+            raise ViewerPortError(
+                f"cannot serve the viewer on port {port} of {LOOPBACK}: {exc.strerror}; "
+                "choose another port"
+            ) from exc
+        self.port: int = sockets[0].getsockname()[1]
+        started: queue.Queue = queue.Queue()
+        self._thread = threading.Thread(
+            target=self._run, args=(sockets, started), name="meshcat-server", daemon=True
+        )
+        self._thread.start()
+        bridge = started.get()
+        if isinstance(bridge, BaseException):
+            raise FeederError(f"cannot start the MeshCat server: {bridge}") from bridge
+        self._bridge: _LoopbackBridge = bridge
+        self.zmq_url: str = bridge.zmq_url
+        self.web_url: str = bridge.web_url
+
+    @staticmethod
+    def _run(sockets: list[socket.socket], started: queue.Queue) -> None:
+        loop = asyncio.new_event_loop()
+        asyncio.set_event_loop(loop)
+        try:
+            bridge = _LoopbackBridge(sockets)
+        except Exception as exc:  # reported to the starting thread
+            for sock in sockets:
+                sock.close()
+            started.put(exc)
+            loop.close()
+            return
+        started.put(bridge)
+        bridge.run()
+        bridge.app.http_server.stop()
+        for websocket in list(bridge.websocket_pool):
+            websocket.close()
+        bridge.zmq_stream.close()
+        bridge.ioloop.close()
+        loop.close()
+
+    def wait(self) -> None:
+        """Block until the server stops (interruptible by Ctrl-C)."""
+        while self._thread.is_alive():
+            self._thread.join(timeout=0.5)
+
+    def stop(self) -> None:
+        """Stop serving and release both ports."""
+        if self._thread.is_alive():
+            self._bridge.ioloop.add_callback(self._bridge.ioloop.stop)
+            self._thread.join()

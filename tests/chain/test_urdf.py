@@ -1,0 +1,125 @@
+"""Strict URDF loading: every bad input gets a clear feeder exception."""
+
+from __future__ import annotations
+
+import pytest
+import yourdfpy
+
+from feeder.chain.closure import load_closed_chain
+from feeder.chain.urdf import build_model, read_urdf
+from feeder.device.builtin import PROJECTILE_FEEDER
+from feeder.device.urdf_writer import urdf_string
+from feeder.exceptions import ClosureFrameError, InertiaError, UrdfError
+
+from ..conftest import REPO
+
+
+@pytest.fixture
+def urdf_text():
+    return urdf_string(PROJECTILE_FEEDER)
+
+
+def write(tmp_path, text, name="robot.urdf"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(UrdfError, match="not found"):
+        load_closed_chain(tmp_path / "nope.urdf", [("piston_pin", "arm_pin")])
+
+
+def test_malformed_xml_is_refused_although_yourdfpy_recovers(tmp_path, urdf_text):
+    broken = urdf_text.replace("</robot>", "").replace('<link name="arm">', '<link name="arm">\n<')
+    path = write(tmp_path, broken)
+    # yourdfpy silently recovers a partial model: this is why feeder parses strictly itself.
+    yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    with pytest.raises(UrdfError, match="malformed XML"):
+        load_closed_chain(path, [("piston_pin", "arm_pin")])
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            '<parent link="arm" />\n    <child link="forearm" />',
+            '<parent link="arm" />\n    <child link="forarm" />',
+            "unknown link",
+        ),
+        ('type="revolute"', 'type="hinge"', "unknown type"),
+        ('<child link="arm" />', '<child link="cylinder" />', "two parent joints"),
+    ],
+)
+def test_broken_trees(tmp_path, urdf_text, old, new, message):
+    assert old in urdf_text
+    with pytest.raises(UrdfError, match=message):
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new, 1)), [])
+
+
+@pytest.mark.parametrize(
+    "old, new, link, message",
+    [
+        ('<mass value="18.663" />', '<mass value="-18.663" />', "arm", "positive"),
+        ('<mass value="18.663" />', '<mass value="nan" />', "arm", "finite"),
+        ('<mass value="18.663" />', '<mass value="heavy" />', "arm", "unparsable"),
+        ('iyy="0.005036"', 'iyy="0.05036"', "arm", "triangle"),
+        ('iyy="0.01054"', 'iyy="-0.01054"', "piston", "positive definite"),
+    ],
+)
+def test_non_physical_inertia_names_the_link(tmp_path, urdf_text, old, new, link, message):
+    assert old in urdf_text
+    with pytest.raises(InertiaError, match=message) as info:
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new)), [])
+    assert info.value.link == link
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ('<origin xyz="0.18 0.0 0.0"', '<origin xyz="nan 0.0 0.0"', "link 'cylinder'"),
+        ('<origin xyz="0.18 0.0 0.0"', '<origin xyz="0.18 0.0"', "3 finite numbers"),
+        ('<axis xyz="0.0 0.0 1.0" />', '<axis xyz="0.0 0.0 inf" />', "axis"),
+        ('lower="0.2304"', 'lower="low"', "limit"),
+    ],
+)
+def test_non_finite_origins_axes_and_limits(tmp_path, urdf_text, old, new, message):
+    """Pinocchio would zero the cylinder's mass for a NaN inertial origin, without a word."""
+    assert old in urdf_text
+    with pytest.raises(UrdfError, match=message):
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, new, 1)), [])
+
+
+def test_wrong_root_element(tmp_path):
+    with pytest.raises(UrdfError, match="root element"):
+        load_closed_chain(write(tmp_path, "<sdf><model/></sdf>"), [])
+
+
+def test_urdf_without_closure_frames(tmp_path):
+    path = REPO / "urdf" / "projectile_feeder.urdf"
+    with pytest.raises(ClosureFrameError, match="rod_eye"):
+        load_closed_chain(path, [("rod_eye", "arm_pin")])
+
+
+def test_shipped_file_loads(feeder):
+    chain = load_closed_chain(
+        REPO / "urdf" / "projectile_feeder.urdf", [("piston_pin", "arm_pin")]
+    )
+    assert chain.model.nq == feeder.model.nq == 4
+    assert chain.nc == 3
+
+
+def test_text_is_checked_like_a_file(urdf_text):
+    """build_model checks URDF text as strictly as a file and names the given source."""
+    model = build_model(urdf_text, "<generated>")
+    assert model.nq == 4
+    broken = urdf_text.replace('<mass value="18.663" />', '<mass value="nan" />')
+    with pytest.raises(InertiaError, match="finite"):
+        build_model(broken, "<generated>")
+    with pytest.raises(UrdfError, match="<generated>.*malformed XML"):
+        build_model(urdf_text.replace("</robot>", ""), "<generated>")
+
+
+def test_read_urdf_refuses_a_folder(tmp_path):
+    with pytest.raises(UrdfError, match="not found"):
+        read_urdf(tmp_path)

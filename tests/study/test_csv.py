@@ -1,0 +1,109 @@
+"""Reading and writing ``cycle.csv`` (feeder.study.csv): exact round trip, refusal of NaN,
+atomic writes, and clear errors for files that are not cycle tables."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from feeder.exceptions import InputError
+from feeder.study.csv import read_csv, write_csv
+
+ROWS = 50
+
+
+@pytest.fixture
+def columns(rng):
+    """Random floats over many magnitudes, a count column and a flag column."""
+    return {
+        "t": np.linspace(0.0, 1.0, ROWS),
+        "stage": np.repeat([1, 2], ROWS // 2),
+        "value": rng.normal(0.0, 1.0, ROWS) * 10.0 ** rng.integers(-12, 12, ROWS),
+    }
+
+
+def _folder_listing(folder: Path) -> list[str]:
+    """Every entry of ``folder``, hidden temporary files included."""
+    return sorted(path.name for path in folder.iterdir())
+
+
+def test_round_trip_is_exact(columns, tmp_path):
+    path = write_csv(tmp_path / "sub" / "cycle.csv", columns)
+    table = read_csv(path)
+    assert list(table) == list(columns)
+    for name, values in columns.items():
+        np.testing.assert_array_equal(table[name], values, err_msg=name)
+    assert _folder_listing(path.parent) == ["cycle.csv"]
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_refuses_nan_and_leaves_no_file(columns, tmp_path, bad):
+    columns["value"][7] = bad
+    path = tmp_path / "cycle.csv"
+    with pytest.raises(InputError, match="'value'"):
+        write_csv(path, columns)
+    assert _folder_listing(tmp_path) == []
+
+
+def test_refused_write_leaves_an_existing_file_untouched(columns, tmp_path):
+    path = write_csv(tmp_path / "cycle.csv", columns)
+    before = path.read_bytes()
+    columns["t"] = columns["t"].copy()
+    columns["t"][0] = np.nan
+    with pytest.raises(InputError, match="'t'"):
+        write_csv(path, columns)
+    assert path.read_bytes() == before
+    assert _folder_listing(tmp_path) == ["cycle.csv"]
+
+
+def test_failed_write_is_atomic(columns, tmp_path, monkeypatch):
+    """A write that fails half-way (disk full) leaves the previous file as it was, and no
+    partial file beside it."""
+    path = write_csv(tmp_path / "cycle.csv", columns)
+    before = path.read_bytes()
+
+    def half_written(fname, *args, **kwargs):
+        Path(fname).write_text("t,stage,value\n0.0,1", encoding="utf-8")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savetxt", half_written)
+    with pytest.raises(InputError, match="No space left"):
+        write_csv(path, columns)
+    assert path.read_bytes() == before
+    assert _folder_listing(tmp_path) == ["cycle.csv"]
+    # Without a previous file, nothing is left at all.
+    with pytest.raises(InputError, match="No space left"):
+        write_csv(tmp_path / "new.csv", columns)
+    assert _folder_listing(tmp_path) == ["cycle.csv"]
+
+
+def test_refuses_ragged_columns(columns, tmp_path):
+    columns["t"] = columns["t"][:-1]
+    with pytest.raises(InputError, match="one length"):
+        write_csv(tmp_path / "cycle.csv", columns)
+    assert _folder_listing(tmp_path) == []
+
+
+def test_reading_a_missing_file_raises(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        read_csv(tmp_path / "missing.csv")
+    with pytest.raises(InputError, match="no such file"):
+        read_csv(tmp_path)  # a folder is not a table either
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "This is a README, not a table.\nIt has two lines.\n",
+        "t,stage\n0.0,one\n",
+        "t,stage\n0.0,1\n0.1,1,7\n",
+    ],
+    ids=["prose", "text-cell", "ragged"],
+)
+def test_reading_a_text_file_that_is_not_a_table_raises(tmp_path, text):
+    path = tmp_path / "notes.csv"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError, match="not a cycle table"):
+        read_csv(path)

@@ -1,0 +1,474 @@
+"""The MeshCat viewer: the scene it sends (decoded from its static page), what headless Debian
+Chromium draws of it (software WebGL), its server's loopback-only binding, and the errors of
+``feeder view``."""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import math
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+import urllib.request
+from pathlib import Path
+
+import matplotlib.image
+import numpy as np
+import psutil
+import pytest
+import umsgpack
+
+from feeder.__main__ import cmd_view
+from feeder.exceptions import ElevationError, InputError, ViewerPortError
+from feeder.motion import feeding_cycle
+from feeder.viz._meshcat_server import LOOPBACK
+from feeder.viz.scene import ARROW_LENGTH, FRAME_RATE
+from feeder.viz.viewer import CycleViewer, show_cycle, write_html
+
+ELEVATION_DEG = 30.0
+WINDOW = (1000, 800)
+"""Browser window [px]: width, height."""
+TIME_BUDGET_MS = 5000
+"""Chromium's virtual time before the screenshot [ms]: page load plus the 4 s cycle."""
+SCREENSHOT_TIMEOUT, SCREENSHOT_ATTEMPTS = 60.0, 3
+"""A screenshot takes 1.5–10 s here, also on a loaded machine; once in some fifty runs headless
+Chromium stalled idle (0 % CPU) until killed: such a run is abandoned after 60 s [s] and
+retried, at most three times in all."""
+CHROMIUM = shutil.which("chromium")
+CHROMIUM_FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--use-angle=swiftshader",  # software WebGL
+    "--enable-unsafe-swiftshader",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    f"--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE {LOOPBACK}",  # no name resolves
+)
+needs_chromium = pytest.mark.skipif(
+    CHROMIUM is None,
+    reason="Debian chromium is not installed (.ci/browser.sh installs it with apt-get)",
+)
+
+TIME_ROUND_OFF = 1e-12
+"""[s] Key-frame times are sample times × frame rate / frame rate: round-off of a few seconds."""
+SCALE_ROUND_OFF = 1e-9
+"""Relative: the arrows' scale and length come from positions good to POSITION_TOLERANCE over
+arrows of ~0.01–0.3 m."""
+POSITION_TOLERANCE = 1e-9
+"""[m] Positions the viewer sends as float64, from sums of a few ~1 m terms: round-off ~1e-15."""
+PIXEL_CHANGE = 0.1
+"""A pixel belongs to a hidden part when a channel changes by more than this (of 1) once the part
+is hidden. Chromium's software renderer draws the same scene identically (measured: 0 change
+between two screenshots of the same page), so the threshold only has to clear 8-bit round-off;
+drawn parts differ from the background by 0.3–0.7 (measured)."""
+MIN_DEVICE_SHARE = 0.02
+"""The device covers more than 2 % of the window (measured ~4.5 %: it fills the frame's height)."""
+MIN_DEVICE_SPAN = 0.5
+"""The device's bounding box spans more than half the window's width or height."""
+MIN_BARREL_LENGTH = 0.25
+"""The barrel axis' drawn length exceeds 25 % of the window's diagonal (its 1.6 m span)."""
+MAX_BARREL_WIDTH = 0.02
+"""A line: its pixels' spread across their main direction is under 2 % of their length."""
+
+
+def decode_commands(html: str) -> list[dict]:
+    """The MeshCat commands embedded in a static page (base64 msgpack), in page order."""
+    blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]*)", html)
+    return [umsgpack.unpackb(base64.b64decode(blob)) for blob in blobs]
+
+
+def tracks(commands: list[dict]) -> dict[str, dict[str, list[dict]]]:
+    """Animation tracks by node path (``/meshcat/...``) and property, with their clip's fps."""
+    (animation,) = [c for c in commands if c["type"] == "set_animation"]
+    out = {}
+    for entry in animation["animations"]:
+        clip = entry["clip"]
+        out[entry["path"]] = {t["name"].lstrip("."): t["keys"] for t in clip["tracks"]}
+        out[entry["path"]]["fps"] = clip["fps"]
+    return out
+
+
+def rotation(quaternion: list[float]) -> np.ndarray:
+    """Rotation matrix of a three.js quaternion (x, y, z, w)."""
+    x, y, z, w = quaternion
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def screenshot(url: str, path: Path) -> np.ndarray:
+    """Headless Chromium's screenshot of ``url``, RGB in [0, 1], (height, width, 3).
+
+    Name resolution is disabled: the page must not need the network. A run that stalls (see
+    :data:`SCREENSHOT_TIMEOUT`) is killed with its process group and started afresh."""
+    stalls = []
+    for attempt in range(SCREENSHOT_ATTEMPTS):
+        command = [
+            CHROMIUM,
+            *CHROMIUM_FLAGS,
+            f"--user-data-dir={path.parent / f'profile_{path.stem}_{attempt}'}",
+            f"--window-size={WINDOW[0]},{WINDOW[1]}",
+            f"--virtual-time-budget={TIME_BUDGET_MS}",
+            f"--screenshot={path}",
+            url,
+        ]
+        browser = subprocess.Popen(
+            command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True
+        )
+        try:
+            _, stderr = browser.communicate(timeout=SCREENSHOT_TIMEOUT)
+            break
+        except subprocess.TimeoutExpired:
+            os.killpg(browser.pid, signal.SIGKILL)
+            browser.communicate()
+            stalls.append(attempt)
+    else:
+        pytest.fail(f"chromium stalled {len(stalls)} times on {url}")
+    assert path.is_file(), f"no screenshot of {url}: {stderr.decode(errors='replace')[-2000:]}"
+    image = matplotlib.image.imread(path)[:, :, :3]
+    assert image.shape == (WINDOW[1], WINDOW[0], 3)
+    return image
+
+
+def changed(image: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Pixels (height, width) that differ between two screenshots."""
+    return np.abs(image - reference).max(axis=2) > PIXEL_CHANGE
+
+
+def assert_device_framed(mask: np.ndarray) -> None:
+    """The device's pixels: a useful share of the window, a useful span, none at the edges."""
+    height, width = mask.shape
+    assert mask.mean() > MIN_DEVICE_SHARE, f"device covers {mask.mean():.2%} of the window"
+    rows, cols = np.nonzero(mask)
+    span = max((cols.max() - cols.min()) / width, (rows.max() - rows.min()) / height)
+    assert span > MIN_DEVICE_SPAN, f"device spans {span:.0%} of the window"
+    assert cols.min() > 0 and rows.min() > 0, "device cut by the window's edge"
+    assert cols.max() < width - 1 and rows.max() < height - 1, "device cut by the window's edge"
+
+
+def listening(port: int) -> list[str]:
+    """Addresses of this process' sockets listening on ``port``."""
+    return [
+        c.laddr.ip
+        for c in psutil.Process().net_connections(kind="inet")
+        if c.status == psutil.CONN_LISTEN and c.laddr.port == port
+    ]
+
+
+def outside_addresses() -> list[str]:
+    """This machine's addresses other than loopback and link-local."""
+    return [
+        a.address
+        for addresses in psutil.net_if_addrs().values()
+        for a in addresses
+        if a.family in (socket.AF_INET, socket.AF_INET6)
+        and not a.address.startswith(("127.", "::1", "fe80"))
+    ]
+
+
+@pytest.fixture(scope="module")
+def cycle30(feeder):
+    return feeding_cycle(feeder, math.radians(ELEVATION_DEG))
+
+
+@pytest.fixture(scope="module")
+def forces(feeder, cycle30):
+    """Two test series: the payload's weight at its CG (zero before the grip) and the force
+    accelerating it, m·dv/dt by finite differences (different peaks: one shared scale)."""
+    mass = feeder.params.payload.mass
+    weight = np.outer(cycle30.gripped, [0.0, -9.81 * mass, 0.0])
+    inertial = mass * np.gradient(cycle30.payload_velocity, cycle30.t, axis=0)
+    point = cycle30.payload_position
+    return {"payload_weight": (weight, point), "payload_inertia": (inertial, point)}
+
+
+@pytest.fixture(scope="module")
+def viewer(feeder, cycle30, forces):
+    with show_cycle(feeder, cycle30, forces) as running:
+        yield running
+
+
+@pytest.fixture(scope="module")
+def commands(viewer):
+    return decode_commands(viewer.static_html())
+
+
+def test_static_page_is_self_contained(feeder, cycle30, tmp_path):
+    path = write_html(feeder, cycle30, tmp_path / "cycle.html")
+    html = path.read_text(encoding="utf-8")
+    assert "new MeshCat.Viewer" in html
+    assert not re.search(r"<(script|link|img)[^>]+(src|href)=", html), "page loads a file"
+    assert any(c["type"] == "set_animation" for c in decode_commands(html))
+
+
+def test_animation_spans_the_cycle(commands, viewer, cycle30):
+    animated = tracks(commands)
+    geometries = viewer.visualizer.visual_model.geometryObjects
+    for geometry in geometries:
+        assert f"/meshcat/feeder/device/visuals/{geometry.name}" in animated
+    for track in animated.values():
+        assert track["fps"] == FRAME_RATE
+        times = np.array([key["time"] for key in track["position"]]) / FRAME_RATE
+        assert times[0] == 0.0
+        assert times[-1] == pytest.approx(cycle30.t[-1], abs=TIME_ROUND_OFF)
+        assert np.diff(times).max() <= 1.0 / FRAME_RATE + TIME_ROUND_OFF
+
+
+def test_payload_waits_on_the_conveyor_until_gripped(commands, viewer, cycle30):
+    animated = tracks(commands)
+    grip = cycle30.spec.boundaries[1]
+    payload = [
+        g.name
+        for g in viewer.visualizer.visual_model.geometryObjects
+        if g.name.startswith("projectile")
+    ]
+    assert payload
+    for name in payload:
+        keys = animated[f"/meshcat/feeder/device/visuals/{name}"]
+        times = np.array([key["time"] for key in keys["position"]]) / FRAME_RATE
+        gripped = int(np.argmax(times >= grip))
+        for prop in ("position", "quaternion"):
+            values = np.array([key["value"] for key in keys[prop]])
+            assert np.abs(values[:gripped] - values[gripped]).max() == 0.0
+            assert np.abs(values[gripped:] - values[gripped]).max() > 0.1  # then it moves
+
+
+def test_barrel_axis_at_the_elevation_through_the_rammed_payload(commands, cycle30):
+    (command,) = [
+        c
+        for c in commands
+        if c["type"] == "set_transform" and c["path"] == "/meshcat/feeder/barrel_axis"
+    ]
+    matrix = np.array(command["matrix"]).reshape(4, 4).T  # three.js: column-major
+    axis, centre = matrix[:3, 1], matrix[:3, 3]
+    eps = math.radians(ELEVATION_DEG)
+    muzzle = np.array([-math.cos(eps), math.sin(eps), 0.0])
+    assert np.abs(axis - muzzle).max() <= POSITION_TOLERANCE
+    offset = cycle30.payload_position[-1] - centre
+    assert np.linalg.norm(offset - (offset @ axis) * axis) <= POSITION_TOLERANCE
+    assert np.linalg.norm(np.cross(cycle30.payload_axis[-1], axis)) <= POSITION_TOLERANCE
+
+
+def test_path_is_the_gripped_payload_centre_of_gravity(commands, cycle30):
+    (command,) = [
+        c
+        for c in commands
+        if c["type"] == "set_object" and c["path"] == "/meshcat/feeder/payload_path"
+    ]
+    (geometry,) = command["object"]["geometries"]
+    packed = geometry["data"]["attributes"]["position"]
+    path = np.frombuffer(packed["array"].data, dtype=np.float32).reshape(-1, 3)
+    expected = cycle30.payload_position[cycle30.gripped == 1].astype(np.float32)
+    np.testing.assert_array_equal(path, expected)  # MeshCat stores float32 vertices
+
+
+def test_force_arrows_to_one_scale(commands, forces, viewer, cycle30):
+    """Every arrow starts at its point and is its force divided by one common scale [N/m] (the
+    one the viewer reports), and the largest force is drawn :data:`ARROW_LENGTH` long."""
+    animated = tracks(commands)
+    heights = {
+        c["path"]: c["object"]["geometries"][0]["height"]
+        for c in commands
+        if c["type"] == "set_object" and "/forces/" in c["path"]
+    }
+    drawn, pulled = [], []
+    for name, (force, point) in forces.items():
+        node = f"/meshcat/feeder/forces/{name}"
+        shaft, head = animated[f"{node}/shaft"], animated[f"{node}/head"]
+        rows = np.rint(
+            np.array([k["time"] for k in shaft["position"]]) / FRAME_RATE * cycle30.spec.rate
+        ).astype(int)
+        for k, i in enumerate(rows):
+            shaft_y = rotation(shaft["quaternion"][k]["value"])[:, 1]
+            head_y = rotation(head["quaternion"][k]["value"])[:, 1]
+            tail = (
+                np.array(shaft["position"][k]["value"])
+                - shaft_y * shaft["scale"][k]["value"][1] * heights[f"{node}/shaft"] / 2
+            )
+            tip = (
+                np.array(head["position"][k]["value"])
+                + head_y * head["scale"][k]["value"][1] * heights[f"{node}/head"] / 2
+            )
+            assert np.abs(tail - point[i]).max() <= POSITION_TOLERANCE
+            drawn.append(tip - tail)
+            pulled.append(force[i])
+    drawn, pulled = np.array(drawn), np.array(pulled)
+    # One scale for all: the least-squares scale s with pulled ≈ s · drawn leaves no residual.
+    scale = float(np.sum(pulled * drawn) / np.sum(drawn * drawn))
+    assert np.abs(pulled - scale * drawn).max() <= POSITION_TOLERANCE * scale
+    assert scale == pytest.approx(viewer.newtons_per_metre, rel=SCALE_ROUND_OFF)
+    assert np.linalg.norm(drawn, axis=1).max() == pytest.approx(ARROW_LENGTH, rel=SCALE_ROUND_OFF)
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"f": (np.zeros((3, 3)), np.zeros((3, 3)))},
+        {"f": (np.full((4001, 3), np.nan), np.zeros((4001, 3)))},
+        {"f": (np.zeros((4001, 3)),)},
+        {"a/f": (np.zeros((4001, 3)), np.zeros((4001, 3)))},
+    ],
+    ids=["short", "nan", "no-points", "slash"],
+)
+def test_bad_forces(feeder, cycle30, bad):
+    with pytest.raises(InputError, match="f'"):
+        CycleViewer(feeder, cycle30, bad)
+
+
+def test_viewer_listens_on_loopback_only(viewer):
+    zmq_port = int(viewer.visualizer.viewer.window.zmq_url.rsplit(":", 1)[1])
+    assert viewer.url == f"http://{LOOPBACK}:{viewer.port}/static/"
+    for port in (viewer.port, zmq_port):
+        assert listening(port) == [LOOPBACK]
+        for address in outside_addresses():
+            with pytest.raises(OSError), socket.create_connection((address, port), timeout=5):
+                pass
+    with urllib.request.urlopen(viewer.url, timeout=10) as page:
+        assert b"main.min.js" in page.read()
+
+
+def test_listening_check_sees_every_interface():
+    """Control: the check above does flag a socket bound to every interface."""
+    with socket.create_server(("0.0.0.0", 0)) as server:
+        assert listening(server.getsockname()[1]) == ["0.0.0.0"]
+
+
+@pytest.fixture(scope="module")
+def screenshots(viewer, tmp_path_factory):
+    """Screenshots: the live viewer; its static page; the page without the device; the page
+    without the barrel axis (same virtual time: the same pose)."""
+    folder = tmp_path_factory.mktemp("screenshots")
+    shots = {"live": screenshot(viewer.url, folder / "live.png")}
+    vis = viewer.visualizer.viewer
+    for name, hidden in (("static", None), ("no_device", "device"), ("no_barrel", "barrel_axis")):
+        if hidden:
+            vis[f"feeder/{hidden}"].set_property("visible", False)
+        page = folder / f"{name}.html"
+        page.write_text(viewer.static_html(), encoding="utf-8")
+        if hidden:
+            vis[f"feeder/{hidden}"].set_property("visible", True)
+        shots[name] = screenshot(page.as_uri(), folder / f"{name}.png")
+    return shots
+
+
+@needs_chromium
+@pytest.mark.parametrize("page", ["static", "live"])
+def test_browser_draws_the_whole_device(screenshots, page):
+    assert_device_framed(changed(screenshots[page], screenshots["no_device"]))
+
+
+@needs_chromium
+def test_browser_draws_the_barrel_axis(screenshots):
+    rows, cols = np.nonzero(changed(screenshots["static"], screenshots["no_barrel"]))
+    pixels = np.column_stack([cols, rows]).astype(float)
+    pixels -= pixels.mean(axis=0)
+    spread = np.linalg.svd(pixels, compute_uv=False) / math.sqrt(len(pixels))
+    length = math.sqrt(12.0) * spread[0]  # a uniform segment of length L has σ = L / √12
+    assert length / math.hypot(*WINDOW) > MIN_BARREL_LENGTH
+    assert math.sqrt(12.0) * spread[1] / length < MAX_BARREL_WIDTH
+
+
+def view_command(device: str, elevation: float, html: str | None, port: int | None) -> int:
+    """``feeder view`` as the command line runs it, errors raised rather than printed."""
+    args = argparse.Namespace(device=device, elevation=elevation, html=html, port=port)
+    return cmd_view(args)
+
+
+@pytest.fixture
+def no_blocking(monkeypatch):
+    """Make the live viewer return at once instead of serving until Ctrl-C; record its URLs."""
+    served = []
+    monkeypatch.setattr(CycleViewer, "serve_forever", lambda self: served.append(self.url))
+    return served
+
+
+def test_view_command_serves_on_the_given_port(no_blocking):
+    with socket.socket() as probe:
+        probe.bind((LOOPBACK, 0))
+        port = probe.getsockname()[1]
+    assert view_command("charge", 10.0, None, port) == 0
+    assert no_blocking == [f"http://{LOOPBACK}:{port}/static/"]
+    assert listening(port) == []  # released
+
+
+def test_view_command_writes_html(tmp_path, no_blocking):
+    path = tmp_path / "view.html"
+    assert view_command("projectile", -4.0, str(path), None) == 0
+    assert "new MeshCat.Viewer" in path.read_text(encoding="utf-8")
+    assert no_blocking == []
+
+
+def interrupt_when_serving() -> None:
+    """Send Ctrl-C (SIGINT) once the main thread is inside ``serve_forever`` (60 s at most)."""
+    main = threading.main_thread().ident
+    deadline = time.monotonic() + 60.0
+    while time.monotonic() < deadline:
+        frame = sys._current_frames().get(main)
+        while frame is not None and frame.f_code.co_name != "serve_forever":
+            frame = frame.f_back
+        if frame is not None:
+            signal.raise_signal(signal.SIGINT)
+            return
+        time.sleep(0.05)
+
+
+def test_serve_forever_stops_on_ctrl_c(viewer):
+    interrupter = threading.Thread(target=interrupt_when_serving)
+    interrupter.start()
+    viewer.serve_forever()  # returns instead of raising KeyboardInterrupt
+    interrupter.join()
+
+
+@pytest.mark.parametrize(
+    ("device", "elevation", "error", "match"),
+    [
+        ("mortar", 30.0, InputError, "mortar"),
+        ("projectile", 71.0, ElevationError, "71"),
+        ("projectile", -4.5, ElevationError, "-4.5"),
+        ("projectile", math.nan, InputError, "nan"),
+    ],
+)
+def test_view_command_bad_device_or_elevation(no_blocking, device, elevation, error, match):
+    with pytest.raises(error, match=match):
+        view_command(device, elevation, None, None)
+    assert no_blocking == []
+
+
+@pytest.mark.parametrize("where", ["missing_folder", "folder", "under_a_file"])
+def test_view_command_unwritable_html(tmp_path, no_blocking, where):
+    (tmp_path / "file").write_text("x")
+    path = {
+        "missing_folder": tmp_path / "missing" / "view.html",
+        "folder": tmp_path,
+        "under_a_file": tmp_path / "file" / "view.html",
+    }[where]
+    with pytest.raises(InputError, match=re.escape(str(path))):
+        view_command("projectile", 30.0, str(path), None)
+
+
+@pytest.mark.parametrize("html", [None, "view.html"], ids=["live", "html"])
+def test_view_command_busy_port(tmp_path, no_blocking, html):
+    with socket.create_server((LOOPBACK, 0)) as busy:
+        port = busy.getsockname()[1]
+        with pytest.raises(ViewerPortError, match=f"port {port}"):
+            view_command("projectile", 30.0, html and str(tmp_path / html), port)
+    assert no_blocking == []
+
+
+@pytest.mark.parametrize("port", [0, 65536, -1])
+def test_view_command_bad_port(no_blocking, port):
+    with pytest.raises(InputError, match=str(port)):
+        view_command("projectile", 30.0, None, port)
