@@ -1,9 +1,14 @@
 """Strict URDF reading: parse, check the tree and every inertia, then build the Pinocchio model.
 
 Pinocchio and yourdfpy are lenient (yourdfpy silently recovers broken XML; Pinocchio accepts a
-negative mass or a non-physical inertia and zeroes a mass it cannot parse), so every URDF is
-checked here first and refused with a :class:`~feeder.exceptions.UrdfError` or
-:class:`~feeder.exceptions.InertiaError` that names the file and the element.
+negative mass or a non-physical inertia, zeroes a mass it cannot parse, and turns a zero joint axis
+into a motion that is not a rotation), so every URDF is checked here first and refused with a
+:class:`~feeder.exceptions.UrdfError` or :class:`~feeder.exceptions.InertiaError` that names the
+file and the element.
+
+A document type declaration is refused outright: lxml would expand an internal entity
+(``<mass value="&m;"/>``) for the checks while Pinocchio's parser does not, and drops the body's
+inertia instead, so the checked model and the built one would differ. URDF needs no DTD.
 """
 
 from __future__ import annotations
@@ -18,6 +23,14 @@ from ..exceptions import InertiaError, UrdfError
 from .inertia import check_inertia
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
+_AXIS_JOINT_TYPES = {"revolute", "continuous", "prismatic", "planar"}
+"""Joint types whose ``<axis>`` Pinocchio uses (fixed and floating joints ignore it, and some
+exporters write ``0 0 0`` there)."""
+AXIS_MIN_NORM = 1e-6
+"""Smallest accepted length of a joint axis [-]. Pinocchio normalises the axis; a zero axis gives
+a joint "rotation" that is not a rotation (det ≠ 1) and a vector of ~1e-300 underflows to zero
+inside it. An axis typed in a URDF is a direction of length ~1; one shorter than this is a zero
+with round-off, not a direction."""
 _PARSER = etree.XMLParser(
     recover=False, resolve_entities=False, no_network=True, load_dtd=False, remove_comments=True
 )
@@ -60,14 +73,21 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
         The parsed ``<robot>`` element.
 
     Raises:
-        UrdfError: Malformed XML, or a tree that is not a tree (unknown links, several parents
-            or roots, unknown joint type).
+        UrdfError: Malformed XML, a document type declaration, a tree that is not a tree
+            (unknown links, several parents or roots, unknown joint type), a number that is not
+            finite, or a moving joint's axis that is not a direction.
         InertiaError: A link whose mass or inertia no rigid body can have.
     """
     try:
         root = etree.fromstring(xml.encode("utf-8"), _PARSER)
     except etree.XMLSyntaxError as exc:
         raise UrdfError(f"{source}: malformed XML: {exc}") from exc
+    doctype = root.getroottree().docinfo
+    if doctype.doctype or doctype.internalDTD is not None:
+        raise UrdfError(
+            f"{source}: a document type declaration ({doctype.doctype or '<!DOCTYPE>'}) is not "
+            "allowed in a URDF: its entities would be read differently by Pinocchio"
+        )
     if root.tag != "robot":
         raise UrdfError(f"{source}: root element is <{root.tag}>, expected <robot>")
     links = [link.get("name") for link in root.findall("link")]
@@ -97,8 +117,9 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
 
 
 def _check_numbers(root: etree._Element, source: str) -> None:
-    """Every origin, axis and joint limit must be finite numbers: Pinocchio would otherwise drop
-    the element or zero a mass silently."""
+    """Every origin, axis and joint limit must be finite numbers, and the axis of a moving joint
+    a direction: Pinocchio would otherwise drop the element, zero a mass or build a non-rotation
+    silently."""
     for owner in (*root.findall("link"), *root.findall("joint")):
         where = f"{source}: {owner.tag} {owner.get('name')!r}"
         for origin in owner.iter("origin"):
@@ -106,7 +127,12 @@ def _check_numbers(root: etree._Element, source: str) -> None:
                 if origin.get(attribute) is not None:
                     _floats(origin, attribute, 3, f"{where}, <{origin.getparent().tag}> origin")
         for axis in owner.findall("axis"):
-            _floats(axis, "xyz", 3, f"{where}, axis")
+            xyz = _floats(axis, "xyz", 3, f"{where}, axis")
+            if owner.get("type") in _AXIS_JOINT_TYPES and not np.linalg.norm(xyz) >= AXIS_MIN_NORM:
+                raise UrdfError(
+                    f"{where}: axis xyz={axis.get('xyz')!r} is not a direction (length below "
+                    f"{AXIS_MIN_NORM:g})"
+                )
         for limit in owner.findall("limit"):
             for attribute in ("lower", "upper", "effort", "velocity"):
                 if limit.get(attribute) is not None:

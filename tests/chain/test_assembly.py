@@ -39,5 +39,6 @@ def test_too_many_independent_joints(feeder, closed_pose):
 def test_fourbar_without_independent_joints(fourbar_urdf):
     """A four-bar has one degree of freedom: with no joint given, its 3 coordinates are free."""
     chain = load_closed_chain(fourbar_urdf, [("rocker_tip", "ground_pin")])
+    closed = Partition(chain, ["joint1"]).assemble(np.array([0.3, 1.0, 1.0]))
     with pytest.raises(SingularPoseError, match="3 dependent coordinates .* rank 2"):
-        Partition(chain, []).velocity(np.array([0.3, 1.0, 1.0]), np.zeros(0))
+        Partition(chain, []).velocity(closed, np.zeros(0))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pinocchio as pin
 import pytest
 import yourdfpy
 
@@ -12,6 +13,9 @@ from feeder.device.urdf_writer import urdf_string
 from feeder.exceptions import ClosureFrameError, InertiaError, UrdfError
 
 from ..conftest import REPO
+
+ROUND_OFF = 1e-12
+"""Relative: the same rotation by 0.3 rad about z built twice, once from a normalised axis."""
 
 
 @pytest.fixture
@@ -123,3 +127,57 @@ def test_text_is_checked_like_a_file(urdf_text):
 def test_read_urdf_refuses_a_folder(tmp_path):
     with pytest.raises(UrdfError, match="not found"):
         read_urdf(tmp_path)
+
+
+def test_doctype_with_an_entity_is_refused(tmp_path, urdf_text):
+    """lxml expands ``&m;`` for the checks while Pinocchio's parser drops the inertia it cannot
+    read: the 43.5 kg payload would vanish from the model without a word."""
+    assert '<mass value="43.5" />' in urdf_text
+    hostile = urdf_text.replace(
+        "<robot ", '<!DOCTYPE robot [<!ENTITY m "43.5">]>\n<robot ', 1
+    ).replace('<mass value="43.5" />', '<mass value="&m;" />')
+    # Control: Pinocchio itself builds this file and loses the payload's mass.
+    model = pin.buildModelFromXML(hostile)
+    assert model.inertias[model.getJointId("forearm_joint")].mass < (
+        PROJECTILE_FEEDER.forearm.mass + PROJECTILE_FEEDER.payload.mass / 2
+    )
+    with pytest.raises(UrdfError, match="document type declaration"):
+        load_closed_chain(write(tmp_path, hostile), [])
+
+
+@pytest.mark.parametrize(
+    "declaration",
+    ["<!DOCTYPE robot>", '<!DOCTYPE robot SYSTEM "robot.dtd">', "<!DOCTYPE robot [ ]>"],
+)
+def test_any_doctype_is_refused(urdf_text, declaration):
+    with pytest.raises(UrdfError, match="document type declaration"):
+        build_model(urdf_text.replace("<robot ", f"{declaration}\n<robot ", 1))
+
+
+@pytest.mark.parametrize("axis", ["0.0 0.0 0.0", "0 0 1e-300", "-0.0 0 0"])
+def test_zero_joint_axis_is_refused(tmp_path, urdf_text, axis):
+    """Pinocchio turns a zero axis into a joint motion whose "rotation" has det ≠ 1."""
+    old = '<axis xyz="0.0 0.0 1.0" />'
+    assert old in urdf_text
+    with pytest.raises(UrdfError, match="cylinder_joint.*not a direction"):
+        load_closed_chain(write(tmp_path, urdf_text.replace(old, f'<axis xyz="{axis}" />', 1)), [])
+
+
+def test_zero_axis_of_a_fixed_joint_is_accepted(urdf_text):
+    """Exporters write ``0 0 0`` on fixed joints, whose axis nobody uses."""
+    fixed = '<joint name="projectile_joint" type="fixed">'
+    assert fixed in urdf_text
+    text = urdf_text.replace(fixed, fixed + '\n    <axis xyz="0 0 0" />', 1)
+    assert build_model(text).nq == 4
+
+
+def test_a_non_unit_axis_is_a_direction(urdf_text):
+    """Pinocchio normalises the axis: ``0 0 2`` is accepted and is the same joint as ``0 0 1``."""
+    text = urdf_text.replace('<axis xyz="0.0 0.0 1.0" />', '<axis xyz="0.0 0.0 2.0" />', 1)
+    model, reference = build_model(text), build_model(urdf_text)
+    q = pin.neutral(model) + 0.3
+    data, reference_data = model.createData(), reference.createData()
+    pin.forwardKinematics(model, data, q)
+    pin.forwardKinematics(reference, reference_data, q)
+    joint = model.getJointId("cylinder_joint")
+    assert data.oMi[joint].isApprox(reference_data.oMi[joint], ROUND_OFF)

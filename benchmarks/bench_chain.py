@@ -1,0 +1,134 @@
+"""Time the generic closed-chain inverse dynamics (feeder.chain) per sample, in units of one bare
+``constraintDynamics`` call on the same model (measured in the same run, so the ratio survives a
+noisy machine). Goal (issue 10): ≤ 3 calls per sample with every joint's reaction.
+
+Mechanisms: the example four-bar (revolute cut, 3 joints) and the feeding device's open tree
+with its pin (point cut, 4 joints, run through the generic layer).
+
+Run: ``.venv/bin/python benchmarks/bench_chain.py [--samples N] [--json FILE]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from feeder.chain import ChainDynamics, ClosedChain, Closure, Partition, load_closed_chain
+from feeder.chain.inverse import check_motion, closure_wrenches, joint_reactions, solve_loads
+from feeder.device import CLOSURE, load_feeder
+
+REPEATS = 5
+GOAL = 3.0
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def best_time(function, repeats: int = REPEATS) -> float:
+    """Smallest wall time [s] of one call over ``repeats`` calls."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def four_bar(samples: int):
+    chain = load_closed_chain(
+        EXAMPLES / "four_bar" / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
+    )
+    chain.model.gravity = pin.Motion(np.array([0.0, -9.81, 0.0]), np.zeros(3))
+    partition = Partition(chain, ["crank_joint"])
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    x = math.radians(40.0) + 2.0 * math.pi * t
+    q0 = partition.assemble(np.array([x[0, 0], -0.35, 1.0]))
+    q, v, a, _ = partition.track(q0, x, np.full_like(x, 2.0 * math.pi), np.full_like(x, 1.0))
+    return chain, ["crank_joint"], q, v, a
+
+
+def device(samples: int):
+    from feeder.motion import feeding_cycle
+
+    feeder = load_feeder("projectile")
+    chain = ClosedChain(pin.Model(feeder.model), [CLOSURE])
+    cycle = feeding_cycle(feeder, math.radians(-4.0))
+    pick = np.linspace(0, cycle.t.size - 1, samples).round().astype(int)
+    to_pin = feeder.to_pinocchio
+    return (
+        chain,
+        ["piston_joint", "forearm_joint"],
+        *(to_pin(x[pick]) for x in (cycle.q, cycle.v, cycle.a)),
+    )
+
+
+def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
+    dyn = ChainDynamics(chain, actuated)
+    model, data = chain.model, chain.model.createData()
+    pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
+    settings = pin.ProximalSettings(1e-12, 1e-8, 20)
+    n = q.shape[0]
+    tau = np.zeros((n, model.nv))
+    q, v, a, motion, rows = check_motion(dyn, q, v, a)
+    loads, _, _ = solve_loads(dyn, motion, rows)
+    tau[:, dyn.columns] = loads
+
+    def bare() -> None:
+        for k in range(n):
+            pin.constraintDynamics(
+                model,
+                data,
+                q[k],
+                v[k],
+                tau[k],
+                chain.constraint_models,
+                chain.constraint_datas,
+                settings,
+            )
+
+    def loads_only() -> None:
+        _, _, _, motion, rows = check_motion(dyn, q, v, a)
+        solve_loads(dyn, motion, rows)
+
+    def everything() -> None:
+        _, _, _, motion, rows = check_motion(dyn, q, v, a)
+        _, lam, _ = solve_loads(dyn, motion, rows)
+        _, terms = closure_wrenches(chain, rows, lam)
+        joint_reactions(dyn, motion, terms)
+
+    call = best_time(bare) / n
+    per_loads = best_time(loads_only) / n
+    per_all = best_time(everything) / n
+    ratio = per_all / call
+    print(f"{name}: {n} samples, bare constraintDynamics {call * 1e6:.2f} µs")
+    print(
+        f"  loads + closure forces      {per_loads * 1e6:8.2f} µs/sample = {per_loads / call:5.2f}"
+    )
+    print(
+        f"  + every joint's reaction    {per_all * 1e6:8.2f} µs/sample = {ratio:5.2f} calls "
+        f"(goal ≤ {GOAL:g}): {'PASS' if ratio <= GOAL else 'MISS'}"
+    )
+    return {"call_us": call * 1e6, "loads_calls": per_loads / call, "all_calls": ratio}
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--samples", type=int, default=1000, help="samples per motion (default 1000)"
+    )
+    parser.add_argument("--json", help="also write the figures to this JSON file")
+    args = parser.parse_args(argv)
+    figures = {
+        "four_bar": measure("four-bar (revolute cut)", *four_bar(args.samples)),
+        "device": measure("feeding device (point cut)", *device(args.samples)),
+    }
+    if args.json:
+        Path(args.json).write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,482 @@
+"""Inverse dynamics of any closed chain: actuator loads, closure forces and every joint's reaction.
+
+For a prescribed motion (q, q̇, q̈) of the open tree cut at the closures, the closed chain moves
+when the closure forces λ act at the cuts and the actuators drive the named joints:
+
+    M(q) q̈ + b(q, q̇) − Σ_e J_eᵀ w_e = Sᵀ τ + Jᵀ λ                      (one sample, nv rows)
+
+* M q̈ + b are the tree's Newton–Euler forces (gravity from the model); w_e are the external
+  wrenches on named frames, J_e their frame Jacobians;
+* J (nc × nv) are the closure rows (:class:`~feeder.chain.closure.ClosedChain`), λ the forces
+  conjugate to them: a force [N] on the body of ``frame_a`` at its origin for the point rows, a
+  moment [N·m] for the rotation rows, and the opposite on the body of ``frame_b``;
+* S selects the actuated joints' velocity components; τ are their generalized forces.
+
+nv equations in n_act + nc unknowns, solved for all samples at once. The actuator loads must be
+determined (otherwise the actuation itself is singular: :class:`SingularPoseError`) and the
+equations consistent (otherwise the actuated joints cannot produce the motion:
+:class:`InputError`). Closure rows that repeat others (a planar loop) leave a null space of
+statically indeterminate forces: the answer given is the one of minimum ‖K^(−1/2) λ‖, K the
+optional per-row stiffness (default 1: minimum norm, SI units) — the forces a set of elastic
+supports of stiffness K would share — and those rows are listed in
+:attr:`ChainLoads.indeterminate`.
+
+The reaction wrench of every joint of the tree is the wrench its parent exerts on its child,
+world axes, moment about the joint's origin: the rate of momentum of the child's subtree less
+gravity, the closure forces and the external wrenches acting on it (:mod:`feeder.chain.kinematics`:
+Newton–Euler over all samples at once, equal to Pinocchio's RNEA to round-off).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import InputError, SingularPoseError, UnreachablePoseError
+from ..validation import check_finite, check_samples
+from .assembly import RANK_TOLERANCE
+from .closure import ClosedChain
+from .kinematics import (
+    TreeMotion,
+    cross,
+    frame_placements,
+    generalized_forces,
+    joint_wrenches,
+    point_jacobian,
+    supports_batches,
+    tree_motion,
+)
+
+CLOSURE_TOLERANCE = 1e-9
+"""Largest accepted closure residual [m, rad] of a prescribed configuration, and (per second,
+per second²) of its velocity and acceleration rows: assembly closes loops to ~1e-13; 1e-9 leaves
+room for motion data rounded to 9 digits."""
+
+CONSISTENCY = 1e-9
+"""Largest accepted residual of the dynamic equations, relative to their largest term: the
+actuated joints can produce the motion (round-off is ~1e-14)."""
+
+CONVENTION = (
+    "statically indeterminate closure forces: minimum ‖K^(-1/2) λ‖ (K the per-row stiffness, "
+    "default 1: minimum norm in SI units)"
+)
+
+
+@dataclass(frozen=True)
+class JointWrench:
+    """Wrench that a joint's parent exerts on its child, N samples, world axes.
+
+    Attributes:
+        force: Force [N], (N, 3).
+        moment: Moment [N·m] about the joint's origin, (N, 3).
+        drive: Its component along the joint's axis [N or N·m], (N,): the actuator load of an
+            actuated joint, zero for a passive one.
+        constraint_force: ``force`` less its component along a prismatic joint's axis [N].
+        constraint_moment: ``moment`` less its component about a revolute joint's axis [N·m].
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    drive: np.ndarray
+    constraint_force: np.ndarray
+    constraint_moment: np.ndarray
+
+
+@dataclass(frozen=True)
+class ClosureWrench:
+    """The force and moment of one closure on the body of its ``frame_a`` (the opposite acts on
+    ``frame_b``'s), N samples.
+
+    Attributes:
+        force, moment: World axes [N], [N·m] (moment about frame a's origin), (N, 3).
+        local_force, local_moment: The same in frame a's axes, (N, 3).
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    local_force: np.ndarray
+    local_moment: np.ndarray
+
+
+@dataclass(frozen=True)
+class ChainLoads:
+    """Inverse dynamics of a closed chain along N samples.
+
+    Attributes:
+        actuators: Actuated joint name → its generalized force [N or N·m], (N,).
+        closure_forces: λ, one column per closure row (:meth:`ClosedChain.row_labels`), (N, nc).
+        closures: Closure label → :class:`ClosureWrench`.
+        joints: Joint name → :class:`JointWrench` (every joint of the tree).
+        indeterminate: Labels of the closure rows whose forces are statically indeterminate
+            (reported with the convention :data:`CONVENTION`).
+        convention: How indeterminate forces were chosen.
+    """
+
+    actuators: dict[str, np.ndarray]
+    closure_forces: np.ndarray
+    closures: dict[str, ClosureWrench]
+    joints: dict[str, JointWrench]
+    indeterminate: tuple[str, ...]
+    convention: str
+
+
+class ChainDynamics:
+    """What the inverse dynamics of one chain needs that does not change along a motion.
+
+    Args:
+        chain: The closed chain (its model's gravity is used); a tree of one-coordinate revolute
+            and prismatic joints.
+        actuated: Names of the actuated joints (one-dof each).
+        stiffness: Optional closure label → per-row stiffness (rows of that closure), for the
+            split of statically indeterminate forces; default 1 everywhere.
+
+    Raises:
+        InputError: A joint the dynamics do not handle (spherical, free-flyer, planar,
+            Pinocchio's two-coordinate continuous), an unknown or multi-dof actuated joint, a
+            name given twice, a bad stiffness.
+    """
+
+    def __init__(
+        self,
+        chain: ClosedChain,
+        actuated: Sequence[str],
+        stiffness: Mapping[str, Sequence[float]] | None = None,
+    ):
+        if not supports_batches(chain.model):
+            kinds = sorted(
+                {chain.model.joints[j].shortname() for j in range(1, chain.model.njoints)}
+            )
+            raise InputError(
+                f"model {chain.model.name!r} has joints {kinds}: the dynamics handle trees of "
+                "one-coordinate revolute and prismatic joints (URDF revolute, prismatic; a "
+                "continuous joint with limits of [0, 0] is a revolute one without limits)"
+            )
+        if isinstance(actuated, str) or not isinstance(actuated, Sequence):
+            raise InputError(f"actuated joints must be a list of names, got {actuated!r}")
+        if len(set(actuated)) != len(actuated):
+            raise InputError(f"actuated joints must be distinct, got {list(actuated)}")
+        self.chain = chain
+        self.actuated = tuple(actuated)
+        self.columns = []
+        for name in self.actuated:
+            span = chain.joint_slice(name)
+            if span.stop - span.start != 1:
+                raise InputError(f"actuated joint {name!r} must have one degree of freedom")
+            self.columns.append(span.start)
+        weights = np.ones(chain.nc)
+        labels = [closure.label for closure in chain.closures]
+        for label, values in (stiffness or {}).items():
+            if label not in labels:
+                raise InputError(
+                    f"stiffness given for unknown closure {label!r}; closures: {labels}"
+                )
+            rows = chain.row_slices[labels.index(label)]
+            values = check_finite(f"stiffness of {label!r}", values)
+            if values.shape != (rows.stop - rows.start,) or np.any(values <= 0.0):
+                raise InputError(
+                    f"stiffness of {label!r} must be {rows.stop - rows.start} positive numbers"
+                )
+            weights[rows] = values
+        self.row_scale = np.sqrt(weights)
+        self.data = chain.model.createData()
+
+
+@dataclass(frozen=True)
+class ClosureKinematics:
+    """The closure rows along a motion, N samples.
+
+    Attributes:
+        jacobian: J, (N, nc, nv). residual: the rows' position error, (N, nc).
+        rate, acceleration: The rows' first and second time derivatives, (N, nc).
+        directions: Per closure, the revolute rows' moment directions (N, 2, 3) (None otherwise).
+        rotation_a: Per closure, frame a's world rotation (N, 3, 3).
+    """
+
+    jacobian: np.ndarray
+    residual: np.ndarray
+    rate: np.ndarray
+    acceleration: np.ndarray
+    directions: list[np.ndarray | None]
+    rotation_a: list[np.ndarray]
+
+
+def _log3(rotation: np.ndarray) -> np.ndarray:
+    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3) (angle below π)."""
+    cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cosine)
+    skew = np.stack(
+        [
+            rotation[:, 2, 1] - rotation[:, 1, 2],
+            rotation[:, 0, 2] - rotation[:, 2, 0],
+            rotation[:, 1, 0] - rotation[:, 0, 1],
+        ],
+        axis=1,
+    )
+    sine = np.sin(angle)
+    factor = np.where(sine > 1e-8, angle / np.where(sine > 1e-8, 2.0 * sine, 1.0), 0.5)
+    return factor[:, None] * skew
+
+
+def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
+    """Classical acceleration (N, 3) of a frame's origin at ``point`` (N, 3)."""
+    j = model.frames[frame].parentJoint
+    r = point - motion.origin[j]
+    w = motion.omega[j]
+    return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
+
+
+def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) -> ClosureKinematics:
+    """Every closure row's Jacobian, error, rate and acceleration along a batched motion."""
+    model = chain.model
+    n = v.shape[0]
+    jacobian = np.zeros((n, chain.nc, model.nv))
+    residual = np.zeros((n, chain.nc))
+    acceleration = np.zeros((n, chain.nc))
+    directions, rotations = [], []
+    for closure, rows, (a, b), perpendicular in zip(
+        chain.closures, chain.row_slices, chain.frame_ids, chain._perpendicular, strict=True
+    ):
+        rot_a, p_a = frame_placements(model, motion, a)
+        rot_b, p_b = frame_placements(model, motion, b)
+        jac_a, jac_b = point_jacobian(model, motion, a), point_jacobian(model, motion, b)
+        start = rows.start
+        jacobian[:, start : start + 3] = jac_a[:, :3] - jac_b[:, :3]
+        residual[:, start : start + 3] = p_a - p_b
+        acceleration[:, start : start + 3] = _frame_acceleration(
+            model, motion, a, p_a
+        ) - _frame_acceleration(model, motion, b, p_b)
+        ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
+        relative = motion.omega[ja] - motion.omega[jb]
+        spin = motion.alpha[ja] - motion.alpha[jb]
+        direction = None
+        if closure.kind == "weld":
+            jacobian[:, start + 3 : rows.stop] = jac_a[:, 3:] - jac_b[:, 3:]
+            residual[:, start + 3 : rows.stop] = _log3(rot_a @ np.swapaxes(rot_b, 1, 2))
+            acceleration[:, start + 3 : rows.stop] = spin
+        elif closure.kind == "revolute":
+            normals = rot_a @ perpendicular.T  # (N, 3, 2): columns n_1, n_2
+            u_b = rot_b @ np.array(closure.axis_b)
+            normals = np.swapaxes(normals, 1, 2)  # (N, 2, 3)
+            direction = np.cross(normals, u_b[:, None, :])
+            jacobian[:, start + 3 : rows.stop] = direction @ (jac_a[:, 3:] - jac_b[:, 3:])
+            residual[:, start + 3 : rows.stop] = np.einsum("nki,ni->nk", normals, u_b)
+            w_a, w_b = motion.omega[ja], motion.omega[jb]
+            rates = np.cross(np.cross(w_a[:, None, :], normals), u_b[:, None, :]) + np.cross(
+                normals, np.cross(w_b, u_b)[:, None, :]
+            )
+            acceleration[:, start + 3 : rows.stop] = np.einsum(
+                "nki,ni->nk", rates, relative
+            ) + np.einsum("nki,ni->nk", direction, spin)
+        directions.append(direction)
+        rotations.append(rot_a)
+    rate = np.einsum("ncv,nv->nc", jacobian, v)
+    return ClosureKinematics(jacobian, residual, rate, acceleration, directions, rotations)
+
+
+def check_motion(
+    dyn: ChainDynamics, q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, TreeMotion, ClosureKinematics]:
+    """q (N, nq), v, a (N, nv) as float arrays if they are a closed-chain motion, else raise;
+    also returns the tree's batched motion and the closure rows along it.
+
+    Raises:
+        InputError: NaN/inf, shapes, velocities or accelerations that open the loops.
+        UnreachablePoseError: A configuration that does not close the loops.
+    """
+    model = dyn.chain.model
+    q = check_samples("q", q, model.nq)
+    v = check_samples("v", v, model.nv)
+    a = check_samples("a", a, model.nv)
+    if not q.shape[0] == v.shape[0] == a.shape[0]:
+        raise InputError(f"q, v, a must have N samples each, got {q.shape}, {v.shape}, {a.shape}")
+    motion = tree_motion(model, q, v, a)
+    rows = closure_kinematics(dyn.chain, motion, v)
+    scale = np.maximum(1.0, np.abs(v).max(axis=1)) ** 2
+    for what, values, limit, error in (
+        ("configuration", rows.residual, np.ones_like(scale), UnreachablePoseError),
+        ("velocities", rows.rate, np.sqrt(scale), InputError),
+        ("accelerations", rows.acceleration, scale, InputError),
+    ):
+        worst = np.abs(values).max(axis=1, initial=0.0) / limit
+        k = int(np.argmax(worst))
+        if worst[k] > CLOSURE_TOLERANCE:
+            if error is UnreachablePoseError:
+                raise UnreachablePoseError(
+                    f"sample {k} does not close the loops: residual {worst[k]:.3e} > "
+                    f"{CLOSURE_TOLERANCE:g}"
+                )
+            raise InputError(
+                f"the {what} of sample {k} open the loops ({worst[k]:.3e}): not a closed-chain "
+                "motion (Partition.velocity / acceleration / track give one)"
+            )
+    return q, v, a, motion, rows
+
+
+def _external_terms(
+    chain: ClosedChain, n: int, external: Mapping[str, np.ndarray]
+) -> list[tuple[int, np.ndarray]]:
+    """The checked external wrenches: (frame id, world wrench (N, 6) about the frame's origin)."""
+    terms = []
+    for name, wrench in external.items():
+        frame = chain.frame_id(name)
+        values = check_finite(f"external wrench on {name!r}", wrench)
+        if values.shape == (6,):
+            values = np.tile(values, (n, 1))
+        if values.shape != (n, 6):
+            raise InputError(
+                f"external wrench on {name!r} must be (6,) or ({n}, 6), got {values.shape}"
+            )
+        terms.append((frame, values))
+    return terms
+
+
+def inverse_dynamics(
+    dyn: ChainDynamics,
+    q: np.ndarray,
+    v: np.ndarray,
+    a: np.ndarray,
+    external: Mapping[str, np.ndarray] | None = None,
+) -> ChainLoads:
+    """Actuator loads, closure forces and every joint's reaction for a closed-chain motion.
+
+    Args:
+        dyn: The chain's dynamics (:class:`ChainDynamics`).
+        q, v, a: Configurations (N, nq), velocities and accelerations (N, nv) of a closed-chain
+            motion (checked: :func:`check_motion`).
+        external: Optional external wrenches by frame name: world [force (3) N, moment (3) N·m
+            about the frame's origin], (N, 6) or (6,) (constant).
+
+    Raises:
+        InputError: Bad arrays, a motion that opens the loops, or one the actuated joints cannot
+            produce.
+        UnreachablePoseError: A configuration that does not close the loops.
+        SingularPoseError: Actuator loads not determined by the equations (a singular
+            actuation).
+    """
+    q, v, a, motion, rows = check_motion(dyn, q, v, a)
+    terms = _external_terms(dyn.chain, q.shape[0], external or {})
+    tau, lam, indeterminate = solve_loads(dyn, motion, rows, terms)
+    closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
+    joints = joint_reactions(dyn, motion, closure_terms + terms)
+    return ChainLoads(
+        actuators={name: tau[:, i] for i, name in enumerate(dyn.actuated)},
+        closure_forces=lam,
+        closures=closures,
+        joints=joints,
+        indeterminate=indeterminate,
+        convention=CONVENTION,
+    )
+
+
+def solve_loads(
+    dyn: ChainDynamics,
+    motion: TreeMotion,
+    rows: ClosureKinematics,
+    external: list[tuple[int, np.ndarray]] = (),
+) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
+    motion (module docstring), and the labels of the indeterminate closure rows."""
+    model = dyn.chain.model
+    force, moment = joint_wrenches(model, motion, external)
+    tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
+    n, nc = tree.shape[0], rows.jacobian.shape[1]
+    n_act = len(dyn.columns)
+    system = np.zeros((n, model.nv, n_act + nc))
+    system[:, dyn.columns, np.arange(n_act)] = 1.0
+    system[:, :, n_act:] = np.swapaxes(rows.jacobian, 1, 2) * dyn.row_scale
+    solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels())
+    return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale, indeterminate
+
+
+def _solve(
+    system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str]
+) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Minimum-norm solutions of system[k] x = rhs[k], after the checks of the module docstring;
+    returns x (n, n_act + nc) and the labels of indeterminate closure rows."""
+    u, s, vt = np.linalg.svd(system, full_matrices=True)
+    scale = np.maximum(s[:, :1], 1e-300)
+    rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
+    inverse = np.where(rank_mask, 1.0 / np.where(rank_mask, s, 1.0), 0.0)
+    k = min(system.shape[1:])
+    projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)
+    solution = np.einsum("nij,nj->ni", np.swapaxes(vt[:, :k, :], 1, 2), inverse * projected)
+    misfit = np.abs(np.einsum("nij,nj->ni", system, solution) - rhs).max(axis=1)
+    size = np.maximum(
+        np.abs(rhs).max(axis=1), np.abs(system).max(axis=(1, 2)) * np.abs(solution).max(axis=1)
+    )
+    worst = int(np.argmax(misfit / np.maximum(size, 1e-300)))
+    if misfit[worst] > CONSISTENCY * max(size[worst], 1e-300):
+        raise InputError(
+            f"the actuated joints cannot produce the motion at sample {worst}: the equations of "
+            f"motion leave a residual of {misfit[worst]:.3e} (choose other actuated joints)"
+        )
+    rank = rank_mask.sum(axis=1)
+    null = np.zeros(system.shape[2], dtype=bool)
+    for r in np.unique(rank):  # samples of equal rank share the null-space dimension
+        basis = vt[rank == r, r:, :]  # (samples, dim, nx)
+        if basis.size and np.abs(basis[:, :, :n_act]).max() > 1e-6:
+            i = int(np.flatnonzero(rank == r)[0])
+            raise SingularPoseError(
+                f"the actuator loads are not determined at sample {i}: the actuated joints and "
+                "the closures can balance each other without load (a singular actuation)"
+            )
+        if basis.size:
+            null |= np.abs(basis).max(axis=(0, 1)) > 1e-6
+    indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
+    return solution, indeterminate
+
+
+def closure_wrenches(
+    chain: ClosedChain, rows: ClosureKinematics, lam: np.ndarray
+) -> tuple[dict[str, ClosureWrench], list[tuple[int, np.ndarray]]]:
+    """Each closure's wrench on the body of frame a (world and local axes) from the closure forces
+    λ (N, nc), and the wrenches that :func:`joint_reactions` applies: (frame id, world wrench
+    [force, moment about the frame's origin] (N, 6)), on frame a and, opposite, on frame b."""
+    out, terms = {}, []
+    for i, (closure, span, (a, b)) in enumerate(
+        zip(chain.closures, chain.row_slices, chain.frame_ids, strict=True)
+    ):
+        force = lam[:, span.start : span.start + 3]
+        if closure.kind == "weld":
+            moment = lam[:, span.start + 3 : span.stop]
+        elif closure.kind == "revolute":
+            moment = np.einsum(
+                "nk,nki->ni", lam[:, span.start + 3 : span.stop], rows.directions[i]
+            )
+        else:
+            moment = np.zeros_like(force)
+        rotation = rows.rotation_a[i]
+        out[closure.label] = ClosureWrench(
+            force,
+            moment,
+            np.einsum("nji,nj->ni", rotation, force),
+            np.einsum("nji,nj->ni", rotation, moment),
+        )
+        wrench = np.hstack([force, moment])
+        terms += [(a, wrench), (b, -wrench)]
+    return out, terms
+
+
+def joint_reactions(
+    dyn: ChainDynamics, motion: TreeMotion, external: list[tuple[int, np.ndarray]]
+) -> dict[str, JointWrench]:
+    """Every joint's reaction wrench with the wrenches ``external`` ((frame id, world wrench
+    (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`) acting on the tree."""
+    model = dyn.chain.model
+    force, moment = joint_wrenches(model, motion, external)
+    joints = {}
+    for j in range(1, model.njoints):
+        e = motion.axis[j]
+        along = moment[j] if motion.revolute[j] else force[j]
+        drive = np.einsum("ni,ni->n", e, along)
+        part = drive[:, None] * e
+        joints[model.names[j]] = JointWrench(
+            force=force[j],
+            moment=moment[j],
+            drive=drive,
+            constraint_force=force[j] if motion.revolute[j] else force[j] - part,
+            constraint_moment=moment[j] - part if motion.revolute[j] else moment[j],
+        )
+    return joints

@@ -1,0 +1,318 @@
+"""A user's mechanism from files: the model (URDF, MJCF or SDF), a closure side-file (TOML) and a
+motion table (CSV).
+
+The side-file (TOML, read with the standard library's ``tomllib``: no extra dependency)::
+
+    [mechanism]
+    urdf = "four_bar.urdf"          # the model, relative to this file (or "mjcf" / "sdf")
+    actuated = ["crank_joint"]      # joints whose generalized forces are the unknown loads
+    independent = ["crank_joint"]   # joints whose motion the motion table prescribes
+    gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF)
+
+    [[closure]]                     # one per cut joint (none for an MJCF with equality
+    frames = ["coupler_tip", "rocker_tip"]   # constraints: those are read from the model)
+    type = "revolute"               # point | weld | revolute
+    axis = [0.0, 0.0, 1.0]          # revolute: hinge axis in the frames' axes
+    stiffness = [1, 1, 1, 1, 1]     # optional, per row: the split of indeterminate forces
+
+The motion table (CSV, header row): ``t`` [s] and, for every independent joint j, ``q_j`` and
+optionally ``v_j``, ``a_j`` (SI units); rates that are missing are differentiated from the
+positions (second-order central differences, ``numpy.gradient``).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import InputError, UrdfError
+from ..validation import check_finite
+from .closure import KINDS, ClosedChain, Closure
+from .inertia import check_inertia
+from .urdf import build_model, read_urdf
+
+MODEL_KEYS = ("urdf", "mjcf", "sdf")
+"""Keys of ``[mechanism]`` that name the model file, one of them."""
+
+CLOSURE_KEYS = {"frames", "type", "axis", "axis_b", "name", "stiffness"}
+"""Keys a ``[[closure]]`` table may have."""
+
+
+@dataclass(frozen=True)
+class MechanismSpec:
+    """What the side-file says.
+
+    Attributes:
+        model: Path of the model file (resolved against the side-file's folder).
+        model_format: ``"urdf"``, ``"mjcf"`` or ``"sdf"``.
+        closures: The cut joints.
+        actuated: Actuated joint names.
+        independent: Independent joint names.
+        gravity: Gravity [m/s²], world frame, (3,), or None (the model's).
+        stiffness: Closure label → per-row stiffness (indeterminate-force split).
+    """
+
+    model: Path
+    model_format: str
+    closures: tuple[Closure, ...]
+    actuated: tuple[str, ...]
+    independent: tuple[str, ...]
+    gravity: np.ndarray | None = None
+    stiffness: dict[str, tuple[float, ...]] = field(default_factory=dict)
+
+
+def _names(table: dict, key: str, where: str) -> tuple[str, ...]:
+    value = table.get(key)
+    if not isinstance(value, list) or not all(isinstance(x, str) and x for x in value):
+        raise InputError(f"{where}: '{key}' must be a list of joint names, got {value!r}")
+    return tuple(value)
+
+
+def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpec:
+    """Read and check a closure side-file.
+
+    Args:
+        path: The TOML side-file.
+        model: The model file, overriding the side-file's (e.g. given on the command line).
+
+    Raises:
+        InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
+            closure type.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"closure file not found: {path}")
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+    unknown = set(document) - {"mechanism", "closure"}
+    if unknown:
+        raise InputError(
+            f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]])"
+        )
+    mechanism = document.get("mechanism")
+    if not isinstance(mechanism, dict):
+        raise InputError(f"{path}: a [mechanism] table is required")
+    where = f"{path} [mechanism]"
+    known = {"actuated", "independent", "gravity", *MODEL_KEYS}
+    if set(mechanism) - known:
+        raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
+    if model is not None:
+        model_path, model_format = Path(model), _format_of(Path(model))
+    else:
+        given = [key for key in MODEL_KEYS if key in mechanism]
+        if len(given) != 1 or not isinstance(mechanism[given[0]], str):
+            raise InputError(f'{where}: name the model with one of {list(MODEL_KEYS)} = "file"')
+        model_path, model_format = path.parent / mechanism[given[0]], given[0]
+    gravity = None
+    if "gravity" in mechanism:
+        gravity = check_finite(f"{where} gravity [m/s²]", mechanism["gravity"])
+        if gravity.shape != (3,):
+            raise InputError(
+                f"{where}: gravity must be 3 numbers [m/s²], got {mechanism['gravity']!r}"
+            )
+    closures, stiffness = [], {}
+    for i, entry in enumerate(document.get("closure", [])):
+        here = f"{path} [[closure]] #{i + 1}"
+        if not isinstance(entry, dict):
+            raise InputError(f"{here}: must be a table")
+        if set(entry) - CLOSURE_KEYS:
+            raise InputError(f"{here}: unknown keys {sorted(set(entry) - CLOSURE_KEYS)}")
+        frames = entry.get("frames")
+        if (
+            not isinstance(frames, list)
+            or len(frames) != 2
+            or not all(isinstance(f, str) for f in frames)
+        ):
+            raise InputError(f"{here}: 'frames' must be two frame names, got {frames!r}")
+        kind = entry.get("type", "point")
+        if kind not in KINDS:
+            raise InputError(f"{here}: 'type' must be one of {sorted(KINDS)}, got {kind!r}")
+        closure = Closure(
+            frames[0],
+            frames[1],
+            kind,
+            tuple(entry.get("axis", (0.0, 0.0, 1.0))),
+            tuple(entry["axis_b"]) if "axis_b" in entry else None,
+            str(entry.get("name", "")),
+        )
+        closures.append(closure)
+        if "stiffness" in entry:
+            stiffness[closure.label] = tuple(check_finite(f"{here} stiffness", entry["stiffness"]))
+    return MechanismSpec(
+        model=model_path,
+        model_format=model_format,
+        closures=tuple(closures),
+        actuated=_names(mechanism, "actuated", where),
+        independent=_names(mechanism, "independent", where),
+        gravity=gravity,
+        stiffness=stiffness,
+    )
+
+
+def _format_of(path: Path) -> str:
+    suffix = path.suffix.lower()
+    formats = {".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf", ".sdf": "sdf"}
+    if suffix not in formats:
+        raise InputError(f"model file {path}: unknown format {suffix!r} (.urdf, .xml/.mjcf, .sdf)")
+    return formats[suffix]
+
+
+def load_mechanism(spec: MechanismSpec) -> ClosedChain:
+    """The closed chain the side-file describes (model read strictly, closures attached).
+
+    An MJCF's ``<equality><connect>`` and ``<weld>`` constraints become point and weld closures
+    (Pinocchio's MJCF parser reads them; frames ``mjcf_constraint_<i>_a|b`` are added at their
+    anchors), before the side-file's closures. As in MuJoCo, an anchor is given in its first
+    body's frame and sits on the second body where it is at ``qpos0``: build the model assembled
+    at qpos0. Pinocchio's parser reads only the first body under ``<worldbody>``: put the whole
+    mechanism under one (jointless) body.
+
+    Raises:
+        UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
+        InertiaError: A non-physical body.
+        ClosureFrameError, InputError: Bad closures.
+    """
+    closures = list(spec.closures)
+    if spec.model_format == "urdf":
+        model = build_model(read_urdf(spec.model), str(spec.model))
+    elif spec.model_format == "sdf":
+        from .sdf import read_sdf
+
+        xml, cuts = read_sdf(spec.model)
+        model = build_model(xml, str(spec.model))
+        closures = cuts + closures
+    else:
+        model, extra = _read_mjcf(spec.model)
+        closures = extra + closures
+    if spec.gravity is not None:
+        model.gravity = pin.Motion(spec.gravity, np.zeros(3))
+    return ClosedChain(model, closures)
+
+
+def _read_mjcf(path: Path) -> tuple[pin.Model, list[Closure]]:
+    """Pinocchio's MJCF model and its equality constraints as closures (frames added)."""
+    if not path.is_file():
+        raise UrdfError(f"MJCF file not found: {path}")
+    try:
+        model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
+    except (ValueError, RuntimeError) as exc:
+        raise UrdfError(f"{path}: Pinocchio cannot read the MJCF model: {exc}") from exc
+    for j in range(1, model.njoints):
+        inertia = model.inertias[j]
+        if inertia.mass > 0.0:
+            check_inertia(model.names[j], inertia.mass, inertia.inertia)
+    equality = _equality_names(path)
+    closures = []
+    for i, constraint in enumerate(constraints):
+        names = (f"mjcf_constraint_{i}_a", f"mjcf_constraint_{i}_b")
+        for name, joint, placement in zip(
+            names,
+            (constraint.joint1_id, constraint.joint2_id),
+            (constraint.joint1_placement, constraint.joint2_placement),
+            strict=True,
+        ):
+            parent_frame = model.getFrameId(model.names[joint]) if joint else 0
+            model.addFrame(pin.Frame(name, joint, parent_frame, placement, pin.FrameType.OP_FRAME))
+        kind = "weld" if constraint.type == pin.ContactType.CONTACT_6D else "point"
+        label = (
+            constraint.name or (equality[i] if i < len(equality) else "") or f"mjcf_constraint_{i}"
+        )
+        closures.append(Closure(*names, kind=kind, name=label))
+    return model, closures
+
+
+def _equality_names(path: Path) -> list[str]:
+    """Names of an MJCF's ``equality/connect|weld`` elements, in file order ("" if unnamed):
+    Pinocchio 4.1 leaves its constraint models unnamed."""
+    from lxml import etree
+
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
+    try:
+        root = etree.parse(str(path), parser).getroot()
+    except (OSError, etree.XMLSyntaxError) as exc:
+        raise UrdfError(f"{path}: malformed MJCF: {exc}") from exc
+    return [
+        element.get("name", "")
+        for equality in root.iter("equality")
+        for element in equality
+        if element.tag in ("connect", "weld")
+    ]
+
+
+@dataclass(frozen=True)
+class MotionTable:
+    """A prescribed motion of the independent joints.
+
+    Attributes:
+        t: Times [s], (N,).
+        x, dx, ddx: Positions, rates and accelerations of the independent joints (N, n).
+        differentiated: Joints whose rates were differentiated from the positions.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    dx: np.ndarray
+    ddx: np.ndarray
+    differentiated: tuple[str, ...]
+
+
+def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
+    """Read a motion table (module docstring) for the ``independent`` joints.
+
+    Raises:
+        InputError: Missing or malformed file, a missing column (named), non-finite values,
+            times that do not increase.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"motion file not found: {path}")
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the motion file {path}: {exc}") from exc
+    rows = [line.split(",") for line in lines if line.strip()]
+    if len(rows) < 3:
+        raise InputError(f"{path}: a header row and at least two rows of numbers are needed")
+    header = [name.strip() for name in rows[0]]
+    if any(len(row) != len(header) for row in rows[1:]):
+        raise InputError(f"{path}: every row must have {len(header)} values, like the header")
+    try:
+        table = np.array([[float(x) for x in row] for row in rows[1:]])
+    except ValueError as exc:
+        raise InputError(f"{path}: every row after the header must be numbers: {exc}") from exc
+    table = check_finite(f"{path}", table)
+    columns = {name: table[:, i] for i, name in enumerate(header)}
+    if "t" not in columns:
+        raise InputError(f"{path}: no column 't' [s]; columns: {header}")
+    t = columns["t"]
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError(f"{path}: times must increase")
+    x, dx, ddx, differentiated = [], [], [], []
+    for joint in independent:
+        if f"q_{joint}" not in columns:
+            raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
+        position = columns[f"q_{joint}"]
+        rate = columns.get(f"v_{joint}")
+        if rate is None:
+            rate = np.gradient(position, t, edge_order=2)
+            differentiated.append(joint)
+        acceleration = columns.get(f"a_{joint}")
+        if acceleration is None:
+            acceleration = np.gradient(rate, t, edge_order=2)
+            differentiated.append(joint)
+        x.append(position)
+        dx.append(rate)
+        ddx.append(acceleration)
+    return MotionTable(
+        t=t,
+        x=np.column_stack(x),
+        dx=np.column_stack(dx),
+        ddx=np.column_stack(ddx),
+        differentiated=tuple(dict.fromkeys(differentiated)),
+    )

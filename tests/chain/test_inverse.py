@@ -1,0 +1,204 @@
+"""Inverse dynamics of any closed chain: against Pinocchio's constrained forward dynamics, across
+cut kinds, and its refusals.
+
+The independent checks: (1) the loads it computes, fed to Pinocchio's ``constraintDynamics`` with
+the chain's own ``RigidConstraintModel`` s, give back the prescribed accelerations; (2) the same
+four-bar cut at a pin (revolute or point cut) or in the middle of its rocker (a weld) needs the
+same drive torque; (3) every passive joint carries no load along its axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from feeder.chain.assembly import Partition
+from feeder.chain.closure import ClosedChain, Closure, load_closed_chain
+from feeder.chain.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.urdf import build_model
+from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
+
+from ..conftest import REPO
+
+FOUR_BAR = REPO / "examples" / "four_bar" / "four_bar.urdf"
+C = 0.080  # rocker length [m]
+BAR = 7850.0 * 0.020 * 0.010  # [kg/m]
+
+ACCELERATION = 1e-10
+"""[rad/s²] The issue's bound for Pinocchio's forward dynamics fed with our loads: both solve the
+same equations to round-off (~1e-13 here, with a 1e-10 proximal regularisation)."""
+
+RELATIVE = 1e-9
+"""Loads of one mechanism computed through different cuts: round-off (~1e-14) and Newton's
+1e-13 residual, relative to the largest load."""
+
+PASSIVE = 1e-12
+"""[N·m] Load along a passive joint's axis: zero to round-off of ~0.1 N·m moments."""
+
+
+def _gravity(chain: ClosedChain) -> ClosedChain:
+    chain.model.gravity = pin.Motion(np.array([0.0, -9.81, 0.0]), np.zeros(3))
+    return chain
+
+
+def _motion(chain: ClosedChain, samples: int = 21):
+    """One crank turn with a rising speed, tracked on the open branch."""
+    partition = Partition(chain, ["crank_joint"])
+    t = np.linspace(0.0, 1.0, samples)
+    x = (math.radians(40.0) + 2.0 * math.pi * t + 1.5 * t**2)[:, None]
+    dx = (2.0 * math.pi + 3.0 * t)[:, None]
+    ddx = np.full_like(x, 3.0)
+    guess = np.array([x[0, 0], -0.35, 1.0])
+    q, v, a, _ = partition.track(partition.assemble(guess), x, dx, ddx)
+    return q, v, a
+
+
+@pytest.fixture(scope="module", params=["revolute", "point"])
+def four_bar(request):
+    return _gravity(
+        load_closed_chain(FOUR_BAR, [Closure("coupler_tip", "rocker_tip", request.param)])
+    )
+
+
+def test_loads_give_back_the_accelerations_in_pinocchio(four_bar):
+    q, v, a = _motion(four_bar)
+    loads = inverse_dynamics(ChainDynamics(four_bar, ["crank_joint"]), q, v, a)
+    model, data = four_bar.model, four_bar.model.createData()
+    models, datas = four_bar.constraint_models, four_bar.constraint_datas
+    pin.initConstraintDynamics(model, data, models, datas)
+    settings = pin.ProximalSettings(1e-14, 1e-10, 200)
+    for k in range(q.shape[0]):
+        tau = np.zeros(model.nv)
+        tau[0] = loads.actuators["crank_joint"][k]
+        forward = pin.constraintDynamics(model, data, q[k], v[k], tau, models, datas, settings)
+        assert np.abs(forward - a[k]).max() <= ACCELERATION
+
+
+def test_passive_joints_carry_nothing_along_their_axes(four_bar):
+    q, v, a = _motion(four_bar)
+    loads = inverse_dynamics(ChainDynamics(four_bar, ["crank_joint"]), q, v, a)
+    for name in ("coupler_joint", "rocker_joint"):
+        assert np.abs(loads.joints[name].drive).max() <= PASSIVE
+    np.testing.assert_allclose(
+        loads.joints["crank_joint"].drive, loads.actuators["crank_joint"], rtol=0, atol=PASSIVE
+    )
+
+
+def test_closure_wrench_in_the_cut_frame_is_the_world_one_rotated(four_bar):
+    q, v, a = _motion(four_bar, 5)
+    loads = inverse_dynamics(ChainDynamics(four_bar, ["crank_joint"]), q, v, a)
+    (wrench,) = loads.closures.values()
+    model, data = four_bar.model, four_bar.data
+    frame = model.getFrameId("coupler_tip")
+    for k in range(q.shape[0]):
+        pin.framesForwardKinematics(model, data, q[k])
+        rotation = data.oMf[frame].rotation
+        np.testing.assert_allclose(rotation @ wrench.local_force[k], wrench.force[k], atol=1e-12)
+        np.testing.assert_allclose(rotation @ wrench.local_moment[k], wrench.moment[k], atol=1e-12)
+    # Planar: the indeterminate rows carry nothing (minimum norm).
+    assert np.abs(wrench.force[:, 2]).max() <= 1e-12
+    assert np.abs(wrench.moment[:, :2]).max() <= 1e-12
+
+
+def _bar(name: str, length: float, start: float, mass: float) -> str:
+    """A 20 × 10 mm bar link of ``mass`` [kg] from x = start to start + length (the examples'
+    section, so that two halves have the inertia of the whole bar)."""
+    width, thickness = 0.020, 0.010
+    centre = start + length / 2.0
+    ixx = mass * (width**2 + thickness**2) / 12.0
+    iyy = mass * (length**2 + thickness**2) / 12.0
+    izz = mass * (length**2 + width**2) / 12.0
+    return (
+        f'<link name="{name}"><inertial><origin xyz="{centre!r} 0 0" rpy="0 0 0"/>'
+        f'<mass value="{mass!r}"/><inertia ixx="{ixx!r}" ixy="0" ixz="0" iyy="{iyy!r}" iyz="0" '
+        f'izz="{izz!r}"/></inertial></link>'
+    )
+
+
+def weld_four_bar() -> ClosedChain:
+    """The example four-bar with its rocker cut in the middle: the half at the ground pivot and
+    the half at the coupler, welded back together (same masses and inertias as one bar)."""
+    source = FOUR_BAR.read_text()
+    rocker_start = source.index('  <link name="rocker">')
+    rocker_end = source.index("</robot>")
+    half = BAR * C / 2.0
+    halves = (
+        _bar("rocker_a", C / 2.0, 0.0, half)
+        + '<joint name="rocker_joint" type="revolute"><origin xyz="0.1 0 0" rpy="0 0 0"/>'
+        '<parent link="ground"/><child link="rocker_a"/><axis xyz="0 0 1"/>'
+        '<limit lower="-12.6" upper="12.6" effort="1000" velocity="100"/></joint>'
+        '<link name="rocker_mid_a"/><joint name="rocker_mid_a_joint" type="fixed">'
+        f'<origin xyz="{C / 2!r} 0 0" rpy="0 0 0"/><parent link="rocker_a"/>'
+        '<child link="rocker_mid_a"/></joint>'
+        + _bar("rocker_b", C / 2.0, 0.0, half)
+        + '<joint name="rocker_b_joint" type="revolute"><origin xyz="0.12 0 0" rpy="0 0 0"/>'
+        '<parent link="coupler"/><child link="rocker_b"/><axis xyz="0 0 1"/>'
+        '<limit lower="-12.6" upper="12.6" effort="1000" velocity="100"/></joint>'
+        '<link name="rocker_mid_b"/><joint name="rocker_mid_b_joint" type="fixed">'
+        f'<origin xyz="{C / 2!r} 0 0" rpy="0 0 {math.pi!r}"/><parent link="rocker_b"/>'
+        '<child link="rocker_mid_b"/></joint>'
+    )
+    xml = source[:rocker_start] + halves + source[rocker_end:]
+    model = build_model(xml, "<weld four-bar>")
+    return _gravity(ClosedChain(model, [Closure("rocker_mid_a", "rocker_mid_b", "weld")]))
+
+
+def test_a_weld_cut_needs_the_same_torque_as_a_pin_cut(four_bar):
+    q, v, a = _motion(four_bar)
+    pinned = inverse_dynamics(ChainDynamics(four_bar, ["crank_joint"]), q, v, a)
+    welded = weld_four_bar()
+    partition = Partition(welded, ["crank_joint"])
+    # Same motion: crank and coupler as in the pinned chain, the halves from the rocker angle.
+    index = {
+        welded.model.names[j]: welded.model.joints[j].idx_q for j in range(1, welded.model.njoints)
+    }
+    guess = np.zeros(welded.model.nq)
+    guess[index["crank_joint"]], guess[index["coupler_joint"]] = q[0, 0], q[0, 1]
+    guess[index["rocker_joint"]] = q[0, 2]
+    guess[index["rocker_b_joint"]] = q[0, 2] - q[0, 0] - q[0, 1] + math.pi
+    x = q[:, :1]
+    qw, vw, aw, _ = partition.track(partition.assemble(guess), x, v[:, :1], a[:, :1])
+    loads = inverse_dynamics(ChainDynamics(welded, ["crank_joint"]), qw, vw, aw)
+    torque = pinned.actuators["crank_joint"]
+    scale = np.abs(torque).max()
+    np.testing.assert_allclose(
+        loads.actuators["crank_joint"], torque, rtol=0, atol=RELATIVE * scale
+    )
+    assert {label.split(":")[1] for label in loads.indeterminate} == {"fz", "mx", "my"}
+
+
+def test_stiffness_splits_an_indeterminate_force():
+    """Two identical point cuts of one pin share its force by their stiffness (3 : 1 here),
+    a redundancy the rigid model cannot resolve alone."""
+    closures = [Closure("coupler_tip", "rocker_tip", name=name) for name in ("stiff", "soft")]
+    chain = _gravity(load_closed_chain(FOUR_BAR, closures))
+    q, v, a = _motion(chain, 5)
+    stiffness = {"stiff": [3.0, 3.0, 3.0], "soft": [1.0, 1.0, 1.0]}
+    loads = inverse_dynamics(ChainDynamics(chain, ["crank_joint"], stiffness), q, v, a)
+    stiff, soft = loads.closures["stiff"].force, loads.closures["soft"].force
+    np.testing.assert_allclose(stiff, 3.0 * soft, rtol=0, atol=1e-12 * np.abs(stiff).max())
+    assert {label.split(":")[0] for label in loads.indeterminate} == {"stiff", "soft"}
+
+
+def test_refusals(four_bar):
+    q, v, a = _motion(four_bar, 5)
+    dyn = ChainDynamics(four_bar, ["crank_joint"])
+    with pytest.raises(UnreachablePoseError, match="does not close"):
+        inverse_dynamics(dyn, q + [0.0, 0.01, 0.0], v, a)
+    with pytest.raises(InputError, match="velocities of sample 0 open the loops"):
+        inverse_dynamics(dyn, q, v + [0.0, 1.0, 0.0], a)
+    with pytest.raises(InputError, match="shape"):
+        inverse_dynamics(dyn, q[:, :2], v, a)
+    with pytest.raises(InputError, match="finite"):
+        inverse_dynamics(dyn, q, v * np.nan, a)
+    with pytest.raises(InputError, match="no joint 'motor'"):
+        ChainDynamics(four_bar, ["motor"])
+    with pytest.raises(InputError, match="cannot produce the motion"):
+        inverse_dynamics(ChainDynamics(four_bar, []), q, v, a)
+    with pytest.raises(SingularPoseError, match="not determined"):
+        inverse_dynamics(ChainDynamics(four_bar, ["crank_joint", "rocker_joint"]), q, v, a)
+    with pytest.raises(InputError, match="unknown closure"):
+        ChainDynamics(four_bar, ["crank_joint"], {"other": [1.0, 1.0, 1.0]})
