@@ -5,23 +5,24 @@ chain when the pin force λ acts on the piston at ``piston_pin`` and −λ on th
 
     M(q) q̈ + b(q, q̇) = Sᵀ τ_act + Jᵀ λ                                          (cf. eq. 46)
 
-* M q̈ + b (inertia, Coriolis and gravity, −y) is Pinocchio's RNEA of the open tree;
-* J = ∂(p_piston_pin − p_arm_pin)/∂q is the closure's world-frame Jacobian (3 × 4), from
-  Pinocchio's frame Jacobians, so Jᵀ λ is the generalized force of the pin force pair;
+* M q̈ + b (inertia, Coriolis and gravity, −y) are the open tree's Newton–Euler forces;
+* J = ∂(p_piston_pin − p_arm_pin)/∂q is the closure's world-frame Jacobian (3 × 4), so Jᵀ λ is
+  the generalized force of the pin force pair;
 * S selects the actuated coordinates: the piston force on r2 (``piston_joint``) and the forearm
   moment on φ4 (``forearm_joint``); φ1 and φ3 are passive (zero generalized force).
 
-Four equations, five unknowns (τ_piston, τ_forearm, λx, λy, λz), rank four. The loop is planar:
-the cylinder and arm pivots turn about world z and the piston slides in the x–y plane, so the
-z row of J vanishes identically (checked at every sample) and λz drops out of the equations. The
-out-of-plane pin force is **statically indeterminate** in the rigid model: any pair ±λz along
-the pin axis is balanced by bending moments in the cylinder's and the arm's pivots, which carry
-moments about x and y. In the machine it is shared by the rod-eye bearing, the cylinder trunnions
-and the arm bearing according to their axial stiffness, play and misalignment; rigid-body
-mechanics cannot tell. We report the minimum-norm answer λz = 0: the arm–frame joint then carries
-the whole out-of-plane load of the arm, forearm and payload (stages 1–2 swing the forearm in the
-horizontal plane), and the piston and cylinder carry none of it. The remaining 3 × 3 system in
-(τ_piston, λx, λy) is singular at the toggle (transmission angle 0° or 180°), which is refused
+Four equations, five unknowns (τ_piston, τ_forearm, λx, λy, λz), rank four: the generic
+closed-chain solver (:mod:`feeder.chain.inverse`) does the work. The loop is planar: the cylinder
+and arm pivots turn about world z and the piston slides in the x–y plane, so the z row of J
+vanishes identically and λz drops out of the equations. The out-of-plane pin force is **statically
+indeterminate** in the rigid model: any pair ±λz along the pin axis is balanced by bending moments
+in the cylinder's and the arm's pivots, which carry moments about x and y. In the machine it is
+shared by the rod-eye bearing, the cylinder trunnions and the arm bearing according to their axial
+stiffness, play and misalignment; rigid-body mechanics cannot tell. We report the minimum-norm
+answer λz = 0 (the generic solver's convention; it flags the row as indeterminate): the arm–frame
+joint then carries the whole out-of-plane load of the arm, forearm and payload (stages 1–2 swing
+the forearm in the horizontal plane), and the piston and cylinder carry none of it. The equations
+are singular at the toggle (transmission angle 0° or 180°), which is refused
 (:data:`~feeder.device.parameters.SINGULAR_TRANSMISSION_DEG`).
 
 Samples with ``gripped == 0`` use the model without the payload (:mod:`feeder.dynamics.models`).
@@ -32,15 +33,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
+from ..chain.inverse import closure_kinematics, solve_loads
+from ..chain.kinematics import tree_motion
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples
 from .models import FeederDynamics, gripped_runs
-
-PLANAR_TOLERANCE = 1e-12
-"""Largest accepted |∂(pin gap)_z/∂q| [m]: exactly zero for a planar loop (rotations about z)."""
 
 
 @dataclass(frozen=True)
@@ -114,55 +113,24 @@ def check_motion(
 def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
     """Piston force, forearm moment and pin force that produce a prescribed closed-chain motion.
 
-    M q̈ + b comes from Pinocchio's RNEA (``rneaInParallel`` over the whole batch), the closure
-    Jacobian from ``computeFrameJacobian`` of both pin frames (world-aligned) per sample; then
-    the 3 × 3 systems of the module docstring are solved for all samples at once.
+    The generic closed-chain inverse dynamics of :mod:`feeder.chain.inverse` on the device's
+    model (with or without the payload, by the grip flag), all samples of a run at once.
 
     Args:
         dyn: The device's dynamics models.
         motion: The closed-chain motion, checked by :func:`check_motion` (closed loop,
             consistent velocities, away from the toggle).
-
-    Raises:
-        InputError: A loop that is not planar.
     """
-    v, gripped = motion.v, motion.gripped
-    n = v.shape[0]
+    n = motion.q.shape[0]
     qp, vp, ap = (dyn.to_pinocchio(x) for x in (motion.q, motion.v, motion.a))
-    tree = np.empty((n, 4))  # M q̈ + b of the open tree, Pinocchio order
-    jac_a = np.empty((n, 6, 4))
-    jac_b = np.empty((n, 6, 4))
-    frame_a, frame_b = dyn.closure_frames
-    world = pin.LOCAL_WORLD_ALIGNED
-    frame_jacobian = pin.computeFrameJacobian
-    for start, stop, flag in gripped_runs(gripped):
-        case = dyn.cases[flag]
-        model, data = case.model, case.data
-        tree[start:stop] = pin.rneaInParallel(
-            1, case.pool, qp[start:stop].T, vp[start:stop].T, ap[start:stop].T
-        ).T
-        for k in range(start, stop):
-            jac_a[k] = frame_jacobian(model, data, qp[k], frame_a, world)
-            jac_b[k] = frame_jacobian(model, data, qp[k], frame_b, world)
-    jac = dyn.to_paper(jac_a[:, :3] - jac_b[:, :3])  # (n, 3, 4) world rows, paper columns
-    out_of_plane = float(np.abs(jac[:, 2]).max())
-    if out_of_plane > PLANAR_TOLERANCE:
-        raise InputError(
-            f"the closure is not planar (|∂gap_z/∂q| = {out_of_plane:.3e}): the minimum-norm "
-            "pin force of this module assumes a loop moving in the world x–y plane"
-        )
-    tree = dyn.to_paper(tree)
-    # Rows φ1, r2, φ3: M q̈ + b = e_r2 τ_piston + J_xᵀ λx + J_yᵀ λy.
-    system = np.zeros((n, 3, 3))
-    system[:, 1, 0] = 1.0
-    system[:, :, 1] = jac[:, 0, :3]
-    system[:, :, 2] = jac[:, 1, :3]
-    solution = np.linalg.solve(system, tree[:, :3, None])[..., 0]
-    closure = np.column_stack([solution[:, 1:], np.zeros(n)])
-    forearm = tree[:, 3] - np.einsum("ni,ni->n", jac[:, :, 3], closure)
+    tau = np.empty((n, 2))
+    closure = np.empty((n, 3))
+    for start, stop, flag in gripped_runs(motion.gripped):
+        chain = dyn.cases[flag].dynamics
+        run = slice(start, stop)
+        kinematics = tree_motion(chain.chain.model, qp[run], vp[run], ap[run])
+        rows = closure_kinematics(chain.chain, kinematics, vp[run])
+        tau[run], closure[run], _ = solve_loads(chain, kinematics, rows)
     return ActuatorLoads(
-        motion=motion,
-        piston_force=solution[:, 0],
-        forearm_torque=forearm,
-        closure_force=closure,
+        motion=motion, piston_force=tau[:, 0], forearm_torque=tau[:, 1], closure_force=closure
     )

@@ -1,5 +1,6 @@
-"""The device's dynamics models: the open tree with and without the payload, their constraint
-containers for ``constraintDynamics``, and the batched forward kinematics of the joint frames.
+"""The device's dynamics models: the open tree with and without the payload, each with its
+generic closed-chain dynamics (:mod:`feeder.chain.inverse`) and its constraint containers for
+``constraintDynamics`` (the forward run).
 
 The payload is gripped at the end of stage 1: samples with ``gripped == 0`` use a copy of the
 model whose forearm body lacks the payload's spatial inertia (:func:`payload_inertia`), so the
@@ -11,7 +12,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from ..chain.closure import ClosedChain
+from ..chain.inverse import ChainDynamics
 from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
+
+ACTUATED_JOINTS = ("piston_joint", "forearm_joint")
+"""The device's actuated joints: the hydraulic cylinder's piston and the rack-driven forearm."""
 
 PAYLOAD_FRAME = "projectile"
 """Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
@@ -67,12 +73,14 @@ class InertiaCase:
             copy of the device's with the Baumgarte corrector set.
         constraint_datas: Their data, initialised for ``constraintDynamics``.
         prox: Proximal settings of ``constraintDynamics``.
-        pool: Model pool for ``rneaInParallel`` (one thread).
+        dynamics: The generic closed-chain dynamics (:class:`~feeder.chain.ChainDynamics`) of
+            this model with the pin closure, the piston and forearm joints actuated.
     """
 
     def __init__(self, model: pin.Model, constraint_models: pin.StdVec_RigidConstraintModel):
         self.model = model
         self.data = model.createData()
+        self.dynamics = ChainDynamics(ClosedChain(model, [CLOSURE]), ACTUATED_JOINTS)
         self.constraint_models = pin.StdVec_RigidConstraintModel()
         self.constraint_datas = pin.StdVec_RigidConstraintData()
         for constraint in constraint_models:
@@ -88,7 +96,6 @@ class InertiaCase:
         self.prox = pin.ProximalSettings(
             PROXIMAL_ACCURACY, PROXIMAL_ACCURACY, PROXIMAL_MU, PROXIMAL_MAX_ITERATIONS
         )
-        self.pool = pin.ModelPool(model, 1)
 
 
 class FeederDynamics:
@@ -102,9 +109,6 @@ class FeederDynamics:
         joint_ids: Pinocchio ids of ``cylinder_joint``, ``piston_joint``, ``arm_joint``,
             ``forearm_joint`` (paper order).
         index: Positions of [φ1, r2, φ3, φ4] in Pinocchio's v (``feeder.index``).
-        closure_frames: Ids of the ``piston_pin`` and ``arm_pin`` frames.
-        motion_subspaces: Joint id → its motion subspace S (6,) [linear, angular] in the joint
-            frame (all joints have one degree of freedom).
     """
 
     def __init__(self, feeder: Feeder):
@@ -118,39 +122,6 @@ class FeederDynamics:
         constraints = feeder.chain.constraint_models
         self.cases = (InertiaCase(empty, constraints), InertiaCase(pin.Model(loaded), constraints))
         self.index = feeder.index
-        self.closure_frames = tuple(feeder.frame_id(name) for name in CLOSURE)
-        joints = self.cases[1].data.joints
-        self.motion_subspaces = {
-            j: np.asarray(joints[j].S, dtype=float).reshape(6) for j in range(1, loaded.njoints)
-        }
-
-    def joint_rotations(self, q: np.ndarray) -> np.ndarray:
-        """World orientation of the frames of ``cylinder_joint``, ``piston_joint``,
-        ``arm_joint``, ``forearm_joint`` at every sample, shape (N, 4, 3, 3).
-
-        Forward kinematics of the orientations, all samples at once, from the model's joint
-        placements and axes (R_j = R_parent R_placement exp(θ_j ω_j), ω_j = 0 for a prismatic
-        joint): the same numbers as Pinocchio's ``data.oMi[j].rotation``, without a
-        per-sample Python call.
-
-        Args:
-            q: Configurations in paper order, shape (N, 4).
-        """
-        model = self.cases[1].model
-        qp = self.to_pinocchio(np.asarray(q, dtype=float))
-        world: dict[int, np.ndarray] = {0: np.eye(3)}
-        for j in range(1, model.njoints):
-            local = model.jointPlacements[j].rotation
-            skew = pin.skew(self.motion_subspaces[j][3:])
-            if np.any(skew):
-                angle = qp[:, model.joints[j].idx_q][:, None, None]
-                local = (
-                    local
-                    + np.sin(angle) * (local @ skew)
-                    + (1.0 - np.cos(angle)) * (local @ skew @ skew)
-                )
-            world[j] = world[model.parents[j]] @ local
-        return np.stack([world[j] for j in self.joint_ids], axis=1)
 
     def to_pinocchio(self, x: np.ndarray) -> np.ndarray:
         """Paper order (..., 4) → Pinocchio order."""

@@ -92,24 +92,6 @@ def test_empty_forearm_is_the_forearm_link_alone(dyn):
     assert np.allclose(lever, placement.translation, rtol=0, atol=LEVER_ROUND_OFF)
 
 
-def test_joint_rotations_match_pinocchio_forward_kinematics(dyn):
-    rng = np.random.default_rng(3)
-    model, data = dyn.cases[1].model, dyn.cases[1].data
-    q = np.column_stack(
-        [
-            rng.uniform(-np.pi, np.pi, 20),
-            rng.uniform(0.2, 0.5, 20),
-            rng.uniform(-np.pi, np.pi, 20),
-            rng.uniform(-np.pi, np.pi, 20),
-        ]
-    )
-    rotations = dyn.joint_rotations(q)
-    for k in range(q.shape[0]):
-        pin.forwardKinematics(model, data, dyn.to_pinocchio(q[k]))
-        for i, joint in enumerate(dyn.joint_ids):
-            assert np.abs(rotations[k, i] - data.oMi[joint].rotation).max() <= ROTATION_TOLERANCE
-
-
 def test_round_trip_through_constrained_forward_dynamics(result, dyn):
     """constraintDynamics fed with the inverse loads returns q̈ and λ, at every sample."""
     kin, loads = result.kinematics, result.loads

@@ -1,0 +1,130 @@
+"""Batched kinematics and Newton–Euler against Pinocchio, sample by sample: placements,
+velocities, accelerations, frame Jacobians, the joints' wrenches and generalized forces, and the
+closure rows of every kind."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from feeder.chain.closure import Closure, load_closed_chain
+from feeder.chain.inverse import closure_kinematics
+from feeder.chain.kinematics import (
+    frame_placements,
+    generalized_forces,
+    joint_wrenches,
+    point_jacobian,
+    supports_batches,
+    tree_motion,
+)
+from feeder.device import load_feeder
+
+from ..conftest import REPO
+
+ROUND_OFF = 1e-11
+"""Both sides add the same ~10 terms of size ≤ 1e3 (forces [N], with random rates of order 1):
+round-off ~1e-13; 1e-11 would still catch any missing term (≥ 1e-3 here)."""
+
+SAMPLES = 40
+
+
+@pytest.fixture(scope="module")
+def device_model():
+    model = load_feeder("projectile").model
+    model.gravity = pin.Motion(np.array([0.0, -9.81, 0.0]), np.zeros(3))
+    return model
+
+
+def _states(model, rng, n=SAMPLES):
+    return (rng.uniform(-1.0, 1.0, (n, model.nq)) for _ in range(3))
+
+
+def test_placements_and_motion_match_forward_kinematics(device_model, rng):
+    model, data = device_model, device_model.createData()
+    q, v, a = _states(model, rng)
+    motion = tree_motion(model, q, v, a)
+    for k in range(SAMPLES):
+        pin.forwardKinematics(model, data, q[k], v[k], a[k])
+        for j in range(1, model.njoints):
+            placement = data.oMi[j]
+            world = pin.SE3(placement.rotation, np.zeros(3))
+            velocity = world.act(data.v[j])  # spatial velocity at the origin, world axes
+            acceleration = world.act(data.a[j])
+            np.testing.assert_allclose(motion.rotation[j][k], placement.rotation, atol=ROUND_OFF)
+            np.testing.assert_allclose(motion.origin[j][k], placement.translation, atol=ROUND_OFF)
+            np.testing.assert_allclose(motion.omega[j][k], velocity.angular, atol=ROUND_OFF)
+            np.testing.assert_allclose(motion.velocity[j][k], velocity.linear, atol=ROUND_OFF)
+            np.testing.assert_allclose(motion.alpha[j][k], acceleration.angular, atol=ROUND_OFF)
+            classical = acceleration.linear + np.cross(velocity.angular, velocity.linear)
+            np.testing.assert_allclose(motion.acceleration[j][k], classical, atol=ROUND_OFF)
+
+
+def test_frame_jacobians_and_placements(device_model, rng):
+    model, data = device_model, device_model.createData()
+    q, _, _ = _states(model, rng)
+    motion = tree_motion(model, q)
+    for name in ("piston_pin", "arm_pin", "projectile"):
+        frame = model.getFrameId(name)
+        jacobian = point_jacobian(model, motion, frame)
+        rotation, origin = frame_placements(model, motion, frame)
+        for k in range(SAMPLES):
+            pin.computeJointJacobians(model, data, q[k])
+            pin.updateFramePlacements(model, data)
+            expected = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+            np.testing.assert_allclose(jacobian[k], expected, atol=ROUND_OFF)
+            np.testing.assert_allclose(rotation[k], data.oMf[frame].rotation, atol=ROUND_OFF)
+            np.testing.assert_allclose(origin[k], data.oMf[frame].translation, atol=ROUND_OFF)
+
+
+def test_newton_euler_is_rnea_with_external_forces(device_model, rng):
+    model, data = device_model, device_model.createData()
+    q, v, a = _states(model, rng)
+    motion = tree_motion(model, q, v, a)
+    frame = model.getFrameId("projectile")
+    wrench = rng.uniform(-50.0, 50.0, (SAMPLES, 6))  # world, about the frame's origin
+    force, moment = joint_wrenches(model, motion, [(frame, wrench)])
+    tau = generalized_forces(model, motion, force, moment)
+    parent = model.frames[frame].parentJoint
+    for k in range(SAMPLES):
+        pin.framesForwardKinematics(model, data, q[k])
+        joint, point = data.oMi[parent], data.oMf[frame].translation
+        local = pin.Force(
+            joint.rotation.T @ wrench[k, :3],
+            joint.rotation.T
+            @ (wrench[k, 3:] + np.cross(point - joint.translation, wrench[k, :3])),
+        )
+        fext = pin.StdVec_Force()
+        for j in range(model.njoints):
+            fext.append(local if j == parent else pin.Force.Zero())
+        expected = pin.rnea(model, data, q[k], v[k], a[k], fext)
+        np.testing.assert_allclose(tau[k], expected, atol=ROUND_OFF)
+        for j in range(1, model.njoints):
+            rotation = data.oMi[j].rotation
+            np.testing.assert_allclose(force[j][k], rotation @ data.f[j].linear, atol=ROUND_OFF)
+            np.testing.assert_allclose(moment[j][k], rotation @ data.f[j].angular, atol=ROUND_OFF)
+
+
+@pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
+def test_batched_closure_rows_match_the_chain(kind, rng):
+    """Rows, Jacobian, rate and acceleration (J q̈ + J̇ q̇) of every closure kind, batched, against
+    :class:`ClosedChain`'s per-sample Pinocchio evaluation (the four-bar at random states)."""
+    chain = load_closed_chain(
+        REPO / "examples" / "four_bar" / "four_bar.urdf",
+        [Closure("coupler_tip", "rocker_tip", kind, axis=(0.2, 0.3, 0.9))],
+    )
+    q, v, a = _states(chain.model, rng)
+    rows = closure_kinematics(chain, tree_motion(chain.model, q, v, a), v)
+    for k in range(SAMPLES):
+        jacobian = chain.jacobian(q[k])
+        np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.jacobian[k], jacobian, atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
+        second = jacobian @ a[k] + chain.bias(q[k], v[k])
+        np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+
+
+def test_multi_dof_joints_are_not_batched():
+    model = pin.Model()
+    model.addJoint(0, pin.JointModelSpherical(), pin.SE3.Identity(), "ball")
+    assert not supports_batches(model)
