@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InputError, SingularPoseError, UnreachablePoseError
-from ..validation import check_samples, check_vector
+from ..validation import check_number, check_samples, check_vector
 from .closure import ClosedChain
 
 POSITION_TOLERANCE = 1e-13
@@ -39,6 +39,11 @@ MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
 SI units): a coordinate that must move a thousand times faster than the driving ones is at a
 toggle for every practical purpose (the device's 5° transmission limit is a gain of ~3)."""
+
+CONTINUATION_STEP = 0.5
+"""Largest accepted Newton correction after the tangent predictor, as a fraction of the step of
+the independent coordinates: a first-order predictor errs by O(step²), so a correction this large
+means a step too coarse for the curvature, where the next solution may lie on another branch."""
 
 MAX_ITERATIONS = 100
 """Newton iterations before assembly gives up."""
@@ -67,12 +72,22 @@ class Partition:
             raise InputError(f"independent joints must be distinct, got {list(independent)}")
         self.chain = chain
         self.independent_joints = tuple(independent)
-        self.max_gain = float(max_gain)
+        self.max_gain = check_number("max_gain", max_gain)
+        if not self.max_gain > 1.0:
+            raise InputError(f"max_gain must be a number above 1, got {max_gain!r}")
         mask = np.zeros(chain.model.nv, dtype=bool)
         for name in self.independent_joints:
             mask[chain.joint_slice(name)] = True
         self.independent = np.flatnonzero(mask)
         self.dependent = np.flatnonzero(~mask)
+        self._prismatic = np.array(
+            [
+                chain.model.joints[j].idx_v
+                for j in range(1, chain.model.njoints)
+                if chain.model.joints[j].shortname().startswith("JointModelP")
+            ],
+            dtype=int,
+        )
         self._angles = [
             i
             for i in _revolute_angles(chain.model)
@@ -102,8 +117,26 @@ class Partition:
 
     def gain(self, q: np.ndarray) -> float:
         """Velocity gain ‖J_dep⁺ J_ind‖₂ at ``q`` (∞ where the dependent coordinates are not
-        determined): the largest dependent speed per unit independent speed."""
-        return velocity_gain(*self._split(self.chain.jacobian(self.chain.check_q(q))))
+        determined): the largest dependent speed per unit independent speed, prismatic speeds
+        counted in units of the mechanism's size (:meth:`length_scale`)."""
+        q = self.chain.check_q(q)
+        return self._gain(q, self.chain.jacobian(q))
+
+    def length_scale(self, q: np.ndarray) -> float:
+        """The mechanism's size [m] at ``q``: the largest distance of a joint from the base
+        (≥ 1 mm). Prismatic speeds divided by it compare with angular ones."""
+        model, data = self.chain.model, self.chain.data
+        pin.forwardKinematics(model, data, q)
+        reach = max(
+            (np.linalg.norm(data.oMi[j].translation) for j in range(1, model.njoints)), default=0.0
+        )
+        return max(float(reach), 1e-3)
+
+    def _gain(self, q: np.ndarray, jac: np.ndarray) -> float:
+        if self._prismatic.size:
+            jac = jac.copy()
+            jac[:, self._prismatic] *= self.length_scale(q)
+        return velocity_gain(*self._split(jac))
 
     def _split(self, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return jac[:, self.dependent], jac[:, self.independent]
@@ -113,7 +146,7 @@ class Partition:
         of the module docstring."""
         jac = self.chain.jacobian(q)
         jac_dep, jac_ind = self._split(jac)
-        scale = max(1.0, float(np.abs(jac).max(initial=0.0)))
+        scale = float(np.abs(jac).max(initial=0.0)) or 1.0
         rank_full = np.linalg.matrix_rank(jac, tol=RANK_TOLERANCE * scale) if jac.size else 0
         rank_dep = (
             np.linalg.matrix_rank(jac_dep, tol=RANK_TOLERANCE * scale) if jac_dep.size else 0
@@ -130,7 +163,7 @@ class Partition:
                 f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
                 f"{rank_dep} (too many independent joints, or a singular pose)"
             )
-        gain = velocity_gain(jac_dep, jac_ind)
+        gain = self._gain(q, jac)
         if gain > self.max_gain:
             raise SingularPoseError(
                 f"q = {np.round(q, 6)} is near a singular pose (toggle, dead centre): a unit "
@@ -237,8 +270,8 @@ class Partition:
             q, norm = self._newton(start.copy(), max_iterations)
             if best is None or norm < best[0]:
                 best = (norm, q)
-            if norm > POSITION_TOLERANCE:
-                continue
+            if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
+                continue  # not closed, or a hinge assembled upside down
             q = self._wrap(q)
             if branch is not None and not branch(q):
                 missed_branch = True
@@ -251,7 +284,7 @@ class Partition:
                 f"no assembly on the requested branch found in {RESTARTS + 1} attempts"
             )
         norm, q = best
-        gain = velocity_gain(*self._split(self.chain.jacobian(q)))
+        gain = self._gain(q, self.chain.jacobian(q))
         if gain > self.max_gain:
             raise SingularPoseError(
                 f"the loop closes only to {norm:.3e} near q = {np.round(q, 6)}, at a singular "
@@ -267,8 +300,8 @@ class Partition:
     def _random_guess(self, q: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         """``q`` with its dependent coordinates replaced by random values (±π, or within the
         joint's range where it is set)."""
-        random = pin.randomConfiguration(self.chain.model)
         model = self.chain.model
+        random = pin.integrate(model, pin.neutral(model), rng.uniform(-np.pi, np.pi, model.nv))
         guess = q.copy()
         for j in range(1, model.njoints):
             joint = model.joints[j]
@@ -377,16 +410,40 @@ class Partition:
         gains = np.empty(n)
         guess = self._with_independent(self.chain.check_q(q_start), x[0])
         for i in range(n):
-            if i > 0:
-                guess = self._predict(qs[i - 1], x[i] - x[i - 1])
-            q = self.assemble(guess, branch if i == 0 else None)
+            if i == 0:
+                q = self.assemble(guess, branch)
+            else:
+                q = self._continue(qs[i - 1], x[i] - x[i - 1], i)
             jac = self.chain.jacobian(q)
-            jac_dep, jac_ind = self._split(jac)
+            jac_dep = jac[:, self.dependent]
             qs[i] = q
             vs[i] = self._velocity(jac, jac_dep, dx[i])
             accs[i] = self._acceleration(q, vs[i], jac, jac_dep, ddx[i])
-            gains[i] = velocity_gain(jac_dep, jac_ind)
+            gains[i] = self._gain(q, jac)
         return qs, vs, accs, gains
+
+    def _continue(self, previous: np.ndarray, step: np.ndarray, sample: int) -> np.ndarray:
+        """The next sample's configuration: Newton from the tangent predictor, no restarts,
+        the correction small next to the step (else a branch switch is possible: refused)."""
+        guess = self._predict(previous, step)
+        q, norm = self._newton(guess.copy(), MAX_ITERATIONS)
+        correction = float(np.abs(pin.difference(self.chain.model, guess, q)).max(initial=0.0))
+        size = float(np.abs(step).max(initial=0.0))
+        if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
+            raise UnreachablePoseError(
+                f"sample {sample}: the loop does not close next to the previous sample (residual "
+                f"{norm:.3e}): the end of the mechanism's travel, or samples too far apart"
+            )
+        if correction > CONTINUATION_STEP * max(size, 1e-12) and correction > 1e-9:
+            raise UnreachablePoseError(
+                f"sample {sample}: a step of {size:.3g} of the independent coordinates moved the "
+                f"dependent ones {correction:.3g} off the tangent: the samples are too coarse to "
+                "stay on one assembly branch (sample more finely)"
+            )
+        q = self._wrap(q)
+        self._check_limits(q)
+        self._check_pose(q)
+        return q
 
     def _with_independent(self, q: np.ndarray, x: np.ndarray) -> np.ndarray:
         """``q`` with the independent coordinates set to ``x`` (one-dof joints: nq = nv)."""

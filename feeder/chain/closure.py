@@ -9,8 +9,8 @@ kind           rows  the cut joint and its rows (world axes; "a minus b")
 ``point``      3     spherical pin: p_a − p_b
 ``weld``       6     rigid joint: p_a − p_b, and the relative rotation (its rows: ω_a − ω_b)
 ``revolute``   5     hinge about ``axis``: p_a − p_b, and the two components of frame b's hinge
-                     axis perpendicular to frame a's (its rows: (n_k × u_b)·(ω_a − ω_b), k = 1, 2,
-                     n_k ⊥ the hinge)
+                     axis u_b along n_1, n_2, the unit vectors of frame a that span the plane
+                     perpendicular to its hinge (its rows: d_k · (ω_a − ω_b), d_k = n_k × u_b)
 =============  ====  ==============================================================================
 
 The constraint force conjugate to the rows acts on the body of ``frame_a`` (and its opposite on
@@ -50,8 +50,9 @@ ROW_LABELS = {
     "weld": ("fx", "fy", "fz", "mx", "my", "mz"),
     "revolute": ("fx", "fy", "fz", "m1", "m2"),
 }
-"""Names of each kind's rows: world force components, world moment components, or the moments
-about the two directions perpendicular to the hinge."""
+"""Names of each kind's rows: world force components, world moment components, or (m1, m2) the
+moments about the directions d_1 = n_1 × u, d_2 = n_2 × u perpendicular to the hinge u (with
+(n_1, n_2, u) right-handed: d_1 = −n_2, d_2 = n_1 at an assembled hinge)."""
 
 
 @dataclass(frozen=True)
@@ -102,6 +103,9 @@ def as_closure(spec: Closure | Sequence[str]) -> Closure:
         closure = Closure(spec[0], spec[1])
     else:
         raise InputError(f"a closure must be a Closure or a pair of frame names, got {spec!r}")
+    names = (closure.frame_a, closure.frame_b)
+    if not all(isinstance(name, str) and name for name in names):
+        raise InputError(f"closure frames must be two non-empty names, got {names!r}")
     if closure.kind not in KINDS:
         raise InputError(
             f"closure {closure.label!r}: kind must be one of {sorted(KINDS)}, got {closure.kind!r}"
@@ -139,6 +143,9 @@ class ClosedChain:
             needs first, so the data always match the last call's arguments).
         closures: The closures, checked (:class:`Closure`).
         frame_ids: Pinocchio frame ids (a, b) of each closure.
+        hinge_normals: Per closure, for a revolute cut the two unit vectors (2, 3) that span the
+            plane perpendicular to its hinge, in frame a's axes (None for other kinds).
+        row_slices: Per closure, its rows' slice in the stacked closure rows.
         constraint_models: Pinocchio ``RigidConstraintModel`` s of the closures (see the module
             docstring), in closure order.
         constraint_datas: Their data.
@@ -150,8 +157,13 @@ class ClosedChain:
         self.model = model
         self.data = model.createData()
         self.closures = tuple(as_closure(c) for c in closures)
+        labels = [closure.label for closure in self.closures]
+        if len(set(labels)) != len(labels):
+            raise InputError(
+                f"closure names must be distinct (name= tells them apart), got {labels}"
+            )
         self.frame_ids: list[tuple[int, int]] = []
-        self._perpendicular: list[np.ndarray | None] = []
+        self.hinge_normals: list[np.ndarray | None] = []
         self.constraint_models = pin.StdVec_RigidConstraintModel()
         for closure in self.closures:
             for name in (closure.frame_a, closure.frame_b):
@@ -169,7 +181,7 @@ class ClosedChain:
                 )
             self.frame_ids.append(ids)
             axis = np.array(closure.axis)
-            self._perpendicular.append(
+            self.hinge_normals.append(
                 _perpendicular_pair(axis) if closure.kind == "revolute" else None
             )
             for constraint in _constraint_models(model, closure, fa, fb):
@@ -230,7 +242,7 @@ class ClosedChain:
         model, data = self.model, self.data
         rows = []
         for closure, (a, b), perpendicular in zip(
-            self.closures, self.frame_ids, self._perpendicular, strict=True
+            self.closures, self.frame_ids, self.hinge_normals, strict=True
         ):
             pa = pin.updateFramePlacement(model, data, a)
             pb = pin.updateFramePlacement(model, data, b)
@@ -240,7 +252,7 @@ class ClosedChain:
             elif closure.kind == "revolute":
                 axis_b = pb.rotation @ np.array(closure.axis_b)
                 rows.append((pa.rotation @ perpendicular.T).T @ axis_b)
-        return np.concatenate(rows)
+        return np.concatenate(rows) if rows else np.zeros(0)
 
     def _frame_jacobians(self, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         pin.computeJointJacobians(self.model, self.data, q)
@@ -263,7 +275,7 @@ class ClosedChain:
             self.closures,
             self._frame_jacobians(q),
             self.frame_ids,
-            self._perpendicular,
+            self.hinge_normals,
             strict=True,
         ):
             rows.append(ja[:3] - jb[:3])
@@ -273,7 +285,20 @@ class ClosedChain:
                 rows.append(
                     self._hinge_directions(closure, a, b, perpendicular) @ (ja[3:] - jb[3:])
                 )
-        return np.vstack(rows)
+        return np.vstack(rows) if rows else np.zeros((0, self.model.nv))
+
+    def reversed_hinges(self) -> list[str]:
+        """Labels of the revolute cuts whose two hinge axes point opposite ways at the
+        configuration of the last :meth:`residual` (u_a · u_b < 0): their rows vanish there too,
+        but the hinge is assembled upside down, which no real joint can be."""
+        out = []
+        for closure, (a, b) in zip(self.closures, self.frame_ids, strict=True):
+            if closure.kind == "revolute":
+                u_a = self.data.oMf[a].rotation @ np.array(closure.axis)
+                u_b = self.data.oMf[b].rotation @ np.array(closure.axis_b)
+                if u_a @ u_b < 0.0:
+                    out.append(closure.label)
+        return out
 
     def residual_jacobian(self, q: np.ndarray) -> np.ndarray:
         """∂(residual)/∂q, shape (nc, nv): the exact derivative that Newton's method needs. It
@@ -312,7 +337,7 @@ class ClosedChain:
         world = pin.LOCAL_WORLD_ALIGNED
         out = []
         for closure, (a, b), perpendicular in zip(
-            self.closures, self.frame_ids, self._perpendicular, strict=True
+            self.closures, self.frame_ids, self.hinge_normals, strict=True
         ):
             acc_a = pin.getFrameClassicalAcceleration(model, data, a, world)
             acc_b = pin.getFrameClassicalAcceleration(model, data, b, world)
@@ -329,7 +354,7 @@ class ClosedChain:
                     normals, np.cross(w_b, u_b)
                 )
                 out.append(rates @ relative + np.cross(normals, u_b) @ spin)
-        return np.concatenate(out)
+        return np.concatenate(out) if out else np.zeros(0)
 
     def joint_slice(self, joint: str) -> slice:
         """Index range of ``joint`` in the velocity vector.

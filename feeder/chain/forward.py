@@ -3,8 +3,8 @@
 The accelerations come from the closed chain's equations of motion with the closure rows of
 :class:`~feeder.chain.closure.ClosedChain` (any mix of point, weld and revolute cuts):
 
-    [M  Jᵀ] [ q̈]   [Sᵀ u(t, q, q̇) + Σ J_eᵀ w_e − b]
-    [J  0 ] [−λ] = [−J̇ q̇ − 2ω J q̇ − ω² r(q)      ]
+    [M  Jᵀ] [ q̈]   [Sᵀ u(t, q, q̇) − b      ]
+    [J  0 ] [−λ] = [−J̇ q̇ − 2ω J q̇ − ω² r(q)]
 
 with M from CRBA, b = Coriolis, centrifugal and gravity terms (the model's gravity), u the
 actuator forces (a function of time and state given by the caller), and Baumgarte's corrector
@@ -29,14 +29,18 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InputError
-from ..validation import check_finite, check_vector
+from ..exceptions import InputError, UnreachablePoseError
+from ..validation import check_finite, check_number, check_vector
 from .assembly import Partition
 from .inverse import ChainDynamics
 
 BAUMGARTE_RATE = 20.0
 """Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, slow enough for steps of
 a few milliseconds (hω ≪ 1) and fast compared with a mechanism's motion."""
+
+START_TOLERANCE = 1e-9
+"""Largest accepted closure residual [m, rad] of the initial state (and of its velocity rows,
+per second): assembly closes loops to ~1e-13; 1e-9 leaves room for rounded data."""
 
 Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 """u(t, q, q̇): the actuator forces [N or N·m] at time t [s], shape (n_actuated,)."""
@@ -130,16 +134,29 @@ def simulate(
             or None for Baumgarte's corrector alone.
 
     Raises:
-        InputError: Bad times, state or rate, or actuation values that are not n_actuated finite
-            numbers.
+        InputError: Bad times, state or rate, an initial velocity that opens the loops, or
+            actuation values that are not n_actuated finite numbers.
+        UnreachablePoseError: An initial configuration that does not close the loops.
     """
     chain, model = dyn.chain, dyn.chain.model
     t = check_finite("t", t)
     if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0.0):
         raise InputError(f"t must be increasing sample times, at least two, got shape {t.shape}")
     q, v = chain.check_q(q0), chain.check_v("v0", v0)
+    rate = check_number("Baumgarte rate [1/s]", rate)
     if not rate >= 0.0:
         raise InputError(f"the Baumgarte rate must be ≥ 0 [1/s], got {rate!r}")
+    gap = float(np.abs(chain.residual(q)).max(initial=0.0))
+    if gap > START_TOLERANCE:
+        raise UnreachablePoseError(
+            f"q0 does not close the loops (residual {gap:.3e} > {START_TOLERANCE:g}): assemble "
+            "it first (Partition.assemble)"
+        )
+    opening = float(np.abs(chain.jacobian(q) @ v).max(initial=0.0))
+    if opening > START_TOLERANCE * max(1.0, float(np.abs(v).max())):
+        raise InputError(
+            f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity for it"
+        )
     n_act = len(dyn.columns)
 
     def drive(time: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from ..exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ..validation import check_finite, check_samples
@@ -57,6 +58,18 @@ room for motion data rounded to 9 digits."""
 CONSISTENCY = 1e-9
 """Largest accepted residual of the dynamic equations, relative to their largest term: the
 actuated joints can produce the motion (round-off is ~1e-14)."""
+
+NULL_SPACE = 1e-6
+"""A null-space direction of the equations "involves" an unknown when its component there exceeds
+this (directions are unit vectors; round-off components are ~1e-15)."""
+
+MAX_FORCE_GAIN = 1e4
+"""Largest accepted condition number of the equations' determined part (σ_max over the smallest
+non-zero singular value of [Sᵀ Jᵀ], SI units). It grows without bound near a toggle or dead
+centre (like the inverse square root of the distance): measured 10–16 along the device's cycles,
+5–33 for the examples, 2.5e3 a tenth of a milliradian from the rocker-driven four-bar's dead
+centre (its velocity gain there is 100) and 8e4 a tenth of a microradian from it. 1e4, six
+hundred times the device's worst, refuses loads that the last digits of the geometry decide."""
 
 CONVENTION = (
     "statically indeterminate closure forces: minimum ‖K^(-1/2) λ‖ (K the per-row stiffness, "
@@ -134,8 +147,8 @@ class ChainDynamics:
 
     Raises:
         InputError: A joint the dynamics do not handle (spherical, free-flyer, planar,
-            Pinocchio's two-coordinate continuous), an unknown or multi-dof actuated joint, a
-            name given twice, a bad stiffness.
+            Pinocchio's two-coordinate continuous), an unknown actuated joint, a name given
+            twice, a bad stiffness.
     """
 
     def __init__(
@@ -159,12 +172,7 @@ class ChainDynamics:
             raise InputError(f"actuated joints must be distinct, got {list(actuated)}")
         self.chain = chain
         self.actuated = tuple(actuated)
-        self.columns = []
-        for name in self.actuated:
-            span = chain.joint_slice(name)
-            if span.stop - span.start != 1:
-                raise InputError(f"actuated joint {name!r} must have one degree of freedom")
-            self.columns.append(span.start)
+        self.columns = [chain.joint_slice(name).start for name in self.actuated]
         weights = np.ones(chain.nc)
         labels = [closure.label for closure in chain.closures]
         for label, values in (stiffness or {}).items():
@@ -192,6 +200,8 @@ class ClosureKinematics:
         rate, acceleration: The rows' first and second time derivatives, (N, nc).
         directions: Per closure, the revolute rows' moment directions (N, 2, 3) (None otherwise).
         rotation_a: Per closure, frame a's world rotation (N, 3, 3).
+        hinge_alignment: Revolute closure label → u_a · u_b of its hinge axes (N,) (1 assembled,
+            −1 upside down).
     """
 
     jacobian: np.ndarray
@@ -200,10 +210,16 @@ class ClosureKinematics:
     acceleration: np.ndarray
     directions: list[np.ndarray | None]
     rotation_a: list[np.ndarray]
+    hinge_alignment: dict[str, np.ndarray]
+
+
+NEAR_HALF_TURN = 1e-6
+"""Below this sine of the angle, the rotation vector is not read off the antisymmetric part: near
+0 the factor θ / (2 sin θ) is ½, near π that part vanishes and Pinocchio's log3 takes over."""
 
 
 def _log3(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3) (angle below π)."""
+    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3), angles in [0, π]."""
     cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
     angle = np.arccos(cosine)
     skew = np.stack(
@@ -215,8 +231,12 @@ def _log3(rotation: np.ndarray) -> np.ndarray:
         axis=1,
     )
     sine = np.sin(angle)
-    factor = np.where(sine > 1e-8, angle / np.where(sine > 1e-8, 2.0 * sine, 1.0), 0.5)
-    return factor[:, None] * skew
+    near = sine <= NEAR_HALF_TURN
+    factor = np.where(near, 0.5, angle / np.where(near, 1.0, 2.0 * sine))
+    out = factor[:, None] * skew
+    for k in np.flatnonzero(near & (cosine < 0.0)):  # near a half turn: the skew part vanishes
+        out[k] = pin.log3(rotation[k])
+    return out
 
 
 def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
@@ -234,9 +254,9 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
     jacobian = np.zeros((n, chain.nc, model.nv))
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
-    directions, rotations = [], []
+    directions, rotations, alignment = [], [], {}
     for closure, rows, (a, b), perpendicular in zip(
-        chain.closures, chain.row_slices, chain.frame_ids, chain._perpendicular, strict=True
+        chain.closures, chain.row_slices, chain.frame_ids, chain.hinge_normals, strict=True
     ):
         rot_a, p_a = frame_placements(model, motion, a)
         rot_b, p_b = frame_placements(model, motion, b)
@@ -260,6 +280,7 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
             u_b = rot_b @ np.array(closure.axis_b)
             normals = np.swapaxes(normals, 1, 2)  # (N, 2, 3)
             direction = np.cross(normals, u_b[:, None, :])
+            alignment[closure.label] = np.einsum("ni,ni->n", rot_a @ np.array(closure.axis), u_b)
             jacobian[:, start + 3 : rows.stop] = direction @ (jac_a[:, 3:] - jac_b[:, 3:])
             residual[:, start + 3 : rows.stop] = np.einsum("nki,ni->nk", normals, u_b)
             w_a, w_b = motion.omega[ja], motion.omega[jb]
@@ -272,7 +293,9 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
         directions.append(direction)
         rotations.append(rot_a)
     rate = np.einsum("ncv,nv->nc", jacobian, v)
-    return ClosureKinematics(jacobian, residual, rate, acceleration, directions, rotations)
+    return ClosureKinematics(
+        jacobian, residual, rate, acceleration, directions, rotations, alignment
+    )
 
 
 def check_motion(
@@ -293,7 +316,16 @@ def check_motion(
         raise InputError(f"q, v, a must have N samples each, got {q.shape}, {v.shape}, {a.shape}")
     motion = tree_motion(model, q, v, a)
     rows = closure_kinematics(dyn.chain, motion, v)
-    scale = np.maximum(1.0, np.abs(v).max(axis=1)) ** 2
+    for label, alignment in rows.hinge_alignment.items():
+        if np.any(alignment < 0.0):
+            k = int(np.argmax(alignment < 0.0))
+            raise UnreachablePoseError(
+                f"sample {k}: the revolute cut {label!r} is assembled with its two hinge axes "
+                "opposite (upside down): not a closed configuration of the mechanism"
+            )
+    scale = np.maximum.reduce(
+        [np.ones(v.shape[0]), np.abs(v).max(axis=1) ** 2, np.abs(a).max(axis=1)]
+    )
     for what, values, limit, error in (
         ("configuration", rows.residual, np.ones_like(scale), UnreachablePoseError),
         ("velocities", rows.rate, np.sqrt(scale), InputError),
@@ -399,6 +431,20 @@ def _solve(
     scale = np.maximum(s[:, :1], 1e-300)
     rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
     inverse = np.where(rank_mask, 1.0 / np.where(rank_mask, s, 1.0), 0.0)
+    rank = rank_mask.sum(axis=1)
+    smallest = s[np.arange(s.shape[0]), np.maximum(rank - 1, 0)]
+    gain = s[:, 0] / np.maximum(smallest, 1e-300)
+    # Full rank the actuators and closures can give: fewer means a singular actuation (a toggle);
+    # more unknowns than equations (over-actuation) is the null-space check below.
+    expected = np.minimum(system.shape[1], n_act + np.linalg.matrix_rank(system[:, :, n_act:]))
+    worst = int(np.argmax(gain))
+    if gain[worst] > MAX_FORCE_GAIN or np.any(rank < expected):
+        i = worst if gain[worst] > MAX_FORCE_GAIN else int(np.argmax(rank < expected))
+        raise SingularPoseError(
+            f"sample {i} is at or near a singular pose (toggle, dead centre) of the actuation: "
+            f"the loads are unbounded there (condition number {gain[i]:.3g} > "
+            f"{MAX_FORCE_GAIN:g}, or the actuated joints lose their hold on the motion)"
+        )
     k = min(system.shape[1:])
     projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)
     solution = np.einsum("nij,nj->ni", np.swapaxes(vt[:, :k, :], 1, 2), inverse * projected)
@@ -412,18 +458,17 @@ def _solve(
             f"the actuated joints cannot produce the motion at sample {worst}: the equations of "
             f"motion leave a residual of {misfit[worst]:.3e} (choose other actuated joints)"
         )
-    rank = rank_mask.sum(axis=1)
     null = np.zeros(system.shape[2], dtype=bool)
     for r in np.unique(rank):  # samples of equal rank share the null-space dimension
         basis = vt[rank == r, r:, :]  # (samples, dim, nx)
-        if basis.size and np.abs(basis[:, :, :n_act]).max() > 1e-6:
+        if basis.size and np.abs(basis[:, :, :n_act]).max() > NULL_SPACE:
             i = int(np.flatnonzero(rank == r)[0])
             raise SingularPoseError(
                 f"the actuator loads are not determined at sample {i}: the actuated joints and "
                 "the closures can balance each other without load (a singular actuation)"
             )
         if basis.size:
-            null |= np.abs(basis).max(axis=(0, 1)) > 1e-6
+            null |= np.abs(basis).max(axis=(0, 1)) > NULL_SPACE
     indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
     return solution, indeterminate
 

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .assembly import RANK_TOLERANCE, velocity_gain
+from ..exceptions import InputError
+from .assembly import RANK_TOLERANCE, Partition
 from .closure import ClosedChain
 
 MAX_CHOICES = 20_000
@@ -41,12 +42,14 @@ class MobilityReport:
         kutzbach: Grübler–Kutzbach mobility, dof − constraints.
         rank: Rank of the closure Jacobian.
         mobility: Actual degrees of freedom, dof − rank.
-        redundant_rows: Labels of closure rows that repeat others (their forces are statically
-            indeterminate).
+        redundant_rows: One choice of closure rows that can be dropped without changing the
+            constraints (later rows repeating earlier ones). Every row that takes part in a
+            redundancy has a statically indeterminate force
+            (:attr:`~feeder.chain.inverse.ChainLoads.indeterminate` lists them all).
         admissible: Independent-joint choices (tuples of ``mobility`` names) that work here.
         singular_values: Singular values of the closure Jacobian, descending.
         margin: For the choice ``independent``: smallest singular value of the dependent
-            columns over the Jacobian's largest (0 at a singular pose), or None.
+            columns over the Jacobian's largest, σ_min/σ_max (0 at a singular pose), or None.
         gain: For that choice, the velocity gain (∞ at a singular pose), or None.
         independent: The choice the margin and gain refer to, or None.
     """
@@ -111,7 +114,7 @@ def mobility(
     joints = tuple(model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1)
     columns = {name: chain.joint_slice(name).start for name in joints}
     singular = np.linalg.svd(jac, compute_uv=False) if jac.size else np.zeros(0)
-    scale = max(1.0, float(singular[0]) if singular.size else 1.0)
+    scale = float(singular[0]) if singular.size and singular[0] > 0.0 else 1.0
     tolerance = RANK_TOLERANCE * scale
     rank = int(np.sum(singular > tolerance))
     labels = chain.row_labels()
@@ -136,12 +139,14 @@ def mobility(
     margin = gain = None
     if independent is not None:
         independent = tuple(independent)
+        if len(set(independent)) != len(independent):
+            raise InputError(f"independent joints must be distinct, got {list(independent)}")
         chosen = [chain.joint_slice(name).start for name in independent]
         others = [i for i in range(dof) if i not in chosen]
         dependent = jac[:, others]
         values = np.linalg.svd(dependent, compute_uv=False) if dependent.size else np.zeros(0)
         margin = float(values[len(others) - 1] / scale) if values.size >= len(others) > 0 else 0.0
-        gain = velocity_gain(dependent, jac[:, chosen])
+        gain = Partition(chain, independent).gain(q)
     return MobilityReport(
         joints=joints,
         dof=dof,

@@ -67,9 +67,25 @@ class MechanismSpec:
 
 def _names(table: dict, key: str, where: str) -> tuple[str, ...]:
     value = table.get(key)
-    if not isinstance(value, list) or not all(isinstance(x, str) and x for x in value):
-        raise InputError(f"{where}: '{key}' must be a list of joint names, got {value!r}")
+    if (
+        not isinstance(value, list)
+        or not value
+        or not all(isinstance(x, str) and x for x in value)
+        or len(set(value)) != len(value)
+    ):
+        raise InputError(
+            f"{where}: '{key}' must be a non-empty list of distinct joint names, got {value!r}"
+        )
     return tuple(value)
+
+
+def _axis(entry: dict, key: str, where: str) -> tuple[float, ...] | None:
+    if key not in entry:
+        return None
+    value = entry[key]
+    if not isinstance(value, list) or len(value) != 3:
+        raise InputError(f"{where}: '{key}' must be 3 numbers, got {value!r}")
+    return tuple(float(x) for x in check_finite(f"{where} {key}", value))
 
 
 def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpec:
@@ -137,8 +153,8 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
             frames[0],
             frames[1],
             kind,
-            tuple(entry.get("axis", (0.0, 0.0, 1.0))),
-            tuple(entry["axis_b"]) if "axis_b" in entry else None,
+            _axis(entry, "axis", here) or (0.0, 0.0, 1.0),
+            _axis(entry, "axis_b", here),
             str(entry.get("name", "")),
         )
         closures.append(closure)
@@ -293,11 +309,17 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
     t = columns["t"]
     if np.any(np.diff(t) <= 0.0):
         raise InputError(f"{path}: times must increase")
+
     x, dx, ddx, differentiated = [], [], [], []
     for joint in independent:
         if f"q_{joint}" not in columns:
             raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
         position = columns[f"q_{joint}"]
+        if (f"v_{joint}" not in columns or f"a_{joint}" not in columns) and t.size < 3:
+            raise InputError(
+                f"{path}: the rates of {joint!r} are differentiated from its positions, which "
+                "needs at least 3 rows; give v_ and a_ columns or more samples"
+            )
         rate = columns.get(f"v_{joint}")
         if rate is None:
             rate = np.gradient(position, t, edge_order=2)

@@ -13,6 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.closure import ClosedChain
+from ..chain.forward import BAUMGARTE_RATE
 from ..chain.inverse import ChainDynamics
 from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
 
@@ -34,10 +35,6 @@ PROXIMAL_ACCURACY = 1e-12
 
 PROXIMAL_MAX_ITERATIONS = 20
 """Iteration cap of the proximal solver (3 are used in practice)."""
-
-BAUMGARTE_RATE = 20.0
-"""Baumgarte corrector of the pin constraint in ``constraintDynamics`` [rad/s]: critically
-damped, Kp = ω², Kd = 2ω (see :mod:`feeder.dynamics.forward` for the choice)."""
 
 
 def payload_inertia(feeder: Feeder) -> pin.Inertia:

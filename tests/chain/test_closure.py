@@ -8,10 +8,11 @@ import pinocchio as pin
 import pytest
 
 from feeder.chain.assembly import POSITION_TOLERANCE, Partition
-from feeder.chain.closure import load_closed_chain
-from feeder.exceptions import ClosureFrameError, InputError
+from feeder.chain.closure import ClosedChain, Closure, load_closed_chain
+from feeder.chain.urdf import build_model
+from feeder.exceptions import ClosureFrameError, InputError, UnreachablePoseError
 
-from ..conftest import FOURBAR_COUPLER, FOURBAR_CRANK, FOURBAR_GROUND, FOURBAR_ROCKER
+from ..conftest import FOURBAR_COUPLER, FOURBAR_CRANK, FOURBAR_GROUND, FOURBAR_ROCKER, REPO
 
 FD_STEP = 1e-6
 """Central-difference step [rad or m]: truncation O(h²) ~ 1e-12, round-off ~ 1e-16/h ~ 1e-10."""
@@ -164,3 +165,80 @@ def test_closures_must_be_pairs_of_frames_on_two_bodies(fourbar_urdf, fourbar):
     assert fourbar.frame_id("rocker_tip") == fourbar.model.getFrameId("rocker_tip")
     with pytest.raises(InputError, match="no frame 'nope'"):
         fourbar.frame_id("nope")
+
+
+def _link(name: str) -> str:
+    inertia = '<inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/>'
+    return f'<link name="{name}"><inertial><mass value="1"/>{inertia}</inertial></link>'
+
+
+def _joint(name, kind, parent, child, xyz, rpy, axis=None) -> str:
+    limit = '<limit lower="-9" upper="9" effort="1" velocity="1"/>' if axis else ""
+    axis = f'<axis xyz="{axis}"/>' if axis else ""
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}" rpy="{rpy}"/>{axis}{limit}</joint>'
+    )
+
+
+SPATIAL = (
+    '<robot name="spatial"><link name="base"/><link name="tip"/><link name="tip2"/>'
+    + "".join(_link(f"l{i}") for i in range(1, 6))
+    + _joint("j1", "revolute", "base", "l1", "0 0 0", "0 0 0", "0 0 1")
+    + _joint("j2", "revolute", "l1", "l2", "0.3 0 0", "0.1 0 0", "0 1 0")
+    + _joint("j3", "revolute", "l2", "l3", "0.3 0 0", "0 0.2 0", "1 0 0")
+    + _joint("j4", "revolute", "base", "l4", "0.5 0.2 0", "0 0 0.3", "0 0 1")
+    + _joint("j5", "prismatic", "l4", "l5", "0.1 0 0", "0 0 0", "0.6 0.8 0")
+    + _joint("tip_joint", "fixed", "l3", "tip", "0.2 0.05 0", "0.3 0.1 0.2")
+    + _joint("tip2_joint", "fixed", "l5", "tip2", "0.3 0 0.1", "0 0.4 0")
+    + "</robot>"
+)
+"""Two spatial branches (revolute joints about z, y, x and a slanted prismatic one) whose tips
+can be cut with any closure kind: the rows' derivatives are checked away from any plane."""
+
+STEP = 1e-6
+"""Central-difference step [rad, m]: truncation error ~h² ≈ 1e-12 for unit curvatures, round-off
+~ε/h ≈ 1e-10; the comparisons allow 1e-8."""
+
+
+@pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
+def test_spatial_rows_are_the_derivatives_of_the_residual(kind, rng):
+    chain = ClosedChain(
+        build_model(SPATIAL, "<spatial>"), [Closure("tip", "tip2", kind, axis=(0.2, 0.3, 0.9))]
+    )
+    n = chain.model.nv
+    for _ in range(5):
+        q, v = rng.uniform(-1.0, 1.0, n), rng.uniform(-1.0, 1.0, n)
+        exact = chain.residual_jacobian(q)
+        differences = np.column_stack(
+            [
+                (chain.residual(q + STEP * e) - chain.residual(q - STEP * e)) / (2 * STEP)
+                for e in np.eye(n)
+            ]
+        )
+        np.testing.assert_allclose(exact, differences, atol=1e-8)
+        # J̇ q̇ along the straight path q + t v (q̈ = 0): d/dt [J(q + t v)] v.
+        rate = (chain.jacobian(q + STEP * v) - chain.jacobian(q - STEP * v)) @ v / (2 * STEP)
+        np.testing.assert_allclose(chain.bias(q, v), rate, atol=1e-8)
+        if kind != "weld":  # the weld's velocity rows equal its residual's only at closure
+            np.testing.assert_allclose(chain.jacobian(q), exact, atol=1e-12)
+
+
+def test_a_hinge_assembled_upside_down_is_not_closed():
+    """The example four-bar cut with hinge axes declared opposite (+z on the coupler, −z on the
+    rocker): its hinge rows vanish at every pose (all axes are parallel), but the hinge would be
+    upside down everywhere, which assembly and the dynamics both refuse."""
+    from feeder.chain.inverse import ChainDynamics, inverse_dynamics
+
+    closure = Closure("coupler_tip", "rocker_tip", "revolute", axis_b=(0.0, 0.0, -1.0))
+    chain = load_closed_chain(REPO / "examples" / "four_bar" / "four_bar.urdf", [closure])
+    with pytest.raises(UnreachablePoseError):
+        Partition(chain, ["crank_joint"]).assemble(np.array([0.7, -0.35, 1.0]))
+    upright = load_closed_chain(
+        REPO / "examples" / "four_bar" / "four_bar.urdf", [("coupler_tip", "rocker_tip")]
+    )
+    q = Partition(upright, ["crank_joint"]).assemble(np.array([0.7, -0.35, 1.0]))
+    with pytest.raises(UnreachablePoseError, match="upside down"):
+        inverse_dynamics(
+            ChainDynamics(chain, ["crank_joint"]), q[None], np.zeros((1, 3)), np.zeros((1, 3))
+        )

@@ -36,7 +36,14 @@ RELATIVE = 1e-9
 1e-13 residual, relative to the largest load."""
 
 PASSIVE = 1e-12
-"""[N·m] Load along a passive joint's axis: zero to round-off of ~0.1 N·m moments."""
+"""[N·m, N] Load along a passive joint's axis, and the minimum-norm out-of-plane cut force and
+tilting moments: zero to round-off of ~0.1 N·m moments and ~3 N forces."""
+
+BALANCE = 1e-11
+"""[N] Newton's law for one body from two computations of ~3 N forces: round-off ~1e-14."""
+
+SHARE = 1e-12
+"""Relative: the stiffness split is one linear solve; round-off ~1e-15 of the force."""
 
 
 def _gravity(chain: ClosedChain) -> ClosedChain:
@@ -87,20 +94,29 @@ def test_passive_joints_carry_nothing_along_their_axes(four_bar):
     )
 
 
-def test_closure_wrench_in_the_cut_frame_is_the_world_one_rotated(four_bar):
-    q, v, a = _motion(four_bar, 5)
+def test_closure_force_balances_the_rocker(four_bar):
+    """Newton's law for the rocker (the body of the cut's second frame), with Pinocchio's
+    kinematics: ground-on-rocker reaction − closure force on the first frame's body + m g =
+    m a_G. The closure force's out-of-plane and tilting parts are zero (minimum norm)."""
+    q, v, a = _motion(four_bar)
     loads = inverse_dynamics(ChainDynamics(four_bar, ["crank_joint"]), q, v, a)
     (wrench,) = loads.closures.values()
-    model, data = four_bar.model, four_bar.data
-    frame = model.getFrameId("coupler_tip")
+    model, data = four_bar.model, four_bar.model.createData()
+    joint = model.getJointId("rocker_joint")
+    inertia = model.inertias[joint]
     for k in range(q.shape[0]):
-        pin.framesForwardKinematics(model, data, q[k])
-        rotation = data.oMf[frame].rotation
-        np.testing.assert_allclose(rotation @ wrench.local_force[k], wrench.force[k], atol=1e-12)
-        np.testing.assert_allclose(rotation @ wrench.local_moment[k], wrench.moment[k], atol=1e-12)
-    # Planar: the indeterminate rows carry nothing (minimum norm).
-    assert np.abs(wrench.force[:, 2]).max() <= 1e-12
-    assert np.abs(wrench.moment[:, :2]).max() <= 1e-12
+        pin.forwardKinematics(model, data, q[k], v[k], a[k])
+        rotation = data.oMi[joint].rotation
+        velocity, acceleration = data.v[joint], data.a[joint]
+        omega, alpha = rotation @ velocity.angular, rotation @ acceleration.angular
+        origin = rotation @ (acceleration.linear + np.cross(velocity.angular, velocity.linear))
+        lever = rotation @ inertia.lever
+        a_g = origin + np.cross(alpha, lever) + np.cross(omega, np.cross(omega, lever))
+        balance = loads.joints["rocker_joint"].force[k] - wrench.force[k]
+        expected = inertia.mass * (a_g - model.gravity.linear)
+        np.testing.assert_allclose(balance, expected, rtol=0, atol=BALANCE)
+    assert np.abs(wrench.force[:, 2]).max() <= PASSIVE
+    assert np.abs(wrench.moment[:, :2]).max() <= PASSIVE
 
 
 def _bar(name: str, length: float, start: float, mass: float) -> str:
@@ -175,16 +191,16 @@ def test_stiffness_splits_an_indeterminate_force():
     a redundancy the rigid model cannot resolve alone."""
     closures = [Closure("coupler_tip", "rocker_tip", name=name) for name in ("stiff", "soft")]
     chain = _gravity(load_closed_chain(FOUR_BAR, closures))
-    q, v, a = _motion(chain, 5)
+    q, v, a = _motion(chain)
     stiffness = {"stiff": [3.0, 3.0, 3.0], "soft": [1.0, 1.0, 1.0]}
     loads = inverse_dynamics(ChainDynamics(chain, ["crank_joint"], stiffness), q, v, a)
     stiff, soft = loads.closures["stiff"].force, loads.closures["soft"].force
-    np.testing.assert_allclose(stiff, 3.0 * soft, rtol=0, atol=1e-12 * np.abs(stiff).max())
+    np.testing.assert_allclose(stiff, 3.0 * soft, rtol=0, atol=SHARE * np.abs(stiff).max())
     assert {label.split(":")[0] for label in loads.indeterminate} == {"stiff", "soft"}
 
 
 def test_refusals(four_bar):
-    q, v, a = _motion(four_bar, 5)
+    q, v, a = _motion(four_bar)
     dyn = ChainDynamics(four_bar, ["crank_joint"])
     with pytest.raises(UnreachablePoseError, match="does not close"):
         inverse_dynamics(dyn, q + [0.0, 0.01, 0.0], v, a)
@@ -202,3 +218,26 @@ def test_refusals(four_bar):
         inverse_dynamics(ChainDynamics(four_bar, ["crank_joint", "rocker_joint"]), q, v, a)
     with pytest.raises(InputError, match="unknown closure"):
         ChainDynamics(four_bar, ["crank_joint"], {"other": [1.0, 1.0, 1.0]})
+
+
+def test_near_a_dead_centre_the_loads_are_refused(four_bar):
+    """Driven by its rocker, the crank-rocker has a dead centre where crank and coupler line up
+    (the rocker's end of travel): the drive loads grow without bound there, and are refused
+    near it rather than returned huge."""
+    chain = _gravity(
+        load_closed_chain(FOUR_BAR, [Closure("coupler_tip", "rocker_tip", "revolute")])
+    )
+    a, b, c, d = 0.040, 0.120, 0.080, 0.100
+    theta2 = math.acos(((a + b) ** 2 + d**2 - c**2) / (2 * (a + b) * d))
+    theta4 = math.atan2((a + b) * math.sin(theta2), (a + b) * math.cos(theta2) - d)
+    rocker = Partition(chain, ["rocker_joint"], max_gain=1e12)  # let assembly reach it
+    dyn = ChainDynamics(chain, ["rocker_joint"])
+    still = np.zeros((1, 3))
+    far = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + 0.1]))
+    assert np.isfinite(
+        inverse_dynamics(dyn, far[None], still, still).actuators["rocker_joint"]
+    ).all()
+    for inside in (1e-7, 1e-9):
+        q = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + inside]))
+        with pytest.raises(SingularPoseError, match="singular pose"):
+            inverse_dynamics(dyn, q[None], still, still)

@@ -85,14 +85,27 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
     [
         ("not toml [", "not a readable TOML"),
         ('[mechanism]\nactuated = ["a"]\nindependent = ["a"]\n', "name the model"),
-        (MECHANISM.replace('["a"]', '"a"', 1), "'actuated' must be a list"),
+        (MECHANISM.replace('["a"]', '"a"', 1), "'actuated' must be a non-empty list"),
         (MECHANISM + "speed = 3\n", "unknown keys"),
         (MECHANISM + "gravity = [0, 1]\n", "3 numbers"),
         (MECHANISM + '[[closure]]\nframes = ["a"]\n', "two frame names"),
         (MECHANISM + '[[closure]]\nframes = ["a", "b"]\ntype = "ball"\n', "'type' must be one of"),
         ("[other]\n", "unknown sections"),
+        (MECHANISM.replace('independent = ["a"]', "independent = []"), "non-empty"),
+        (MECHANISM + '[[closure]]\nframes = ["a", "b"]\naxis = 5\n', "'axis' must be 3 numbers"),
     ],
-    ids=["syntax", "no-model", "actuated", "unknown-key", "gravity", "frames", "type", "section"],
+    ids=[
+        "syntax",
+        "no-model",
+        "actuated",
+        "unknown-key",
+        "gravity",
+        "frames",
+        "type",
+        "section",
+        "no-independent",
+        "axis",
+    ],
 )
 def test_side_file_errors_name_the_key(tmp_path, text, message):
     path = tmp_path / "closures.toml"
@@ -136,8 +149,9 @@ def test_motion_table_and_its_derivatives(tmp_path):
         ("t,q_other\n0,1\n0.1,2\n", "no column 'q_crank_joint'"),
         ("t,q_crank_joint\n0,1\n0,2\n", "increase"),
         ("t,q_crank_joint\n0,1\n0.1,nan\n", "finite"),
+        ("t,q_crank_joint\n0,1\n0.1,2\n", "at least 3 rows"),
     ],
-    ids=["short", "text", "ragged", "no-t", "no-joint", "time", "nan"],
+    ids=["short", "text", "ragged", "no-t", "no-joint", "time", "nan", "few-to-differentiate"],
 )
 def test_motion_table_errors(tmp_path, text, message):
     path = tmp_path / "motion.csv"
