@@ -63,6 +63,15 @@ NULL_SPACE = 1e-6
 """A null-space direction of the equations "involves" an unknown when its component there exceeds
 this (directions are unit vectors; round-off components are ~1e-15)."""
 
+NORMAL_EQUATIONS = 1e3
+"""Largest condition number for which the minimum-norm solution comes from the normal
+equations A Aᵀ y = b (which square it: 1e6 × 1e-16 of relative round-off, below the 1e-9 of the
+checks); worse-conditioned samples take the singular value decomposition."""
+
+RANK_SUBSAMPLE = 32
+"""Samples of a motion on which the closure rows' rank is measured (their structural rank: the
+largest found; a motion's rank only drops at isolated singular poses)."""
+
 MAX_FORCE_GAIN = 1e4
 """Largest accepted condition number of the equations' determined part (σ_max over the smallest
 non-zero singular value of [Sᵀ Jᵀ], SI units). It grows without bound near a toggle or dead
@@ -425,8 +434,41 @@ def solve_loads(
 def _solve(
     system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str]
 ) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Minimum-norm solutions of system[k] x = rhs[k], after the checks of the module docstring;
-    returns x (n, n_act + nc) and the labels of indeterminate closure rows."""
+    """Minimum-norm solutions of system[k] x = rhs[k] (n, nv, nx), after the checks of the module
+    docstring; returns x (n, nx) and the labels of indeterminate closure rows.
+
+    Where a sample's system has full row rank and a small condition number (every sample of a
+    well-actuated motion), x = Aᵀ (A Aᵀ)⁻¹ b is its minimum-norm solution, from one small
+    symmetric solve; the other samples, and a subsample for the structural checks (the null space
+    of the equations), go through the singular value decomposition."""
+    n = system.shape[0]
+    gram = system @ np.swapaxes(system, 1, 2)  # (n, nv, nv)
+    eigenvalues = np.linalg.eigvalsh(gram)  # ascending
+    fast = eigenvalues[:, 0] > (eigenvalues[:, -1] / NORMAL_EQUATIONS**2)
+    solution = np.empty((n, system.shape[2]))
+    if np.any(fast):
+        lagrange = np.linalg.solve(gram[fast], rhs[fast][..., None])
+        solution[fast] = (np.swapaxes(system[fast], 1, 2) @ lagrange)[..., 0]
+    stride = max(1, n // RANK_SUBSAMPLE)
+    checked = np.zeros(n, dtype=bool)
+    checked[::stride] = True
+    detailed = ~fast | checked
+    structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
+    expected = min(system.shape[1], n_act + structural)
+    exact, null = _solve_svd(system[detailed], rhs[detailed], n_act, expected)
+    indices = np.flatnonzero(detailed)
+    solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
+    indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
+    return solution, indeterminate
+
+
+def _solve_svd(
+    system: np.ndarray, rhs: np.ndarray, n_act: int, expected: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The singular-value path of :func:`_solve` on some samples: the checks (singular
+    actuation, consistency, determined actuator loads), the minimum-norm solutions and which
+    unknowns a null-space direction involves (nx,) bool. ``expected``: the rank the actuators
+    and the closure rows can give."""
     u, s, vt = np.linalg.svd(system, full_matrices=True)
     scale = np.maximum(s[:, :1], 1e-300)
     rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
@@ -434,14 +476,11 @@ def _solve(
     rank = rank_mask.sum(axis=1)
     smallest = s[np.arange(s.shape[0]), np.maximum(rank - 1, 0)]
     gain = s[:, 0] / np.maximum(smallest, 1e-300)
-    # Full rank the actuators and closures can give: fewer means a singular actuation (a toggle);
-    # more unknowns than equations (over-actuation) is the null-space check below.
-    expected = np.minimum(system.shape[1], n_act + np.linalg.matrix_rank(system[:, :, n_act:]))
     worst = int(np.argmax(gain))
     if gain[worst] > MAX_FORCE_GAIN or np.any(rank < expected):
         i = worst if gain[worst] > MAX_FORCE_GAIN else int(np.argmax(rank < expected))
         raise SingularPoseError(
-            f"sample {i} is at or near a singular pose (toggle, dead centre) of the actuation: "
+            f"a sample is at or near a singular pose (toggle, dead centre) of the actuation: "
             f"the loads are unbounded there (condition number {gain[i]:.3g} > "
             f"{MAX_FORCE_GAIN:g}, or the actuated joints lose their hold on the motion)"
         )
@@ -455,22 +494,20 @@ def _solve(
     worst = int(np.argmax(misfit / np.maximum(size, 1e-300)))
     if misfit[worst] > CONSISTENCY * max(size[worst], 1e-300):
         raise InputError(
-            f"the actuated joints cannot produce the motion at sample {worst}: the equations of "
-            f"motion leave a residual of {misfit[worst]:.3e} (choose other actuated joints)"
+            f"the actuated joints cannot produce the motion: the equations of motion leave a "
+            f"residual of {misfit[worst]:.3e} (choose other actuated joints)"
         )
     null = np.zeros(system.shape[2], dtype=bool)
     for r in np.unique(rank):  # samples of equal rank share the null-space dimension
         basis = vt[rank == r, r:, :]  # (samples, dim, nx)
         if basis.size and np.abs(basis[:, :, :n_act]).max() > NULL_SPACE:
-            i = int(np.flatnonzero(rank == r)[0])
             raise SingularPoseError(
-                f"the actuator loads are not determined at sample {i}: the actuated joints and "
-                "the closures can balance each other without load (a singular actuation)"
+                "the actuator loads are not determined: the actuated joints and the closures "
+                "can balance each other without load (a singular or redundant actuation)"
             )
         if basis.size:
             null |= np.abs(basis).max(axis=(0, 1)) > NULL_SPACE
-    indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
-    return solution, indeterminate
+    return solution, null
 
 
 def closure_wrenches(

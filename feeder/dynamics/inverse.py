@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.inverse import closure_kinematics, solve_loads
-from ..chain.kinematics import tree_motion
+from ..chain.inverse import ClosureKinematics, closure_kinematics, solve_loads
+from ..chain.kinematics import TreeMotion, tree_motion
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples
@@ -71,12 +71,16 @@ class ActuatorLoads:
         closure_force: λ, the force [N] the arm exerts on the piston at the pin, world frame,
             shape (N, 3); the piston exerts −λ on the arm. Its z component is 0 by choice (see
             the module docstring).
+        runs: Per run of constant grip flag: (samples, flag, the tree's batched motion, the
+            closure rows along it), which :func:`~feeder.dynamics.reactions.joint_reactions`
+            reuses.
     """
 
     motion: SampledMotion
     piston_force: np.ndarray
     forearm_torque: np.ndarray
     closure_force: np.ndarray
+    runs: tuple[tuple[slice, int, TreeMotion, ClosureKinematics], ...] = ()
 
     def generalized_forces(self) -> np.ndarray:
         """Actuator generalized forces Sᵀ τ in paper order [0, F, 0, M], shape (N, 4)."""
@@ -125,12 +129,18 @@ def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
     qp, vp, ap = (dyn.to_pinocchio(x) for x in (motion.q, motion.v, motion.a))
     tau = np.empty((n, 2))
     closure = np.empty((n, 3))
+    runs = []
     for start, stop, flag in gripped_runs(motion.gripped):
         chain = dyn.cases[flag].dynamics
         run = slice(start, stop)
         kinematics = tree_motion(chain.chain.model, qp[run], vp[run], ap[run])
         rows = closure_kinematics(chain.chain, kinematics, vp[run])
         tau[run], closure[run], _ = solve_loads(chain, kinematics, rows)
+        runs.append((run, flag, kinematics, rows))
     return ActuatorLoads(
-        motion=motion, piston_force=tau[:, 0], forearm_torque=tau[:, 1], closure_force=closure
+        motion=motion,
+        piston_force=tau[:, 0],
+        forearm_torque=tau[:, 1],
+        closure_force=closure,
+        runs=tuple(runs),
     )

@@ -29,12 +29,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.inverse import JointWrench, closure_kinematics, closure_wrenches
+from ..chain.inverse import JointWrench, closure_wrenches
 from ..chain.inverse import joint_reactions as chain_reactions
-from ..chain.kinematics import cross, tree_motion
+from ..chain.kinematics import cross
 from ..device.feeder import PAPER_JOINTS
+from ..exceptions import InputError
 from .inverse import ActuatorLoads
-from .models import FeederDynamics, gripped_runs
+from .models import FeederDynamics
 
 JOINT_NAMES = ("cylinder_frame", "piston_cylinder", "arm_frame", "forearm_arm")
 """Names of the four joint reactions, in the order of the paper's joints (φ1, r2, φ3, φ4)."""
@@ -71,9 +72,9 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
         loads: The inverse dynamics (:func:`~feeder.dynamics.inverse.actuator_loads`) of a motion;
             its checked motion ``loads.motion`` is the one used here.
     """
-    motion = loads.motion
-    n = motion.q.shape[0]
-    qp, vp, ap = (dyn.to_pinocchio(x) for x in (motion.q, motion.v, motion.a))
+    n = loads.motion.q.shape[0]
+    if sum(run.stop - run.start for run, *_ in loads.runs) != n:
+        raise InputError("these loads lack their kinematics: compute them with actuator_loads")
     fields = ("force", "moment", "drive", "constraint_force", "constraint_moment")
     wrenches = {
         name: {f: np.empty((n,) if f == "drive" else (n, 3)) for f in fields}
@@ -81,11 +82,8 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
     }
     grip_force, grip_moment = np.zeros((n, 3)), np.zeros((n, 3))
     forearm = dyn.joint_ids[3]
-    for start, stop, flag in gripped_runs(motion.gripped):
+    for run, flag, kinematics, rows in loads.runs:
         chain = dyn.cases[flag].dynamics
-        run = slice(start, stop)
-        kinematics = tree_motion(chain.chain.model, qp[run], vp[run], ap[run])
-        rows = closure_kinematics(chain.chain, kinematics, vp[run])
         _, terms = closure_wrenches(chain.chain, rows, loads.closure_force[run])
         joints = chain_reactions(chain, kinematics, terms)
         for name, joint in zip(JOINT_NAMES, PAPER_JOINTS, strict=True):
