@@ -15,22 +15,33 @@ tests/test_layers.py checks it):
 
 The names below are the public API that the README, the notebooks and the command line use.
 Errors are :class:`FeederError` and its subclasses in :mod:`feeder.exceptions`.
+
+Each name (and each layer, e.g. ``feeder.viz``) is imported when it is first used, not by
+``import feeder``: Pinocchio, and matplotlib above all, take most of a short command's time,
+and ``feeder parameters`` needs neither.
 """
 
-from .chain import ClosedChain, Partition, load_closed_chain
-from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
-from .device.loop import required_stroke, transmission_angle
-from .exceptions import FeederError
-from .motion import CycleSpec, feeding_cycle, workspace
-from .outputs import write_cycle_outputs
-from .study import (
-    CycleStudy,
-    elevation_sweep,
-    paper_errata,
-    read_csv,
-    retrofit,
-    run_cycle_study,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .chain import ClosedChain, Partition, load_closed_chain
+    from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
+    from .device.loop import required_stroke, transmission_angle
+    from .exceptions import FeederError
+    from .motion import CycleSpec, feeding_cycle, workspace
+    from .outputs import write_cycle_outputs
+    from .study import (
+        CycleStudy,
+        elevation_sweep,
+        paper_errata,
+        read_csv,
+        retrofit,
+        run_cycle_study,
+    )
+    from .study.sweep import run_sweep
 
 __version__ = "0.1.0"
 
@@ -54,7 +65,55 @@ __all__ = [
     "required_stroke",
     "retrofit",
     "run_cycle_study",
+    "run_sweep",
     "transmission_angle",
     "workspace",
     "write_cycle_outputs",
 ]
+
+_SOURCES = {
+    "ClosedChain": ".chain",
+    "Partition": ".chain",
+    "load_closed_chain": ".chain",
+    "DEVICES": ".device",
+    "Feeder": ".device",
+    "FeederParameters": ".device",
+    "LinkInertia": ".device",
+    "load_feeder": ".device",
+    "loop_state": ".device",
+    "required_stroke": ".device.loop",
+    "transmission_angle": ".device.loop",
+    "FeederError": ".exceptions",
+    "CycleSpec": ".motion",
+    "feeding_cycle": ".motion",
+    "workspace": ".motion",
+    "write_cycle_outputs": ".outputs",
+    "CycleStudy": ".study",
+    "elevation_sweep": ".study",
+    "paper_errata": ".study",
+    "read_csv": ".study",
+    "retrofit": ".study",
+    "run_cycle_study": ".study",
+    "run_sweep": ".study.sweep",
+}
+"""Public name → the module that defines it (every name of :data:`__all__`)."""
+
+_SUBMODULES = frozenset(
+    {"chain", "device", "motion", "dynamics", "paper", "study", "viz", "outputs"}
+)
+
+
+def __getattr__(name: str):
+    """Import a public name or a layer on first use (PEP 562) and keep it."""
+    if name in _SOURCES:
+        value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__) | _SUBMODULES)

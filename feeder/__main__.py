@@ -1,32 +1,92 @@
-"""Command line: ``feeder <command> ...`` (also ``python -m feeder``). Parse, call, print.
+"""Command line: ``feeder <command> ...`` (also ``python -m feeder``). Parse, check, call, print.
 
 Commands:
     cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
     kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
-    parameters  every number of the built-in devices with its unit and source (Markdown)
-    urdf        regenerate the shipped URDF files from the parameter sets
-    errata      the table of the paper's errata measured on the reference cycle (Markdown)
     view        MeshCat viewer of the cycle on 127.0.0.1, or a static HTML page of it
+    parameters  every number of a device with its unit and source (Markdown), or its parameter
+                file (TOML, ``--format toml``)
+    urdf        regenerate the URDF files from the parameter sets
+    errata      the table of the paper's errata measured on the reference cycle (Markdown)
+    sweep       peak loads over elevations × parameter variants × devices, resumable
+    analyze     any closed-chain mechanism: mobility report, or its loads and every reaction
+
+A command is a function ``cmd_<name>(args) -> int`` and a sub-parser in :func:`_parser`, built
+from the shared option groups (:func:`_device_options`, :func:`_study_options`), so that every
+command spells ``--device``, ``--params``, ``--elevation`` and ``--out`` alike. Each command
+checks all its input before it creates a file or a folder. Every option may be given once.
+Bad input exits with status 2 and one line that names it; Ctrl-C exits with status 130 and one
+line, and leaves no file half-written (:mod:`feeder.outputs`).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import shlex
 import sys
 from collections.abc import Sequence
+from contextlib import suppress
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .device.builtin import DEVICES
-from .exceptions import FeederError
-from .validation import check_number
+from .exceptions import FeederError, InputError
+from .validation import check_elevation, check_number, check_path
+
+if TYPE_CHECKING:
+    from .device.parameters import FeederParameters
+
+FORWARD_MIN_RATE = 500.0
+"""Lowest sample rate [Hz] at which the force-rule forward run tracks the default stages within
+its 1e-4 rad check (3.8e-5 rad at 500 Hz, 1.2e-4 rad at 400 Hz: the table in
+:mod:`feeder.dynamics.cycle`). Stated in ``feeder cycle --help``."""
+
+INTERRUPTED = 130
+"""Exit status after Ctrl-C (SIGINT): 128 + the signal's number, as shells report it."""
 
 
-def _elevation(args: argparse.Namespace) -> float:
-    """The ``--elevation`` option [deg] in radians."""
-    return math.radians(check_number("elevation [deg]", args.elevation))
+class _Once(argparse.Action):
+    """Store an option's value, or its constant for a flag (``nargs=0``); a second occurrence
+    is an error (argparse would silently keep the last: ``--elevation 10 --elevation 20``)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given", set())
+        if self.dest in given:
+            parser.error(f"{'/'.join(self.option_strings)} given twice: give it once")
+        given.add(self.dest)
+        setattr(namespace, self.dest, self.const if self.nargs == 0 else values)
 
 
-def _write_or_print(text: str, out: str | None) -> None:
+def _path(text: str) -> Path:
+    """An argument naming a file or folder (:func:`~feeder.validation.check_path`)."""
+    try:
+        return check_path("the path", text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from exc
+
+
+def _params(args: argparse.Namespace) -> FeederParameters:
+    """The parameter set of ``--params FILE`` (read and checked) or of ``--device NAME``."""
+    if args.params is not None:
+        from .device.parameter_file import read_parameters
+
+        return read_parameters(args.params)
+    return DEVICES[args.device or "projectile"]
+
+
+def _elevation(args: argparse.Namespace, params: FeederParameters) -> float:
+    """The ``--elevation`` option [deg] in radians, checked against the device's range."""
+    degrees = check_number("elevation [deg]", args.elevation)
+    return check_elevation(math.radians(degrees), params.elevation_limits)
+
+
+def _command(args: argparse.Namespace) -> str:
+    """The command line as typed, for the output folder's manifest."""
+    return shlex.join(["feeder", *args.argv])
+
+
+def _write_or_print(text: str, out: Path | None) -> None:
     from .files import write_text
 
     if out is None:
@@ -36,10 +96,20 @@ def _write_or_print(text: str, out: str | None) -> None:
 
 
 def cmd_parameters(args: argparse.Namespace) -> int:
-    """Print the parameter table, or write it to a file."""
+    """Print the parameter table (Markdown) or a parameter file (TOML), or write it."""
+    from .device.parameter_file import parameters_toml
     from .device.table import parameters_markdown
 
-    _write_or_print(parameters_markdown(), args.out)
+    if args.format == "toml":
+        text = parameters_toml(_params(args))
+    elif args.params is not None:
+        params = _params(args)
+        text = parameters_markdown({params.name: params}, origin=str(args.params))
+    elif args.device is not None:
+        text = parameters_markdown({args.device: DEVICES[args.device]})
+    else:
+        text = parameters_markdown()
+    _write_or_print(text, args.out)
     return 0
 
 
@@ -47,15 +117,27 @@ def cmd_errata(args: argparse.Namespace) -> int:
     """Print the errata table, or write it to a file."""
     from .study.errata import paper_errata
 
-    _write_or_print(paper_errata(), args.out)
+    device = _params(args) if args.params is not None or args.device is not None else "projectile"
+    _write_or_print(paper_errata(device), args.out)
     return 0
 
 
 def cmd_urdf(args: argparse.Namespace) -> int:
-    """Write the built-in devices' URDF files."""
-    from .device.urdf_writer import write_urdfs
+    """Write the URDF file of the given parameter set, or of every built-in device."""
+    from .device.urdf_writer import urdf_string, write_urdfs
+    from .files import write_text
 
-    for path in write_urdfs(args.out):
+    if args.params is None and args.device is None:
+        paths = write_urdfs(args.out)
+    else:
+        params = _params(args)
+        text = urdf_string(params)
+        try:
+            args.out.mkdir(parents=True, exist_ok=True)  # as write_urdfs does
+        except OSError as exc:
+            raise InputError(f"cannot write the URDF file into {args.out}: {exc}") from exc
+        paths = [write_text(args.out / f"{params.name}_feeder.urdf", text)]
+    for path in paths:
         print(f"wrote {path}")
     return 0
 
@@ -65,15 +147,18 @@ def cmd_kinematics(args: argparse.Namespace) -> int:
     from .device.feeder import load_feeder
     from .motion.cycle import feeding_cycle
     from .motion.laws import CycleSpec
-    from .outputs import output_folder, write_kinematics_outputs
+    from .outputs import OutputFolder, write_kinematics_outputs
     from .study.summary import kinematics_summary
 
-    out = output_folder(args.out)
-    feeder = load_feeder(args.device)
-    cycle = feeding_cycle(feeder, _elevation(args), CycleSpec(rate=args.rate))
-    paths = write_kinematics_outputs(feeder, cycle, out)
+    folder = OutputFolder(args.out)
+    params = _params(args)
+    elevation, spec = _elevation(args, params), CycleSpec(rate=args.rate)
+    feeder = load_feeder(params)
+    with folder:
+        cycle = feeding_cycle(feeder, elevation, spec)
+        paths = write_kinematics_outputs(feeder, cycle, folder, _command(args))
     print(kinematics_summary(feeder, cycle))
-    print(f"wrote {paths[0]} and figures in {out}")
+    print(f"wrote {paths[0]} and figures in {folder.path}")
     return 0
 
 
@@ -81,18 +166,63 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     """The main study: dynamics of one cycle, cross-checked, with cycle.csv and the figures."""
     from .device.feeder import load_feeder
     from .motion.laws import CycleSpec
-    from .outputs import output_folder, write_cycle_outputs
+    from .outputs import OutputFolder, write_cycle_outputs
     from .study.cycle_study import run_cycle_study
 
-    out = output_folder(args.out)
-    feeder = load_feeder(args.device)
-    study = run_cycle_study(
-        feeder, _elevation(args), CycleSpec(rate=args.rate), progress=True, forward=args.forward
-    )
-    paths = write_cycle_outputs(study, out)
+    folder = OutputFolder(args.out)
+    params = _params(args)
+    elevation, spec = _elevation(args, params), CycleSpec(rate=args.rate)
+    feeder = load_feeder(params)
+    with folder:
+        study = run_cycle_study(feeder, elevation, spec, progress=True, forward=args.forward)
+        paths = write_cycle_outputs(study, folder, _command(args), figures=args.figures)
     print(f"{feeder.params.name} feeder")
     print(study.summary())
-    print(f"wrote {paths[0]} and {len(paths) - 1} figures in {out}")
+    figures = f" and {len(paths) - 1} figures" if args.figures else ""
+    print(f"wrote {paths[0]}{figures} in {folder.path}")
+    return 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """Peak loads over elevations × parameter variants × devices; resumable."""
+    from .study.grid import elevation_range
+    from .study.sweep import run_sweep
+    from .viz.report import write_sweep_figures
+
+    elevations = None if args.elevations is None else elevation_range(*args.elevations)
+    table = run_sweep(
+        args.grid,
+        args.out,
+        devices=args.device,
+        elevations=elevations,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        progress=True,
+        parquet=args.parquet,
+    )
+    paths = write_sweep_figures(table, args.out) if args.figures else []
+    print(f"wrote {table}" + (f" and {len(paths)} figures" if paths else ""))
+    return 0
+
+
+def cmd_analyze(args: argparse.Namespace) -> int:
+    """A user's closed-chain mechanism: its mobility report (``--check``), or its motion's
+    loads and every reaction (``--motion``, ``--out``)."""
+    from .study.analyze import analyze, check_mechanism
+
+    if args.check:
+        print(check_mechanism(args.closures, args.model))
+        return 0
+    if args.motion is None or args.out is None:
+        raise InputError("give --motion FILE and --out DIR (or --check for the mobility report)")
+    from .outputs import OutputFolder, write_analysis_outputs
+
+    folder = OutputFolder(args.out)
+    analysis = analyze(args.closures, args.motion, args.model)
+    with folder:
+        paths = write_analysis_outputs(analysis, folder, _command(args))
+    print(analysis.summary())
+    print(f"wrote {paths[0]}, {paths[1].name} and {len(paths) - 2} figures in {folder.path}")
     return 0
 
 
@@ -102,79 +232,287 @@ def cmd_view(args: argparse.Namespace) -> int:
     from .dynamics.cycle import cycle_dynamics
     from .viz.viewer import check_port, check_writable, cycle_forces, show_cycle, write_html
 
-    feeder = load_feeder(args.device)
-    elevation = _elevation(args)
+    params = _params(args)
+    elevation = _elevation(args, params)
     html = None if args.html is None else check_writable(args.html)
     port = check_port(args.port)
+    feeder = load_feeder(params)
     dynamics = cycle_dynamics(feeder, elevation, forward=False)
     cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
     if html is not None:
         print(f"wrote {write_html(feeder, cycle, html, forces, port=port)}")
         return 0
-    with show_cycle(feeder, cycle, forces, port=port) as viewer:
+    # Ctrl-C is how the viewer stops: from the first line printed on, it ends with status 0.
+    with show_cycle(feeder, cycle, forces, port=port) as viewer, suppress(KeyboardInterrupt):
         print(f"{feeder.params.name} feeder at {args.elevation:g}°: open {viewer.url}")
-        print("press Ctrl-C to stop the viewer")
+        print("press Ctrl-C to stop the viewer", flush=True)
         viewer.serve_forever()
     return 0
 
 
+def _device_options(sub: argparse.ArgumentParser, default: str) -> None:
+    """``--device NAME`` or ``--params FILE`` (one of them)."""
+    group = sub.add_mutually_exclusive_group()
+    group.add_argument(
+        "--device",
+        action=_Once,
+        choices=sorted(DEVICES),
+        help=f"built-in device (default: {default})",
+    )
+    group.add_argument(
+        "--params",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="parameter file (TOML) instead of a built-in device (default: none): write one "
+        "with `feeder parameters --format toml --out FILE` and edit its numbers",
+    )
+
+
+def _study_options(sub: argparse.ArgumentParser, out: bool = True) -> None:
+    """``--elevation`` (required), ``--out`` (required if ``out``) and the device options."""
+    sub.add_argument(
+        "--elevation",
+        action=_Once,
+        type=float,
+        required=True,
+        metavar="DEG",
+        help="barrel elevation ε [deg], required, inside the device's range (−4 … 70 for the "
+        "built-in ones)",
+    )
+    if out:
+        sub.add_argument(
+            "--out",
+            action=_Once,
+            type=_path,
+            required=True,
+            metavar="DIR",
+            help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
+            "outputs are replaced; the manifest feeder-run.json records the run)",
+        )
+    _device_options(sub, "projectile")
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="feeder", description="Analysis of the 152 mm SPH M77 ammunition feeding device."
+        prog="feeder",
+        description="Analysis of the 152 mm SPH M77 ammunition feeding device. SI units, "
+        "elevations in degrees. Every command takes --help.",
+        allow_abbrev=False,
     )
-    commands = parser.add_subparsers(dest="command", required=True)
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    parameters = commands.add_parser("parameters", help="the parameter table with sources")
-    parameters.add_argument("--out", help="Markdown file to write (default: print)")
-    parameters.set_defaults(run=cmd_parameters)
+    def command(name: str, run, help: str) -> argparse.ArgumentParser:
+        sub = commands.add_parser(name, help=help, description=help, allow_abbrev=False)
+        sub.set_defaults(run=run)
+        return sub
 
-    errata = commands.add_parser("errata", help="the paper's errata on the reference cycle")
-    errata.add_argument("--out", help="Markdown file to write (default: print)")
-    errata.set_defaults(run=cmd_errata)
-
-    urdf = commands.add_parser("urdf", help="regenerate the URDF files from the parameters")
-    urdf.add_argument("--out", default="urdf", help="folder to write into (default: urdf)")
-    urdf.set_defaults(run=cmd_urdf)
-
-    def cycle_options(sub: argparse.ArgumentParser) -> None:
-        sub.add_argument(
-            "--elevation", type=float, required=True, help="barrel elevation ε [deg], −4 … 70"
-        )
-        sub.add_argument("--out", required=True, help="output folder")
-        sub.add_argument("--device", choices=sorted(DEVICES), default="projectile")
-        sub.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz]")
-
-    cycle = commands.add_parser("cycle", help="loads and reactions over a feeding cycle")
-    cycle_options(cycle)
+    rate_help = "sample rate [Hz] (default: %(default)g)"
+    cycle = command("cycle", cmd_cycle, "loads and reactions over a feeding cycle")
+    _study_options(cycle)
+    cycle.add_argument(
+        "--rate",
+        action=_Once,
+        type=float,
+        default=1000.0,
+        metavar="HZ",
+        help=f"{rate_help}; the force-rule forward run needs ≥ {FORWARD_MIN_RATE:g} Hz with the "
+        "default stages (below that, add --no-forward); the loads have no minimum",
+    )
     cycle.add_argument(
         "--no-forward",
         dest="forward",
-        action="store_false",
-        help="skip the force-rule forward run (and its forward_* columns)",
+        action=_Once,
+        nargs=0,
+        const=False,
+        default=True,
+        help="skip the force-rule forward run and its forward_* columns (default: run it)",
     )
-    cycle.set_defaults(run=cmd_cycle)
+    cycle.add_argument(
+        "--no-figures",
+        dest="figures",
+        action=_Once,
+        nargs=0,
+        const=False,
+        default=True,
+        help="write the table and the manifest only, for batch use (default: every figure)",
+    )
 
-    kinematics = commands.add_parser("kinematics", help="kinematics of the feeding cycle")
-    cycle_options(kinematics)
-    kinematics.set_defaults(run=cmd_kinematics)
+    kinematics = command("kinematics", cmd_kinematics, "kinematics of the feeding cycle")
+    _study_options(kinematics)
+    kinematics.add_argument(
+        "--rate", action=_Once, type=float, default=1000.0, metavar="HZ", help=rate_help
+    )
 
-    view = commands.add_parser("view", help="animate the cycle in the browser (MeshCat)")
-    view.add_argument("--elevation", type=float, required=True, help="barrel elevation ε [deg]")
-    view.add_argument("--device", choices=sorted(DEVICES), default="projectile")
-    view.add_argument("--html", help="write a self-contained HTML page to this file instead")
-    view.add_argument("--port", type=int, help="web port on 127.0.0.1 (default: a free one)")
-    view.set_defaults(run=cmd_view)
+    view = command("view", cmd_view, "animate the cycle in the browser (MeshCat, 127.0.0.1)")
+    _study_options(view, out=False)
+    view.add_argument(
+        "--html",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="write a self-contained HTML page (opens offline) instead of serving "
+        "(default: serve until Ctrl-C)",
+    )
+    view.add_argument(
+        "--port",
+        action=_Once,
+        type=int,
+        help="web port on 127.0.0.1 (default: a free one)",
+    )
+
+    parameters = command(
+        "parameters", cmd_parameters, "every number of a device with its unit and source"
+    )
+    parameters.add_argument(
+        "--format",
+        action=_Once,
+        choices=("markdown", "toml"),
+        default="markdown",
+        help="a Markdown table, or a parameter file for --params (default: %(default)s)",
+    )
+    _device_options(parameters, "every built-in device; projectile with --format toml")
+    parameters.add_argument(
+        "--out", action=_Once, type=_path, metavar="FILE", help="file to write (default: print)"
+    )
+
+    urdf = command("urdf", cmd_urdf, "regenerate the URDF files from the parameters")
+    urdf.add_argument(
+        "--out",
+        action=_Once,
+        type=_path,
+        default=Path("urdf"),
+        metavar="DIR",
+        help="folder to write <device>_feeder.urdf into (default: %(default)s)",
+    )
+    _device_options(urdf, "every built-in device")
+
+    errata = command("errata", cmd_errata, "the paper's errata on the reference cycle")
+    errata.add_argument(
+        "--out", action=_Once, type=_path, metavar="FILE", help="file to write (default: print)"
+    )
+    _device_options(errata, "projectile")
+
+    sweep = command("sweep", cmd_sweep, "peak loads over elevations × variants × devices")
+    sweep.add_argument(
+        "--out",
+        action=_Once,
+        type=_path,
+        required=True,
+        metavar="DIR",
+        help="output folder, required (a sweep already there is resumed)",
+    )
+    sweep.add_argument(
+        "--grid",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="grid file (TOML): devices, elevations, rate, variants (default: the projectile "
+        "feeder at every degree of −4 … 70)",
+    )
+    sweep.add_argument(
+        "--device",
+        action="append",
+        choices=sorted(DEVICES),
+        help="built-in device, replacing the grid's (repeatable; default: the grid's)",
+    )
+    sweep.add_argument(
+        "--elevations",
+        action=_Once,
+        nargs=3,
+        type=float,
+        metavar=("START", "STOP", "STEP"),
+        help="elevations [deg], STOP included, replacing the grid's (default: -4 70 1)",
+    )
+    sweep.add_argument(
+        "--workers",
+        action=_Once,
+        type=int,
+        help="local processes (default: every core; 1: this process)",
+    )
+    sweep.add_argument(
+        "--scheduler",
+        action=_Once,
+        metavar="tcp://HOST:PORT",
+        help="run the cases on this Dask cluster (pip install 'feeder[cluster]'; default: "
+        "this machine)",
+    )
+    sweep.add_argument(
+        "--parquet",
+        action=_Once,
+        nargs=0,
+        const=True,
+        default=False,
+        help="also write sweep_peaks.parquet (pip install 'feeder[parquet]'; default: CSV only)",
+    )
+    sweep.add_argument(
+        "--no-figures",
+        dest="figures",
+        action=_Once,
+        nargs=0,
+        const=False,
+        default=True,
+        help="the table only (default: one figure of peaks against elevation per device)",
+    )
+
+    analyze = command(
+        "analyze", cmd_analyze, "any closed-chain mechanism: mobility, loads, every reaction"
+    )
+    analyze.add_argument(
+        "model",
+        type=_path,
+        metavar="MODEL",
+        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
+    )
+    analyze.add_argument(
+        "--closures",
+        action=_Once,
+        type=_path,
+        required=True,
+        metavar="FILE",
+        help="closure file (TOML: cut frames and types, actuated and independent joints), "
+        "required; see docs/MECHANISMS.md",
+    )
+    analyze.add_argument(
+        "--motion",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="motion table (CSV: t and q_<joint> of the independent joints), required "
+        "unless --check (default: none)",
+    )
+    analyze.add_argument(
+        "--out",
+        action=_Once,
+        type=_path,
+        metavar="DIR",
+        help="output folder for loads.csv, summary.txt and the figures, required unless "
+        "--check (default: none)",
+    )
+    analyze.add_argument(
+        "--check",
+        action=_Once,
+        nargs=0,
+        const=True,
+        default=False,
+        help="print the mobility report at the model's reference pose instead (default: off)",
+    )
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (2 for bad input)."""
-    args = _parser().parse_args(argv)
+    """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     try:
+        args = _parser().parse_args(argv)
+        args.argv = argv
         return args.run(args)
     except FeederError as exc:
         print(f"feeder: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("feeder: interrupted (Ctrl-C); no output was left half-written", file=sys.stderr)
+        return INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -14,6 +14,10 @@ class InputError(FeederError, ValueError):
     """A numeric input is out of its range, not finite, or of the wrong shape."""
 
 
+class OutputBusyError(FeederError):
+    """Another run holds the lock of the output folder (:func:`feeder.files.exclusive_lock`)."""
+
+
 class ElevationError(InputError):
     """An elevation outside the device's range [−4°, 70°]."""
 

@@ -1,20 +1,27 @@
-"""Writing files so that nothing half-written ever looks complete.
+"""Writing files so that nothing half-written ever looks complete, and one writer at a time.
 
 Every output is written to a temporary name in its own folder and renamed into place only when
-it is complete (a rename within one folder is atomic on POSIX and Windows): a run that fails or
-is interrupted leaves the previous file, or none, never a truncated one. This module imports
-nothing from feeder but its exceptions, so every layer may use it.
+it is complete (a rename within one folder is atomic on POSIX): a run that fails or is
+interrupted leaves the previous file, or none, never a truncated one. A folder that a run fills
+is locked for that run (:func:`exclusive_lock`, the kernel's ``flock``: released by the kernel
+when the process ends, however it ends, so a killed run leaves no stale lock). This module
+imports nothing from feeder but its exceptions, so every layer may use it.
 """
 
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-from .exceptions import InputError
+from .exceptions import InputError, OutputBusyError
+
+LOCK_ATTEMPTS = 3
+"""Tries to take a lock whose file the previous holder removed between our open and our lock
+(each such race needs another run to finish in that instant: three tries are plenty)."""
 
 
 @contextlib.contextmanager
@@ -48,6 +55,52 @@ def write_text(path: str | Path, text: str) -> Path:
     with atomic_path(path) as temporary:
         temporary.write_text(text, encoding="utf-8")
     return path
+
+
+@contextlib.contextmanager
+def exclusive_lock(path: str | Path, what: str) -> Iterator[Path]:
+    """Hold an exclusive lock on the file ``path`` (created) for the block; removed after it.
+
+    Args:
+        path: The lock file.
+        what: What the lock guards, for the message (e.g. "the output folder results").
+
+    Raises:
+        OutputBusyError: Another process holds the lock.
+        InputError: The lock file cannot be created.
+    """
+    path = Path(path)
+    for _ in range(LOCK_ATTEMPTS):
+        try:
+            handle = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise InputError(f"cannot lock {what}: {exc.strerror or exc}") from exc
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(handle)
+            raise OutputBusyError(
+                f"another feeder run is writing into {what} (it holds {path}); wait for it to "
+                "finish or choose another folder"
+            ) from None
+        try:
+            current = os.stat(path)
+        except FileNotFoundError:
+            current = None
+        opened = os.fstat(handle)
+        if current is not None and (current.st_ino, current.st_dev) == (
+            opened.st_ino,
+            opened.st_dev,
+        ):
+            break
+        os.close(handle)  # the previous holder removed this file as we opened it: again
+    else:
+        raise OutputBusyError(f"cannot lock {what}: other runs keep replacing {path}")
+    try:
+        yield path
+    finally:
+        path.unlink(missing_ok=True)  # before unlocking: a waiting opener then sees a new file
+        os.close(handle)
 
 
 def _umask() -> int:

@@ -10,7 +10,9 @@ its exceptions, so every layer may use it.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable
+from pathlib import Path
 
 import numpy as np
 
@@ -25,8 +27,8 @@ def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.n
     """Return ``value`` as a float array, or raise :class:`InputError` if it is not numeric or any
     entry is NaN/inf.
 
-    Text is refused even where numpy would parse it (``"0.5"``): a number typed as a string is a
-    mistake of the caller's, not a number.
+    Text is refused even where numpy would parse it (``"0.5"``), and so are truth values
+    (``True`` is not 1 m): each is a mistake of the caller's, not a number.
 
     Args:
         name: What the value is, for the message.
@@ -38,8 +40,11 @@ def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.n
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{name} must be numeric, got {value!r}") from exc
-    if np.asarray(value).dtype.kind in "USO" and array.size:
+    kind = np.asarray(value).dtype.kind
+    if kind in "USO" and array.size:
         raise InputError(f"{name} must be numeric, got {value!r}")
+    if kind == "b":
+        raise InputError(f"{name} must be numeric, got the truth value(s) {value!r}")
     if not np.all(np.isfinite(array)):
         bad = array.flat[int(np.argmin(np.isfinite(array).ravel()))]
         raise InputError(f"{name} must be finite, got {bad!r}")
@@ -105,6 +110,16 @@ def check_flags(name: str, value: np.ndarray, count: int) -> np.ndarray:
     if not np.all((flags == 0) | (flags == 1)):
         raise InputError(f"{name} must be 0 or 1, got {np.unique(flags)}")
     return flags.astype(int)
+
+
+def check_path(name: str, value: str | os.PathLike) -> Path:
+    """``value`` as a Path if it names a file or folder: text or a path, not empty nor blank
+    (an empty path would silently mean the current folder)."""
+    if not isinstance(value, str | os.PathLike):
+        raise InputError(f"{name} must be a path, got {value!r}")
+    if not str(value).strip():
+        raise InputError(f"{name} must name a file or folder, got an empty path")
+    return Path(value)
 
 
 def first_outside(values: np.ndarray, low: float, high: float) -> int | None:

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import argparse
+import hashlib
+import json
 import math
 
+import numpy as np
 import pytest
 
-from feeder.__main__ import main
+from feeder.__main__ import _parser, main
 from feeder.study.csv import read_csv
 
 from .conftest import REPO
@@ -195,3 +199,299 @@ def test_cycle_command_low_rate_forward_run_refused_or_skipped(tmp_path, capsys)
     table = read_csv(tmp_path / "cycle.csv")
     assert "piston_force" in table and "forward_q_phi3" not in table
     assert "forward run" in capsys.readouterr().out
+
+
+# -- issue 11: every option once, every command's defaults stated, nothing created on failure --
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        ["cycle", "--elevation", "10", "--elevation", "20", "--out", "{out}"],
+        ["cycle", "--elevation", "10", "--out", "{out}", "--rate", "500", "--rate", "1000"],
+        ["cycle", "--elevation", "10", "--out", "{out}", "--no-forward", "--no-forward"],
+        ["cycle", "--elevation", "10", "--out", "{out}", "--out", "{out}2"],
+        [
+            "kinematics",
+            "--elevation",
+            "10",
+            "--out",
+            "{out}",
+            "--device",
+            "charge",
+            "--device",
+            "charge",
+        ],
+        ["view", "--elevation", "10", "--port", "8000", "--port", "8001"],
+        ["view", "--elevation", "10", "--html", "{out}.html", "--html", "{out}2.html"],
+        ["parameters", "--format", "toml", "--format", "markdown"],
+        ["urdf", "--out", "{out}", "--out", "{out}2"],
+        ["errata", "--out", "{out}", "--out", "{out}2"],
+    ],
+    ids=lambda a: " ".join(x for x in a if x.startswith("--") or x.isalpha()),
+)
+def test_repeated_option_is_refused(tmp_path, capsys, arguments):
+    """argparse would keep the last value (``--elevation 10 --elevation 20`` ran at 20°)."""
+    out = str(tmp_path / "out")
+    with pytest.raises(SystemExit) as info:
+        main([a.replace("{out}", out) for a in arguments])
+    assert info.value.code == 2
+    assert "given twice" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        ["cycle", "--elevation", "10", "--out", ""],
+        ["kinematics", "--elevation", "10", "--out", " "],
+        ["view", "--elevation", "10", "--html", ""],
+        ["parameters", "--out", ""],
+        ["errata", "--out", ""],
+        ["urdf", "--out", ""],
+        ["cycle", "--elevation", "10", "--out", "x", "--params", ""],
+    ],
+)
+def test_empty_path_is_refused(tmp_path, monkeypatch, capsys, arguments):
+    """``--out ""`` used to write into the current folder."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as info:
+        main(arguments)
+    assert info.value.code == 2
+    assert "empty" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["--elevation", "80"], "outside"),
+        (["--elevation", "10", "--rate", "nan"], "finite"),
+        (["--elevation", "10", "--rate", "-5"], "positive"),
+        (["--elevation", "10", "--params", "missing.toml"], "not found"),
+        (["--elevation", "10", "--rate", "100"], "--no-forward"),  # fails after computing
+    ],
+)
+def test_failed_run_creates_no_output_folder(tmp_path, monkeypatch, capsys, arguments, message):
+    monkeypatch.chdir(tmp_path)
+    assert main(["cycle", "--out", "results", *arguments]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_folder_of_other_files_is_refused(tmp_path, capsys):
+    (tmp_path / "thesis.tex").write_text("mine")
+    assert main(["kinematics", "--elevation", "10", "--out", str(tmp_path), "--rate", "50"]) == 2
+    assert "no feeder run wrote" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["thesis.tex"]
+
+
+def test_reused_folder_holds_only_the_last_runs_outputs(tmp_path):
+    """A cycle run writes 13 figures, a kinematics run 2: after both, the folder holds the
+    kinematics outputs and its manifest, nothing of the first run."""
+    out = tmp_path / "results"
+    common = ["--elevation", "10", "--out", str(out), "--rate", "100"]
+    assert main(["cycle", *common, "--no-forward"]) == 0
+    first = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert len(first["files"]) == 14
+    assert main(["kinematics", *common]) == 0
+    second = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert second["complete"] and second["command"].startswith("feeder kinematics")
+    assert sorted(p.name for p in out.iterdir()) == sorted([*second["files"], "feeder-run.json"])
+    assert len(second["files"]) == 3
+    for name, digest in second["files"].items():
+        assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest
+    assert "forward_q_phi3" not in read_csv(out / "cycle.csv")  # the kinematic table
+
+
+def parser_actions(parser):
+    """(sub-command name, action) for every option of every sub-command."""
+    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    for name, sub in commands.choices.items():
+        for action in sub._actions:
+            if action.option_strings and action.dest != "help":
+                yield name, action
+
+
+def test_every_option_states_its_default_or_that_it_is_required():
+    for name, action in parser_actions(_parser()):
+        text = action.help % {"default": action.default}
+        assert "default" in text or (action.required and "required" in text), (name, action)
+
+
+@pytest.mark.parametrize(
+    "command", ["cycle", "kinematics", "view", "parameters", "urdf", "errata"]
+)
+def test_help_prints_and_writes_nothing(tmp_path, monkeypatch, capsys, command):
+    """``--help`` once wrote a file named ``--help`` (feeder.errata)."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as info:
+        main([command, "--help"])
+    assert info.value.code == 0
+    assert "default" in capsys.readouterr().out
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cycle_help_states_the_default_and_minimum_rate(capsys):
+    with pytest.raises(SystemExit):
+        main(["cycle", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "(default: 1000)" in text and "≥ 500 Hz" in text and "--no-forward" in text
+
+
+def test_unknown_device_in_view_is_an_argparse_error(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["view", "--elevation", "10", "--device", "mortar"])
+    assert info.value.code == 2 and "mortar" in capsys.readouterr().err
+
+
+def test_device_and_params_are_exclusive(tmp_path, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["parameters", "--device", "charge", "--params", str(tmp_path / "p.toml")])
+    assert info.value.code == 2 and "not allowed with" in capsys.readouterr().err
+
+
+# -- issue 11: the parameter file on every command --
+
+
+@pytest.fixture
+def heavier_file(tmp_path):
+    """``feeder parameters --format toml`` output with the payload 8.7 kg heavier."""
+    path = tmp_path / "edited.toml"
+    assert main(["parameters", "--format", "toml", "--out", str(path)]) == 0
+    text = path.read_text(encoding="utf-8")
+    assert text.count("\nmass = 43.5  # [kg]\n") == 1
+    path.write_text(text.replace("\nmass = 43.5  #", "\nmass = 52.2  #"), encoding="utf-8")
+    return path
+
+
+HEAVIER_KG = 52.2 - 43.5
+STATIC_MOMENT_ROUND_OFF = 1e-9
+"""[N·m] Moments of ~1e2–1e3 N·m from the inverse dynamics at a rest instant, differenced:
+round-off of the solves (~1e-12 relative), far below a gram of payload (~1e-3 N·m)."""
+
+
+def test_params_file_changes_the_cycle_results(tmp_path, heavier_file):
+    """``feeder cycle --params edited.toml`` runs the edited device. Independent check: at the
+    rest instant t = 2 s (v = a = 0, payload gripped) the arm is in static balance about its
+    pivot A, so the extra payload weight's moment about A is carried by the pin force alone:
+    Δ[(P − A) × F_pin]_z = Δm g (x_payload − x_A)."""
+    from feeder.device import PROJECTILE_FEEDER as p
+
+    runs = {}
+    for name, extra in (("builtin", []), ("edited", ["--params", str(heavier_file)])):
+        out = tmp_path / name
+        assert (
+            main(["cycle", "--elevation", "30", "--out", str(out), "--rate", "500", *extra]) == 0
+        )
+        runs[name] = read_csv(out / "cycle.csv")
+        runs[name + "_manifest"] = json.loads((out / "feeder-run.json").read_text("utf-8"))
+    base, heavy = runs["builtin"], runs["edited"]
+    assert (
+        runs["builtin_manifest"]["parameters_sha256"]
+        != (runs["edited_manifest"]["parameters_sha256"])
+    )
+    for name in ("q_phi1", "q_r2", "q_phi3", "q_phi4", "projectile_x"):  # same motion
+        assert np.array_equal(base[name], heavy[name]), name
+    k = int(np.flatnonzero(base["t"] == 2.0)[0])
+
+    def pin_moment(table):
+        phi3 = table["q_phi3"][k]
+        lever = p.d3 * np.array([math.cos(phi3), math.sin(phi3)])  # P − A
+        force = np.array([table["piston_arm_force_x"][k], table["piston_arm_force_y"][k]])
+        return lever[0] * force[1] - lever[1] * force[0]
+
+    weight_moment = HEAVIER_KG * 9.81 * (base["projectile_x"][k] - p.L1)
+    assert pin_moment(heavy) - pin_moment(base) == pytest.approx(
+        weight_moment, abs=STATIC_MOMENT_ROUND_OFF
+    )
+    assert abs(weight_moment) > 10.0  # the check is not trivially zero
+
+
+def test_params_file_on_every_other_command(tmp_path, capsys, heavier_file):
+    from feeder.device.parameter_file import parameters_sha256, read_parameters
+
+    params = ["--params", str(heavier_file)]
+    out = tmp_path / "k"
+    assert (
+        main(["kinematics", "--elevation", "30", "--out", str(out), "--rate", "50", *params]) == 0
+    )
+    manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert manifest["parameters_sha256"] == parameters_sha256(read_parameters(heavier_file))
+    assert main(["parameters", *params]) == 0
+    assert "| payload.mass | 52.2 | kg |" in capsys.readouterr().out
+    assert main(["urdf", "--out", str(tmp_path), *params]) == 0
+    assert '<mass value="52.2" />' in (tmp_path / "projectile_feeder.urdf").read_text()
+    capsys.readouterr()
+    assert main(["parameters", "--format", "toml", *params]) == 0
+    assert capsys.readouterr().out == heavier_file.read_text(encoding="utf-8")
+    page = tmp_path / "view.html"
+    assert main(["view", "--elevation", "30", "--html", str(page), *params]) == 0
+    assert page.stat().st_size > 500_000
+
+
+def test_bad_params_file_names_the_field(tmp_path, capsys, heavier_file):
+    text = heavier_file.read_text(encoding="utf-8").replace("d3 = 0.19", 'd3 = "0.19"')
+    heavier_file.write_text(text, encoding="utf-8")
+    out = tmp_path / "results"
+    arguments = ["cycle", "--elevation", "10", "--out", str(out), "--params", str(heavier_file)]
+    assert main(arguments) == 2
+    err = capsys.readouterr().err
+    assert "d3 must be a number [m]" in err and str(heavier_file) in err
+    assert not out.exists()
+
+
+def test_urdf_of_one_device(tmp_path):
+    assert main(["urdf", "--out", str(tmp_path / "new"), "--device", "charge"]) == 0
+    assert [p.name for p in (tmp_path / "new").iterdir()] == ["charge_feeder.urdf"]
+    shipped = (REPO / "urdf" / "charge_feeder.urdf").read_text()
+    assert (tmp_path / "new" / "charge_feeder.urdf").read_text() == shipped
+
+
+EXAMPLE = REPO / "examples" / "four_bar"
+
+
+def test_analyze_check_prints_the_mobility_report(capsys):
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    assert main(["analyze", *arguments, "--check"]) == 0
+    out = capsys.readouterr().out
+    assert "actual mobility 3 − 2 = 1" in out and "admissible independent joints" in out
+
+
+def test_analyze_writes_the_loads_table_and_figures(tmp_path, capsys):
+    out = tmp_path / "four_bar"
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    arguments += ["--motion", str(EXAMPLE / "motion.csv"), "--out", str(out)]
+    assert main(["analyze", *arguments]) == 0
+    table = read_csv(out / "loads.csv")
+    assert table["t"].size == 101 and "tau_crank_joint" in table
+    assert "peak actuator load crank_joint" in (out / "summary.txt").read_text(encoding="utf-8")
+    for name in ("actuator_loads.png", "joint_reactions.png", "closure_forces.png"):
+        assert (out / name).stat().st_size > 10_000
+    assert "wrote" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        ([], "give --motion FILE and --out DIR"),
+        (["--motion", "missing.csv", "--out", "x"], "motion file not found"),
+    ],
+)
+def test_analyze_bad_input_exits_with_message(tmp_path, capsys, extra, message):
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    extra = [str(tmp_path / x) if x.endswith((".csv", "x")) and x != "--out" else x for x in extra]
+    assert main(["analyze", *arguments, *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "x").exists()  # a failed analysis creates no output folder
+
+
+def test_sweep_command_writes_its_table(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    arguments = ["--out", str(out), "--elevations", "60", "70", "10", "--workers", "1"]
+    assert main(["sweep", *arguments, "--no-figures"]) == 0
+    table = (out / "sweep_peaks.csv").read_text(encoding="utf-8").splitlines()
+    assert len(table) == 3  # a header and the two elevations
+    assert "wrote" in capsys.readouterr().out

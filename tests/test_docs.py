@@ -33,3 +33,10 @@ def test_documented_columns_exist():
             if name.endswith(("_joint", "_pin")) or name in ("frame", "cylinder", "piston"):
                 continue  # URDF names in the coordinates table
             assert name in names, name
+
+
+def test_mechanisms_guide_python_example_runs(monkeypatch):
+    guide = (REPO / "docs" / "MECHANISMS.md").read_text(encoding="utf-8")
+    block = re.search(r"## From Python\n+```python\n(.*?)```", guide, flags=re.S).group(1)
+    monkeypatch.chdir(REPO)  # the example's paths are relative to the repository
+    exec(compile(block, "docs/MECHANISMS.md", "exec"), {})

@@ -1,5 +1,6 @@
 """The sampled feeding cycle: the prescribed laws (:mod:`feeder.motion.laws`), the closed loop
-(:mod:`feeder.device.loop`) and the payload's path from Pinocchio's forward kinematics.
+(:mod:`feeder.device.loop`) and the payload's path from the URDF model's forward kinematics
+(:mod:`feeder.chain.kinematics`, every sample at once).
 """
 
 from __future__ import annotations
@@ -7,8 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
+from ..chain.kinematics import cross, frame_placements, tree_motion
 from ..device.feeder import Feeder
 from ..device.loop import solve_loop, transmission_angle
 from ..validation import check_elevation
@@ -53,30 +54,30 @@ def payload_kinematics(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Payload CG position [m], velocity [m/s], axis (unit, nose first) and closure gap [m].
 
-    Pinocchio's forward kinematics of the URDF at each sample.
+    Forward kinematics of the URDF's model, all samples at once
+    (:func:`~feeder.chain.kinematics.tree_motion`: no per-sample Python call).
 
     Args:
         feeder: The device.
         q, v: Paper-order coordinates and velocities, shape (N, 4).
 
     Returns:
-        Position, velocity and axis, each (N, 3), world frame; closure gap ‖p_a − p_b‖ (N,).
+        Position, velocity and axis, each (N, 3), world frame; closure gap ‖p_a − p_b‖ (N,)
+        over every closure.
     """
     chain = feeder.chain
-    model, data = chain.model, chain.data
-    payload_id = feeder.frame_id("projectile")
-    count = q.shape[0]
-    position, velocity, axis = (np.empty((count, 3)) for _ in range(3))
-    residual = np.empty(count)
-    q_pin, v_pin = feeder.to_pinocchio(q), feeder.to_pinocchio(v)
-    for i in range(count):
-        pin.forwardKinematics(model, data, q_pin[i], v_pin[i])
-        placement = pin.updateFramePlacement(model, data, payload_id)
-        position[i] = placement.translation
-        axis[i] = placement.rotation[:, 1]
-        velocity[i] = pin.getFrameVelocity(model, data, payload_id, pin.LOCAL_WORLD_ALIGNED).linear
-        residual[i] = np.linalg.norm(chain.placed_residual())
-    return position, velocity, axis, residual
+    model = chain.model
+    motion = tree_motion(model, feeder.to_pinocchio(q), feeder.to_pinocchio(v))
+    payload = feeder.frame_id("projectile")
+    rotation, position = frame_placements(model, motion, payload)
+    joint = model.frames[payload].parentJoint
+    velocity = motion.velocity[joint] + cross(motion.omega[joint], position - motion.origin[joint])
+    gaps = [
+        frame_placements(model, motion, a)[1] - frame_placements(model, motion, b)[1]
+        for a, b in chain.frame_ids
+    ]
+    residual = np.linalg.norm(np.hstack(gaps), axis=1)
+    return position, velocity, rotation[:, :, 1], residual
 
 
 def feeding_cycle(
@@ -86,7 +87,7 @@ def feeding_cycle(
 
     The independent coordinates follow :func:`~feeder.motion.laws.prescribed_motion`; φ1, r2
     come from the closed form (:func:`~feeder.device.loop.solve_loop`); the payload's position,
-    velocity and axis and the closure residual come from Pinocchio's forward kinematics of the
+    velocity and axis and the closure residual come from the forward kinematics of the
     URDF.
 
     Raises:

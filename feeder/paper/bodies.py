@@ -49,6 +49,8 @@ def coordinates(name: str, value: np.ndarray) -> np.ndarray:
 def grip_weight(gripped: bool | np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     """The grip flags (bool or 0/1, broadcast to ``shape``) as a float array: 1 where the
     forearm holds the payload (body 5)."""
+    if isinstance(gripped, bool | np.bool_) or np.asarray(gripped).dtype.kind == "b":
+        gripped = np.asarray(gripped, dtype=float)  # truth values are flags here
     weight = check_finite("gripped", gripped)
     if not np.all((weight == 0.0) | (weight == 1.0)):
         raise InputError(f"gripped must be 0/1 (or bool), got {gripped!r}")

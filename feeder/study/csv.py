@@ -13,7 +13,8 @@ from ..files import atomic_path
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
     """Write equal-length, finite columns as CSV with a header row, atomically.
 
-    SI units; 17 significant digits, so that reading the file back gives the same floats.
+    SI units; each number as Python's ``repr`` of the float: the shortest text that reads back
+    as the same float (``0.3``, where 17 significant digits write ``0.29999999999999999``).
 
     Args:
         path: File to write (its folder is created).
@@ -35,10 +36,9 @@ def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    rows = "\n".join(",".join(map(repr, row)) for row in table.tolist())
     with atomic_path(path) as temporary:
-        np.savetxt(
-            temporary, table, delimiter=",", header=",".join(columns), comments="", fmt="%.17g"
-        )
+        temporary.write_text(f"{','.join(columns)}\n{rows}\n", encoding="utf-8")
     return path
 
 

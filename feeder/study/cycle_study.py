@@ -14,6 +14,7 @@ from ..motion.laws import CycleSpec
 from ..paper.lagrange import LagrangeLoads, inverse_dynamics
 from .columns import cycle_columns
 from .peaks import Peak, cycle_peaks
+from .summary import peak_lines, peak_notes
 
 
 @dataclass(frozen=True)
@@ -54,14 +55,8 @@ class CycleStudy:
             f"{kinematics.t.size} samples over {kinematics.t[-1]:.3f} s"
         ]
         peaks = self.peaks()
-        width = max(len(peak.name) for peak in peaks)
-        for peak in peaks:
-            value = (
-                f"{peak.value / 1e5:12.3f} bar"
-                if peak.unit == "Pa"
-                else (f"{peak.value:12.3f} {peak.unit}")
-            )
-            lines.append(f"  peak {peak.name:<{width}} {value}  at t = {peak.time:.3f} s")
+        lines += peak_lines(peaks)
+        lines += peak_notes(self.feeder.params, peaks)
         if d.forward is None:
             lines.append("  forward run (force rule): skipped")
         else:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from ..device.feeder import load_feeder
+from ..device.parameters import FeederParameters
 from ..motion.cycle import feeding_cycle
 from ..paper.errata import ReferenceMotion, errata_markdown
 
@@ -12,10 +13,11 @@ REFERENCE_ELEVATION = math.radians(-4.0)
 """Elevation [rad] of the reference cycle: the longest arm travel (94°), paper Fig. 4."""
 
 
-def paper_errata() -> str:
-    """The published errata table as Markdown, measured on the projectile feeder's cycle at
-    −4° with the default timing (:func:`feeder.paper.errata.errata_markdown`)."""
-    feeder = load_feeder("projectile")
+def paper_errata(device: str | FeederParameters = "projectile") -> str:
+    """The published errata table as Markdown, measured on a device's cycle at −4° with the
+    default timing (:func:`feeder.paper.errata.errata_markdown`): by default the projectile
+    feeder (``ERRATA.md``), or a built-in device's name or a parameter set."""
+    feeder = load_feeder(device)
     cycle = feeding_cycle(feeder, REFERENCE_ELEVATION)
     caption = (
         f"the {feeder.params.name} feeder, elevation {math.degrees(cycle.elevation):g}°, stage "

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from ..device.parameters import FeederParameters, LinkInertia
 from ..exceptions import InputError
-from ..validation import check_finite
+from ..validation import check_number
 
 
 def retrofit(
@@ -28,9 +26,13 @@ def retrofit(
     Raises:
         InputError: A factor that is not finite and positive.
     """
-    factors = check_finite("retrofit factors", (mass_factor, length_factor))
-    if np.any(factors <= 0.0):
-        raise InputError(f"retrofit factors must be positive, got {tuple(factors)}")
+    mass_factor = check_number("retrofit mass factor", mass_factor)
+    length_factor = check_number("retrofit length factor", length_factor)
+    if mass_factor <= 0.0 or length_factor <= 0.0:
+        raise InputError(
+            "retrofit factors must be positive, got "
+            f"mass ×{mass_factor:g}, length ×{length_factor:g}"
+        )
     old = params.payload
     ixx, iyy, izz = old.moments
     transverse = mass_factor * length_factor**2

@@ -1,12 +1,18 @@
-"""Text summaries for the command line."""
+"""Text summaries for the command line: the kinematics, and the peaks of a cycle study with
+notes on those that look implausible but follow from the parameters."""
 
 from __future__ import annotations
+
+import textwrap
 
 import numpy as np
 
 from ..device.feeder import Feeder
 from ..device.loop import arm_travel, required_stroke
+from ..device.parameters import FeederParameters
 from ..motion.cycle import CycleKinematics
+from .columns import VECTORS
+from .peaks import Peak
 
 
 def kinematics_summary(feeder: Feeder, cycle: CycleKinematics) -> str:
@@ -26,3 +32,65 @@ def kinematics_summary(feeder: Feeder, cycle: CycleKinematics) -> str:
             f"  max closure residual: {cycle.closure_residual.max():.2e} m",
         ]
     )
+
+
+IMPLAUSIBLE_INERTIA_RATIO = 10.0
+"""A payload whose largest moment of inertia is under a tenth of a uniform solid cylinder's of
+its mass, length and calibre (about a transverse axis) gets a note under the grip moment's
+peak: a real shell's or charge's transverse moment is of the order of that cylinder's (a thin
+nose or a heavy base change it by tens of per cent, not tenfold)."""
+
+WIDTH = 99
+"""Width [characters] to which the summary's notes are wrapped."""
+
+
+def peak_lines(peaks: list[Peak]) -> list[str]:
+    """One line per peak: max |x| of a signed load with its sign there, max ‖x‖ of a vector
+    (pressures in bar)."""
+    vectors = {name for name, *_ in VECTORS}
+    width = max(len(peak.name) for peak in peaks)
+    lines = _wrapped(
+        "peaks over the cycle: max |x| of each load and drive, with the sign it has there; "
+        "max ‖x‖ of each joint reaction (signs: docs/REFERENCE.md)",
+        "  ",
+    )
+    for peak in peaks:
+        value, unit = (peak.value / 1e5, "bar") if peak.unit == "Pa" else (peak.value, peak.unit)
+        if peak.name in vectors:
+            size, sign = f"max ‖x‖ = {abs(value):10.3f}", ""
+        else:
+            size, sign = f"max |x| = {abs(value):10.3f}", _sign(value)
+        lines.append(
+            f"  peak {peak.name:<{width}} {size} {unit:<3} {sign:<8}  at t = {peak.time:.3f} s"
+        )
+    return lines
+
+
+def peak_notes(params: FeederParameters, peaks: list[Peak]) -> list[str]:
+    """Notes that explain peaks which look implausible but follow from the parameters."""
+    peak = {p.name: p for p in peaks}
+    payload = params.payload
+    radius, length = params.payload_diameter / 2.0, params.payload_length
+    uniform = payload.mass * (3.0 * radius**2 + length**2) / 12.0
+    largest = max(payload.moments)
+    if "grip_moment" not in peak or uniform < IMPLAUSIBLE_INERTIA_RATIO * largest:
+        return []
+    return _wrapped(
+        f"note: grip_moment peaks at only {abs(peak['grip_moment'].value):.3g} N·m because "
+        f"the {payload.mass:g} kg {params.payload_name}'s moments of inertia are tiny: at most "
+        f"{largest:.3g} kg·m² ({payload.source}), where a uniform solid cylinder of its size "
+        f"({params.payload_diameter:g} m × {length:g} m) has {uniform:.3g} kg·m² about a "
+        f"transverse axis, {uniform / largest:.0f}× more. The tray's moment about the payload's "
+        "centre of gravity is I·α + ω × I·ω: it scales with these moments (PARAMETERS.md).",
+        "  ",
+    )
+
+
+def _wrapped(text: str, indent: str) -> list[str]:
+    return textwrap.wrap(
+        text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  ", break_on_hyphens=False
+    )
+
+
+def _sign(value: float) -> str:
+    return "positive" if value > 0.0 else "negative" if value < 0.0 else "zero"

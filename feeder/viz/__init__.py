@@ -1,12 +1,40 @@
 """Figures and the 3-D viewer. Every figure function returns a
-:class:`matplotlib.figure.Figure` (saving is the caller's: :func:`feeder.outputs.save_figure`);
-the MeshCat viewer, served on 127.0.0.1 only, is :mod:`feeder.viz.viewer` (imported on demand:
-it pulls in MeshCat)."""
+:class:`matplotlib.figure.Figure`; :mod:`feeder.viz.report` draws a study's figures in worker
+processes and writes them. The MeshCat viewer, served on 127.0.0.1 only, is
+:mod:`feeder.viz.viewer` (imported on demand: it pulls in MeshCat).
 
-from .comparisons import cross_check_figure, cycles_figure, sweep_figure
-from .drawings import loop_figure, side_view_figure, workspace_figure
-from .figures import CYCLE_FIGURES, cycle_figures, mark_stages, position_figure, time_history
-from .report import kinematics_figures, study_figures
+The names below load on first use, so that importing :mod:`feeder.viz.report` (the figures'
+writers) does not import matplotlib in a process that only ships data to the workers.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .catalog import CYCLE_FIGURES
+    from .comparisons import cross_check_figure, cycles_figure, sweep_figure
+    from .drawings import loop_figure, side_view_figure, workspace_figure
+    from .figures import cycle_figures, mark_stages, position_figure, time_history
+    from .report import kinematics_figures, study_figures
+
+_SOURCES = {
+    "cross_check_figure": ".comparisons",
+    "cycles_figure": ".comparisons",
+    "sweep_figure": ".comparisons",
+    "loop_figure": ".drawings",
+    "side_view_figure": ".drawings",
+    "workspace_figure": ".drawings",
+    "CYCLE_FIGURES": ".catalog",
+    "cycle_figures": ".figures",
+    "mark_stages": ".figures",
+    "position_figure": ".figures",
+    "time_history": ".figures",
+    "kinematics_figures": ".report",
+    "study_figures": ".report",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "CYCLE_FIGURES",
@@ -23,3 +51,16 @@ __all__ = [
     "time_history",
     "workspace_figure",
 ]
+
+
+def __getattr__(name: str):
+    """Import a public name on first use (PEP 562) and keep it."""
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -3,12 +3,15 @@
 MeshCat 0.3.2's tornado server binds every interface (0.0.0.0 and [::]) unless told otherwise.
 Here its web sockets are bound to the loopback address before tornado starts, so a busy port
 fails cleanly (:class:`~feeder.exceptions.ViewerPortError`) and nothing else is ever bound; the
-ZMQ port is on 127.0.0.1 already. The server runs on a background thread.
+ZMQ port is on 127.0.0.1 already. The server runs on a background thread. Its page
+(``/static/``) is MeshCat's with :attr:`MeshcatServer.overlay` inserted (the legend and player of
+:mod:`feeder.viz._overlay`); every other file is MeshCat's own.
 """
 
 from __future__ import annotations
 
 import asyncio
+import os
 import queue
 import socket
 import threading
@@ -19,6 +22,7 @@ import tornado.web
 from meshcat.servers import zmqserver
 
 from ..exceptions import FeederError, ViewerPortError
+from ._overlay import with_overlay
 
 LOOPBACK = "127.0.0.1"
 """The only address the viewer's web server listens on."""
@@ -39,17 +43,35 @@ class _LoopbackApplication(tornado.web.Application):
         return self.http_server
 
 
+class _PageHandler(tornado.web.RequestHandler):
+    """MeshCat's viewer page with the server's overlay inserted before ``</body>``."""
+
+    def initialize(self, server: MeshcatServer) -> None:
+        self._server = server
+
+    def get(self) -> None:
+        with open(
+            os.path.join(zmqserver.VIEWER_ROOT, zmqserver.VIEWER_HTML), encoding="utf-8"
+        ) as f:
+            page = f.read()
+        self.set_header("Content-Type", "text/html; charset=utf-8")
+        self.set_header("Cache-Control", "no-store")
+        self.write(with_overlay(page, self._server.overlay))
+
+
 class _LoopbackBridge(zmqserver.ZMQWebSocketBridge):
     """MeshCat's ZMQ ↔ websocket bridge serving on pre-bound loopback sockets."""
 
-    def __init__(self, sockets: list[socket.socket]):
+    def __init__(self, sockets: list[socket.socket], server: MeshcatServer):
         self._sockets = sockets
+        self._server = server
         super().__init__(host=LOOPBACK, port=sockets[0].getsockname()[1])
 
     def make_app(self) -> _LoopbackApplication:
         return _LoopbackApplication(
             self._sockets,
             [
+                (r"/static/(?:index\.html)?", _PageHandler, {"server": self._server}),
                 (
                     r"/static/(.*)",
                     zmqserver.StaticFileHandlerNoCache,
@@ -64,6 +86,8 @@ class MeshcatServer:
     """A MeshCat server on a background thread, its web port on 127.0.0.1:``port``."""
 
     def __init__(self, port: int | None):
+        self.overlay = ""
+        """HTML inserted into the viewer page (set it before a browser loads the page)."""
         try:
             sockets = tornado.netutil.bind_sockets(port or 0, address=LOOPBACK)
         except OSError as exc:
@@ -74,7 +98,7 @@ class MeshcatServer:
         self.port: int = sockets[0].getsockname()[1]
         started: queue.Queue = queue.Queue()
         self._thread = threading.Thread(
-            target=self._run, args=(sockets, started), name="meshcat-server", daemon=True
+            target=self._run, args=(sockets, started, self), name="meshcat-server", daemon=True
         )
         self._thread.start()
         bridge = started.get()
@@ -85,11 +109,11 @@ class MeshcatServer:
         self.web_url: str = bridge.web_url
 
     @staticmethod
-    def _run(sockets: list[socket.socket], started: queue.Queue) -> None:
+    def _run(sockets: list[socket.socket], started: queue.Queue, server: MeshcatServer) -> None:
         loop = asyncio.new_event_loop()
         asyncio.set_event_loop(loop)
         try:
-            bridge = _LoopbackBridge(sockets)
+            bridge = _LoopbackBridge(sockets, server)
         except Exception as exc:  # reported to the starting thread
             for sock in sockets:
                 sock.close()

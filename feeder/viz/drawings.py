@@ -1,18 +1,30 @@
 """Drawings of the device: its side view at several poses, the payload's workspace (paper
-Fig. 4) and the loop's stroke and transmission angle over the elevation range. Every function
-returns a :class:`matplotlib.figure.Figure`; saving it is the caller's."""
+Fig. 4) and the loop's stroke and transmission angle over the elevation range, lengths in mm
+and angles in degrees. Every function returns a :class:`matplotlib.figure.Figure`; writing it
+is :mod:`feeder.viz.report`'s."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
-import pinocchio as pin
 from matplotlib.figure import Figure
 
+from ..chain.kinematics import frame_placements, tree_motion
 from ..device.feeder import Feeder
 from ..device.loop import TRANSMISSION_BAND_DEG, arm_travel, required_stroke, solve_loop
 from ..device.urdf_writer import barrel_length
 from ..motion.cycle import CycleKinematics
 from ..motion.workspace import Workspace
+from .catalog import elevation_text
+from .figures import set_margins
+
+MM = 1e3
+"""Metres → millimetres: drawings are dimensioned in mm."""
+
+NOSE_LENGTH = 1.5
+"""Length of the payload outline's pointed front, in calibres: it marks the nose (the end the
+payload axis points to) in the side view."""
 
 
 def workspace_figure(space: Workspace, device: str) -> Figure:
@@ -25,8 +37,8 @@ def workspace_figure(space: Workspace, device: str) -> Figure:
     fig = Figure(figsize=(6.5, 6.0))
     ax = fig.subplots()
     ax.plot(
-        space.position[:, 0],
-        space.position[:, 1],
+        space.position[:, 0] * MM,
+        space.position[:, 1] * MM,
         color="C0",
         linewidth=1.5,
         label="payload CG path (−4°: largest travel)",
@@ -35,52 +47,79 @@ def workspace_figure(space: Workspace, device: str) -> Figure:
     for eps, centre, axis in zip(
         space.elevations, space.ram_position, space.ram_axis, strict=True
     ):
-        ends = np.array([centre - half * axis, centre + half * axis])
+        ends = np.array([centre - half * axis, centre + half * axis]) * MM
         ax.plot(ends[:, 0], ends[:, 1], color="C1", linewidth=1.0)
-        ax.annotate(f"{np.degrees(eps):.0f}°", ends[1, :2], fontsize=8, color="C1")
-    start = space.position[0]
+        ax.annotate(
+            f"{np.degrees(eps):.0f}°".replace("-", "−"), ends[1, :2], fontsize=8, color="C1"
+        )
+    start = space.position[0] * MM
     ax.plot(
         [start[0], start[0]],
-        [start[1] - half, start[1] + half],
+        [start[1] - half * MM, start[1] + half * MM],
         color="C2",
         linewidth=1.0,
         label="payload axis at loading",
     )
     ax.plot([], [], color="C1", label="payload axis at ramming (ε)")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m] (muzzle towards −x)")
-    ax.set_ylabel("y [m] (up)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [mm] (muzzle towards −x)")
+    ax.set_ylabel("y [mm] (up)")
     ax.set_title(f"Workspace of the {device} feeder (cf. paper Fig. 4)")
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
-    fig.tight_layout()
+    set_margins(fig, left=0.85, top=0.45)
     return fig
 
 
 def side_view_figure(feeder: Feeder, cycle: CycleKinematics, poses: int = 6) -> Figure:
-    """Side view (x-y plane) of the device at ``poses`` instants of stage 3, to scale.
+    """Side view (x-y plane) of the device at ``poses`` instants of stage 3, to scale
+    (:func:`device_side_view` of a sampled cycle)."""
+    return device_side_view(
+        feeder, cycle.t, cycle.q, cycle.spec.boundaries, cycle.elevation, poses
+    )
 
-    Drawn from Pinocchio's forward kinematics of the URDF: the frame pivots B and A, the
-    cylinder and piston to the rod-eye pin, the arm to the forearm hinge, and the payload as a
-    rectangle of its length and calibre along its axis. The loading and ramming poses are
-    solid, the poses between them faded.
+
+def device_side_view(
+    feeder: Feeder,
+    t: np.ndarray,
+    q: np.ndarray,
+    boundaries: Sequence[float],
+    elevation: float,
+    poses: int = 6,
+) -> Figure:
+    """Side view (x-y plane, mm) of the device at ``poses`` instants of stage 3, to scale.
+
+    Drawn from the URDF model's forward kinematics: the frame pivots B and A, the cylinder and
+    piston to the rod-eye pin, the arm to the forearm hinge, and the payload as an outline of
+    its length and calibre along its axis, pointed at the nose. The loading and ramming poses
+    are solid, the poses between them faded.
+
+    Args:
+        feeder: The device.
+        t: Sample times [s], (N,).
+        q: Paper-order coordinates, (N, 4).
+        boundaries: Stage boundaries [s], (4,).
+        elevation: ε [rad], for the title.
+        poses: Poses drawn.
     """
-    p, model, data = feeder.params, feeder.model, feeder.chain.data
-    names = ("cylinder", "piston_pin", "arm", "arm_pin", "forearm", "projectile")
-    ids = [feeder.frame_id(name) for name in names]
-    start = int(np.searchsorted(cycle.t, cycle.spec.boundaries[2]))
-    samples = np.linspace(start, len(cycle.t) - 1, poses).round().astype(int)
+    p = feeder.params
+    names = ("cylinder", "piston_pin", "arm", "forearm", "projectile")
+    start = int(np.searchsorted(t, boundaries[2]))
+    samples = np.linspace(start, len(t) - 1, poses).round().astype(int)
+    motion = tree_motion(feeder.model, feeder.to_pinocchio(q[samples]))
+    placed = [frame_placements(feeder.model, motion, feeder.frame_id(n)) for n in names]
+    position = np.stack([origin[:, :2] for _, origin in placed], axis=1) * MM
+    rotation = np.stack([turn[:, :2, :] for turn, _ in placed], axis=1)
+    radius = p.payload_diameter / 2.0 * MM
     fig = Figure(figsize=(7.5, 6.5))
     ax = fig.subplots()
-    for n, i in enumerate(samples):
-        pin.framesForwardKinematics(model, data, feeder.to_pinocchio(cycle.q[i]))
-        at = {name: data.oMf[k] for name, k in zip(names, ids, strict=True)}
+    for n in range(len(samples)):
+        cylinder, pin_xy, arm, hinge, centre = position[n]
         solid = n in (0, len(samples) - 1)
         alpha, width = (1.0, 1.0) if solid else (0.25, 0.7)
-        pin_xy = at["piston_pin"].translation[:2]
-        cylinder_end = barrel_length(p) * at["cylinder"].rotation[:2, 0]
+        cylinder_end = cylinder + barrel_length(p) * MM * rotation[n, 0, :, 0]
         ax.plot(
-            *np.array([[0.0, 0.0], cylinder_end]).T,
+            *np.array([cylinder, cylinder_end]).T,
             color="C0",
             lw=7 * width,
             alpha=alpha,
@@ -94,42 +133,50 @@ def side_view_figure(feeder: Feeder, cycle: CycleKinematics, poses: int = 6) -> 
             alpha=alpha,
             label="piston rod" if n == 0 else None,
         )
-        hinge = at["forearm"].translation[:2]
         ax.plot(
-            *np.array([at["arm"].translation[:2], hinge]).T,
+            *np.array([arm, hinge]).T,
             color="C1",
             lw=5 * width,
             alpha=alpha,
             label="arm" if n == 0 else None,
         )
-        centre, axis = at["projectile"].translation[:2], at["projectile"].rotation[:2, 1]
-        normal = np.array([-axis[1], axis[0]]) * p.payload_diameter / 2.0
-        base, tip = centre - 0.4 * p.payload_length * axis, centre + 0.6 * p.payload_length * axis
+        axis = rotation[n, 4, :, 1]
+        normal = np.array([-axis[1], axis[0]]) * radius
+        base = centre - 0.4 * p.payload_length * MM * axis
+        nose = centre + 0.6 * p.payload_length * MM * axis
+        shoulder = nose - NOSE_LENGTH * 2.0 * radius * axis
         outline = np.array(
-            [base + normal, tip + normal, tip - normal, base - normal, base + normal]
+            [
+                base + normal,
+                shoulder + normal,
+                nose,
+                shoulder - normal,
+                base - normal,
+                base + normal,
+            ]
         )
         ax.plot(
             *outline.T,
             color="C2",
             lw=1.2 * width,
             alpha=alpha,
-            label=f"{p.payload_name} (nose →)" if n == 0 else None,
+            label=f"{p.payload_name}, nose at the pointed end" if n == 0 else None,
         )
         ax.plot(*np.array([hinge, centre]).T, color="C2", lw=2 * width, alpha=alpha)
         ax.plot(*pin_xy, "o", color="k", ms=4, alpha=alpha)
-    for xy, label in (((0.0, 0.0), "B"), ((p.L1, p.L2), "A")):
+    for xy, label in (((0.0, 0.0), "B"), ((p.L1 * MM, p.L2 * MM), "A")):
         ax.plot(*xy, marker="^", color="k", ms=10)
         ax.annotate(label, xy, xytext=(6, -14), textcoords="offset points")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m] (muzzle towards −x)")
-    ax.set_ylabel("y [m] (up)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [mm] (muzzle towards −x)")
+    ax.set_ylabel("y [mm] (up)")
     ax.set_title(
         f"{p.name.capitalize()} feeder, side view: loading to ramming at "
-        f"ε = {np.degrees(cycle.elevation):g}°"
+        + elevation_text(elevation)
     )
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
-    fig.tight_layout()
+    set_margins(fig, left=0.85, top=0.45)
     return fig
 
 
@@ -152,10 +199,10 @@ def loop_figure(feeder: Feeder, samples: int = 400) -> Figure:
     mu = np.degrees(np.abs(np.arctan2(np.sin(delta), np.cos(delta))))
     fig = Figure(figsize=(11, 4))
     left, right = fig.subplots(1, 2)
-    left.plot(np.degrees(elevations), travel * 1e3, color="C0")
+    left.plot(np.degrees(elevations), travel * MM, color="C0")
     left.set_xlabel("elevation ε [deg]")
     left.set_ylabel("piston travel to ramming [mm]")
-    left.set_title(f"Piston travel (stroke needed: {required_stroke(p) * 1e3:.1f} mm)")
+    left.set_title(f"Piston travel (stroke needed: {required_stroke(p) * MM:.1f} mm)")
     right.plot(np.degrees(rotation), mu, color="C1", label="transmission angle μ")
     for limit in TRANSMISSION_BAND_DEG:
         right.axhline(limit, color="0.5", linestyle="--", linewidth=0.8)
@@ -163,8 +210,8 @@ def loop_figure(feeder: Feeder, samples: int = 400) -> Figure:
     right.set_xlabel("arm rotation from loading [deg]")
     right.set_ylabel("transmission angle μ [deg]")
     right.set_title("Transmission angle at the rod-eye pin")
-    right.legend(loc="best", fontsize=8)
+    right.legend(loc="lower left", fontsize=8)
     for ax in (left, right):
         ax.grid(True, linewidth=0.4, alpha=0.6)
-    fig.tight_layout()
+    set_margins(fig, top=0.45, wspace=0.9)
     return fig

@@ -1,14 +1,19 @@
-"""Time histories of the feeding cycle, after the paper's Figs. 8 and 10–15.
+"""Time histories of the feeding cycle, after the paper's Figs. 8 and 10–15, and the conventions
+every figure shares.
 
-Every time history marks the stage boundaries and names its quantity and unit. Every function
-returns a :class:`matplotlib.figure.Figure` (no pyplot state, so any backend, notebooks
-included, is left alone); saving it is the caller's (:func:`feeder.outputs.save_figure`).
+Every figure shows a quantity in the unit an engineer reads
+(:func:`~feeder.viz.catalog.display_unit`: mm, kN, bar, deg; N·m and m/s as they are), one unit
+per axis, the elevation in one format (:func:`~feeder.viz.catalog.elevation_text`), and has
+fixed margins (:func:`set_margins`: no ``tight_layout``, whose
+text measuring costs as much as drawing the figure). A time history marks the stage boundaries;
+a vector's magnitude is drawn over its components, never under them. Every function returns a
+:class:`matplotlib.figure.Figure` (no pyplot state, so any backend, notebooks included, is left
+alone); writing it is :mod:`feeder.viz.report`'s.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -16,8 +21,42 @@ from matplotlib.figure import Figure
 
 from ..motion.cycle import CycleKinematics
 from ..study.cycle_study import CycleStudy
+from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
+
+
+def set_margins(
+    fig: Figure,
+    left: float = 0.8,
+    right: float = 0.2,
+    bottom: float = 0.55,
+    top: float = 0.6,
+    wspace: float = 0.9,
+    hspace: float = 0.9,
+) -> None:
+    """Fixed margins and gaps between panels, in inches (the figure's size may vary)."""
+    width, height = fig.get_size_inches()
+    columns, rows = (max(1, n) for n in _grid_shape(fig))
+    panel_width = (width - left - right - (columns - 1) * wspace) / columns
+    panel_height = (height - top - bottom - (rows - 1) * hspace) / rows
+    fig.subplots_adjust(
+        left=left / width,
+        right=1.0 - right / width,
+        bottom=bottom / height,
+        top=1.0 - top / height,
+        wspace=wspace / panel_width,
+        hspace=hspace / panel_height,
+    )
+
+
+def _grid_shape(fig: Figure) -> tuple[int, int]:
+    """(columns, rows) of the figure's subplot grid."""
+    specs = [ax.get_subplotspec() for ax in fig.axes if ax.get_subplotspec() is not None]
+    if not specs:
+        return 1, 1
+    rows, columns = specs[0].get_gridspec().get_geometry()
+    return columns, rows
 
 
 def mark_stages(ax: Axes, boundaries: Sequence[float]) -> None:
@@ -39,141 +78,103 @@ def mark_stages(ax: Axes, boundaries: Sequence[float]) -> None:
     ax.set_xlim(boundaries[0], boundaries[-1])
 
 
+LEGEND_WIDTH = 1.25
+"""Right margin [in] of a time history with a legend: the legend sits beside the axes, where it
+hides no curve."""
+
+
 def time_history(
     t: np.ndarray,
     boundaries: Sequence[float],
     series: Sequence[tuple[str, np.ndarray]],
     title: str,
-    ylabel: str,
+    quantity: str,
+    unit: str,
+    magnitude: str | None = None,
 ) -> Figure:
-    """One figure: ``series`` (label, values (N,)) against time, stages marked.
+    """One figure: ``series`` (label, values (N,) in the SI ``unit``) against time, stages
+    marked, in the display unit (:func:`display_unit`).
 
     Args:
         t: Times [s], (N,).
         boundaries: Stage boundaries [s], (4,).
-        series: Curves to draw.
+        series: Curves to draw, all in ``unit``.
         title: Figure title (name the paper's figure it mirrors).
-        ylabel: Quantity and unit.
+        quantity: What the axis shows, without its unit (e.g. "force").
+        unit: The SI unit of every curve.
+        magnitude: Label of the curve that is a vector's magnitude: drawn last, black and
+            thicker, over its components.
     """
-    fig = Figure(figsize=(8, 4.2))
+    factor, shown = display_unit(unit)
+    fig = Figure(figsize=(8.0, 4.2))
     ax = fig.subplots()
-    peak = max(float(np.abs(values).max()) for _, values in series)
-    exponent = 3 * math.floor(math.log10(peak) / 3) if peak > 0 else 0
-    if -3 < exponent < 6:  # plain numbers read best; otherwise scale in the label, not an offset
-        exponent = 0
     for label, values in series:
-        ax.plot(t, np.asarray(values) / 10.0**exponent, label=label, linewidth=1.3)
+        emphasis = label == magnitude
+        ax.plot(
+            t,
+            np.asarray(values) * factor,
+            label=label,
+            linewidth=2.0 if emphasis else 1.2,
+            color="k" if emphasis else None,
+            zorder=3 if emphasis else 2,
+        )
     ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     mark_stages(ax, boundaries)
     ax.set_xlabel("time t [s]")
-    ax.set_ylabel(ylabel if exponent == 0 else f"{ylabel} × 1e{exponent}")
+    ax.set_ylabel(f"{quantity} [{shown}]" if shown else quantity)
     ax.set_title(title, pad=16)
     ax.grid(True, linewidth=0.4, alpha=0.6)
-    if len(series) > 1:
-        ax.legend(loc="best", fontsize=8)
-    fig.tight_layout()
+    legend = len(series) > 1
+    if legend:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+    set_margins(fig, right=LEGEND_WIDTH if legend else 0.2)
     return fig
 
 
-def position_figure(cycle: CycleKinematics) -> Figure:
-    """Paper Fig. 10: payload CG coordinates x, y, z against time."""
-    series = [(f"{axis}", cycle.payload_position[:, k]) for k, axis in enumerate("xyz")]
+def cycle_figure(
+    spec: CycleFigure,
+    columns: Mapping[str, np.ndarray],
+    boundaries: Sequence[float],
+    elevation: float,
+) -> Figure:
+    """One figure of :data:`CYCLE_FIGURES` from a cycle's columns and stage boundaries [s]."""
     return time_history(
-        cycle.t,
-        cycle.spec.boundaries,
-        series,
-        f"Payload CG position, ε = {np.degrees(cycle.elevation):.1f}° (cf. paper Fig. 10)",
-        "position [m]",
+        columns["t"],
+        boundaries,
+        [(label, columns[column]) for label, column in spec.curves],
+        f"{spec.title}, {elevation_text(elevation)}",
+        spec.quantity,
+        spec.unit,
+        magnitude=spec.magnitude,
     )
-
-
-CYCLE_FIGURES: tuple[tuple[str, str, str, tuple[tuple[str, str], ...]], ...] = (
-    (
-        "fig08_projectile_speed.png",
-        "Payload CG speed (cf. paper Fig. 8)",
-        "speed [m/s]",
-        (("|v_G|", "projectile_speed"),),
-    ),
-    (
-        "fig11_forearm_joint_force.png",
-        "Reaction force in the forearm–arm joint (cf. Fig. 11)",
-        "force [N]",
-        (
-            ("magnitude", "forearm_joint_force"),
-            ("x", "forearm_joint_force_x"),
-            ("y", "forearm_joint_force_y"),
-            ("z", "forearm_joint_force_z"),
-        ),
-    ),
-    (
-        "fig12_cylinder_frame_force.png",
-        "Reaction force in the cylinder–frame joint (cf. Fig. 12)",
-        "force [N]",
-        (
-            ("magnitude", "cylinder_frame_force"),
-            ("x", "cylinder_frame_force_x"),
-            ("y", "cylinder_frame_force_y"),
-            ("z", "cylinder_frame_force_z"),
-        ),
-    ),
-    (
-        "fig13_piston_arm_force.png",
-        "Pin force between piston and arm (cf. Fig. 13)",
-        "force [N]",
-        (
-            ("magnitude", "piston_arm_force"),
-            ("x", "piston_arm_force_x"),
-            ("y", "piston_arm_force_y"),
-            ("z", "piston_arm_force_z"),
-        ),
-    ),
-    (
-        "fig14_piston_force.png",
-        "Actuator force along the piston axis (cf. Fig. 14)",
-        "force [N]",
-        (("piston force", "piston_force"),),
-    ),
-    (
-        "fig15_forearm_torque.png",
-        "Actuator moment about the forearm axis (cf. Fig. 15)",
-        "moment [N·m]",
-        (("forearm moment", "forearm_torque"),),
-    ),
-    (
-        "arm_frame_force.png",
-        "Reaction force in the arm–frame joint",
-        "force [N]",
-        (
-            ("magnitude", "arm_frame_force"),
-            ("x", "arm_frame_force_x"),
-            ("y", "arm_frame_force_y"),
-            ("z", "arm_frame_force_z"),
-        ),
-    ),
-    (
-        "cylinder_pressure.png",
-        "Lift-cylinder chamber pressure (ideal, push on the cap side)",
-        "pressure [Pa]",
-        (("cap side", "cylinder_cap_pressure"), ("rod side", "cylinder_rod_pressure")),
-    ),
-    ("rack_force.png", "Forearm rack force", "force [N]", (("rack force", "rack_force"),)),
-)
-"""Figures of a full cycle: file name, title, y label and (legend, column) curves."""
 
 
 def cycle_figures(study: CycleStudy) -> dict[str, Figure]:
     """The time histories of :data:`CYCLE_FIGURES` of a study, by file name."""
     kinematics = study.dynamics.kinematics
-    boundaries = kinematics.spec.boundaries
-    elevation_deg = float(np.degrees(kinematics.elevation))
     columns = study.columns()
-    figures = {}
-    for name, title, ylabel, curves in CYCLE_FIGURES:
-        figures[name] = time_history(
-            columns["t"],
-            boundaries,
-            [(label, columns[column]) for label, column in curves],
-            f"{title}, ε = {elevation_deg:g}°",
-            ylabel,
-        )
-    return figures
+    return {
+        spec.file: cycle_figure(spec, columns, kinematics.spec.boundaries, kinematics.elevation)
+        for spec in CYCLE_FIGURES
+    }
+
+
+def payload_position_figure(
+    t: np.ndarray, position: np.ndarray, boundaries: Sequence[float], elevation: float
+) -> Figure:
+    """Paper Fig. 10: payload CG coordinates x, y, z [m] (N, 3) against time."""
+    return time_history(
+        t,
+        boundaries,
+        [(axis, position[:, k]) for k, axis in enumerate("xyz")],
+        f"Payload CG position, {elevation_text(elevation)} (cf. paper Fig. 10)",
+        "position",
+        "m",
+    )
+
+
+def position_figure(cycle: CycleKinematics) -> Figure:
+    """Paper Fig. 10 of a sampled cycle."""
+    return payload_position_figure(
+        cycle.t, cycle.payload_position, cycle.spec.boundaries, cycle.elevation
+    )

@@ -2,12 +2,16 @@
 path, force arrows to one scale, the floor grid and the camera, animated over the cycle.
 
 The scene lives under the node ``feeder`` in device coordinates (y up), turned onto MeshCat's
-z-up world and centred on the device, whose centre is the camera's orbit target.
+z-up world and centred on the device, whose centre is the camera's orbit target. The force
+arrows and the payload's path are drawn unlit, over the bodies (no depth test, rendered last):
+they start at points inside the bodies (a pivot, a centre of gravity) and would otherwise be
+hidden at most poses. Every colour drawn has an entry in :attr:`DrawnCycle.legend`.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import meshcat
 import meshcat.animation
@@ -15,6 +19,7 @@ import meshcat.geometry as mg
 import meshcat.transformations as mtf
 import numpy as np
 import pinocchio as pin
+from lxml import etree
 from pinocchio.visualize import MeshcatVisualizer
 
 from ..device.feeder import Feeder
@@ -23,8 +28,10 @@ from ..motion.cycle import CycleKinematics
 FRAME_RATE = 40.0
 """Animation key frames per second of cycle time [1/s]; the 1 kHz cycle is subsampled."""
 
-ARROW_LENGTH = 0.3
-"""Drawn length [m] of the largest force over the cycle; all arrows share one scale [N/m]."""
+ARROW_LENGTH = 0.45
+"""Drawn length [m] of the largest force over the cycle; all arrows share one scale [N/m]. A
+third of the device's size, so that a force a tenth of the largest is still drawn 45 mm long
+(tests/viz/test_viewer.py checks that every such arrow shows on screen at every stage)."""
 
 CAMERA_AZIMUTH, CAMERA_ELEVATION = math.radians(35.0), math.radians(25.0)
 """Default view direction [rad]: from the +z side, turned towards +x, looking down."""
@@ -38,16 +45,75 @@ ForceSeries = tuple[np.ndarray, np.ndarray]
 
 _ROOT = "feeder"
 _DEVICE = f"{_ROOT}/device"
+_ANIMATION = "animation"
 _BARREL_COLOR, _PATH_COLOR, _GRID_COLOR = 0xCC2222, 0xD4A017, 0x8A8F99
 _BACKGROUND = ((0.93, 0.94, 0.95), (0.62, 0.65, 0.70))  # MeshCat gradient, top and bottom RGB
 _GRID_STEP = 0.1  # [m] floor grid squares
-_ARROW_COLORS = (0x8E24AA, 0x00897B, 0xD81B60, 0x37474F, 0x7CB342, 0x039BE5)
-_ARROW_RADIUS, _HEAD_LENGTH, _HEAD_RADIUS = 0.008, 0.05, 0.02  # [m]
+ARROW_COLORS = (0x8E24AA, 0x00ACC1, 0xD81B60, 0x00C853, 0xFF6D00, 0x3949AB)
+"""Colours of the force arrows, in the order the forces are given: none is a device colour."""
+_ARROW_RADIUS, _HEAD_LENGTH, _HEAD_RADIUS = 0.010, 0.06, 0.025  # [m]
+_ON_TOP = 10  # render order of the arrows and the path: after the bodies, over them
+_LINK_NUMBERS = {"cylinder": 1, "piston": 2, "arm": 3, "forearm": 4}  # the paper's numbering
 _INVISIBLE = 1e-6  # scale of a zero-length arrow part (a zero scale makes a singular matrix)
 _FRAME_FILL = 0.9  # the scene's extent fills at most this share of the camera's view
 _BARREL_RADIUS, _BARREL_BEHIND, _BARREL_AHEAD = 0.006, 0.4, 0.8  # [m] around the rammed CG
 # Device (y up) → MeshCat world (z up): a quarter turn about x.
 _DEVICE_TO_MESHCAT = mtf.rotation_matrix(math.pi / 2.0, [1.0, 0.0, 0.0])
+
+
+@dataclass(frozen=True)
+class LegendEntry:
+    """One colour of the scene and what it shows.
+
+    Attributes:
+        color: CSS colour, ``#rrggbb``.
+        mark: How it is drawn: ``"body"``, ``"line"`` or ``"arrow"``.
+        label: What it is.
+    """
+
+    color: str
+    mark: str
+    label: str
+
+
+@dataclass(frozen=True)
+class DrawnCycle:
+    """What :func:`draw_cycle` drew.
+
+    Attributes:
+        newtons_per_metre: Scale of the force arrows [N/m] (0 without forces).
+        legend: Every colour of the scene with what it shows.
+        boundaries: Stage boundaries (0, T1, T1 + T2, T) [s]: the animation's time line.
+    """
+
+    newtons_per_metre: float
+    legend: tuple[LegendEntry, ...]
+    boundaries: tuple[float, ...]
+
+
+def _css(color: int) -> str:
+    return f"#{color:06x}"
+
+
+def _device_legend(feeder: Feeder) -> list[LegendEntry]:
+    """The URDF's visual materials, once each, in the order of the file."""
+    entries: dict[str, LegendEntry] = {}
+    for material in etree.fromstring(feeder.urdf.encode("utf-8")).iter("material"):
+        color = material.find("color")
+        if color is None or material.get("name") in entries:
+            continue
+        r, g, b = (int(255 * float(x)) for x in color.get("rgba").split()[:3])  # as Pinocchio
+        name = material.get("name")
+        if name == "projectile":
+            label = f"payload ({feeder.params.payload_name})"
+        elif name == "pin":
+            label = "pins"
+        elif name in _LINK_NUMBERS:
+            label = f"{name} (link {_LINK_NUMBERS[name]})"
+        else:
+            label = name
+        entries[name] = LegendEntry(f"#{r:02x}{g:02x}{b:02x}", "body", label)
+    return list(entries.values())
 
 
 def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
@@ -194,15 +260,16 @@ def _draw_references(vis: meshcat.Visualizer, cycle: CycleKinematics) -> np.ndar
     barrel.set_transform(_homogeneous(_y_onto(direction), ends.mean(axis=0)))
     path = cycle.payload_position[cycle.gripped == 1].T.astype(np.float32)
     vis[f"{_ROOT}/payload_path"].set_object(
-        mg.Line(mg.PointsGeometry(path), mg.LineBasicMaterial(color=_PATH_COLOR))
+        mg.Line(mg.PointsGeometry(path), mg.LineBasicMaterial(color=_PATH_COLOR, depthTest=False))
     )
+    vis[f"{_ROOT}/payload_path"].set_property("renderOrder", _ON_TOP)
     return ends
 
 
 def draw_cycle(
     viz: MeshcatVisualizer, feeder: Feeder, cycle: CycleKinematics, forces: dict[str, ForceSeries]
-) -> float:
-    """Draw and animate the cycle in ``viz``; return the arrows' scale [N/m]."""
+) -> DrawnCycle:
+    """Draw and animate the cycle in ``viz``; return the arrows' scale and the legend."""
     vis = viz.viewer
     viz.loadViewerModel(rootNodeName=_DEVICE)
     step = max(1, round(cycle.spec.rate / FRAME_RATE))
@@ -215,14 +282,27 @@ def draw_cycle(
 
     peak = max((float(np.linalg.norm(f, axis=1).max()) for f, _ in forces.values()), default=0.0)
     newtons_per_metre = peak / ARROW_LENGTH
+    legend = _device_legend(feeder) + [
+        LegendEntry(
+            _css(_BARREL_COLOR), "line", f"barrel axis at ε = {math.degrees(cycle.elevation):g}°"
+        ),
+        LegendEntry(
+            _css(_PATH_COLOR), "line", "payload path (its centre of gravity, once gripped)"
+        ),
+        LegendEntry(_css(_GRID_COLOR), "line", f"floor grid, {_GRID_STEP:g} m squares"),
+    ]
     arrows = {}
     for k, (name, (force, point)) in enumerate(forces.items()):
         node = f"{_ROOT}/forces/{name}"
-        material = mg.MeshLambertMaterial(color=_ARROW_COLORS[k % len(_ARROW_COLORS)])
+        color = ARROW_COLORS[k % len(ARROW_COLORS)]
+        legend.append(LegendEntry(_css(color), "arrow", name))
+        material = mg.MeshBasicMaterial(color=color, depthTest=False)
         vis[f"{node}/shaft"].set_object(mg.Cylinder(1.0, _ARROW_RADIUS), material)
         vis[f"{node}/head"].set_object(
             mg.Cylinder(_HEAD_LENGTH, radiusTop=0.0, radiusBottom=_HEAD_RADIUS), material
         )
+        for part in ("shaft", "head"):
+            vis[f"{node}/{part}"].set_property("renderOrder", _ON_TOP)
         arrows[node] = _arrows(force[samples], point[samples], newtons_per_metre)
         points += [point[samples], arrows[node]["tip"]]
         reach += [np.zeros(samples.size), np.full(samples.size, _HEAD_RADIUS)]
@@ -239,11 +319,10 @@ def draw_cycle(
                     frame[f"{node}/{part}"].set_property(
                         "scale", "vector3", arrow[f"{part}_scale"][k].tolist()
                     )
-    for node, placement in zip(nodes, placements[0], strict=True):
-        vis[node].set_transform(placement)
-    for node, arrow in arrows.items():
-        for part in ("shaft", "head"):
-            scaling = np.diag(np.append(arrow[f"{part}_scale"][0], 1.0))
-            vis[f"{node}/{part}"].set_transform(arrow[part][0] @ scaling)
-    vis.set_animation(animation, play=True, repetitions=1)
-    return newtons_per_metre
+    # Kept on a node of its own, created last: MeshCat sends a scene node by node in creation
+    # order, so the animation comes after every set_transform (Pinocchio's included) and a
+    # late transform cannot undo a pause at a chosen time.
+    vis[_ANIMATION].set_animation(animation, play=True, repetitions=1)
+    return DrawnCycle(
+        newtons_per_metre, tuple(legend), tuple(float(b) for b in cycle.spec.boundaries)
+    )

@@ -2,11 +2,13 @@
 
 The device is drawn with Pinocchio's :class:`~pinocchio.visualize.MeshcatVisualizer` from the
 URDF's visual primitives (frame, cylinder, piston, arm, forearm tray, payload) and animated over
-the whole cycle (MeshCat's animation panel: play, pause, time scrubber). Also drawn: the barrel
-axis at the elevation ε (a red rod through the rammed payload, muzzle towards −x), the payload's
-path once gripped (a line through the payload centre of gravity), when given, force arrows to
-one scale, a floor grid of 0.1 m squares under the device and MeshCat's x-y-z triad at the
-cylinder pivot B. In stage 1 the payload waits on the conveyor where it is gripped at t = T1.
+the whole cycle. Also drawn: the barrel axis at the elevation ε (a red rod through the rammed
+payload, muzzle towards −x), the payload's path once gripped (a line through the payload centre
+of gravity), when given, force arrows to one scale over the bodies, a floor grid of 0.1 m squares
+under the device and MeshCat's x-y-z triad at the cylinder pivot B. In stage 1 the payload waits
+on the conveyor where it is gripped at t = T1. Both the live page and the static one carry a
+legend for every colour and a player: play/pause, loop, a time slider with the time and the
+stage (:mod:`feeder.viz._overlay`).
 
 The scene is drawn by :mod:`feeder.viz.scene`. MeshCat 0.3.2's server listens on every
 interface unless told otherwise; :class:`CycleViewer` starts it here with its web port bound to
@@ -28,13 +30,14 @@ import pinocchio as pin
 from pinocchio.visualize import MeshcatVisualizer
 
 from ..device.feeder import Feeder
-from ..device.loop import pin_position
 from ..dynamics.cycle import CycleDynamics
 from ..exceptions import InputError
+from ..files import write_text
 from ..motion.cycle import CycleKinematics
 from ..validation import check_finite
 from ._meshcat_server import MeshcatServer
-from .scene import ForceSeries, draw_cycle
+from ._overlay import overlay_html, static_page
+from .scene import DrawnCycle, ForceSeries, draw_cycle
 
 
 class CycleViewer:
@@ -46,7 +49,8 @@ class CycleViewer:
         url: The viewer's address, ``http://127.0.0.1:<port>/static/``.
         port: The web server's port.
         visualizer: Pinocchio's MeshCat visualizer holding the device's visual model.
-        newtons_per_metre: Scale of the force arrows [N/m] (0 without forces).
+        drawn: What the scene shows: the arrows' scale [N/m] (0 without forces), the legend.
+        overlay: The legend and player HTML of the page.
     """
 
     def __init__(
@@ -67,7 +71,10 @@ class CycleViewer:
             )
             self.visualizer = MeshcatVisualizer(feeder.model, None, visual_model)
             self.visualizer.initViewer(viewer=viewer)
-            self.newtons_per_metre = draw_cycle(self.visualizer, feeder, cycle, forces)
+            self.drawn: DrawnCycle = draw_cycle(self.visualizer, feeder, cycle, forces)
+            title = f"{feeder.params.name} feeder, ε = {np.degrees(cycle.elevation):g}°"
+            self.overlay = overlay_html(self.drawn, title)
+            self._server.overlay = self.overlay
         except BaseException:
             self._server.stop()
             raise
@@ -75,8 +82,9 @@ class CycleViewer:
         self.port: int = self._server.port
 
     def static_html(self) -> str:
-        """The scene and its animation as one self-contained HTML page (opens offline)."""
-        return self.visualizer.viewer.static_html()
+        """The scene, its animation, legend and player as one self-contained HTML page (opens
+        offline)."""
+        return static_page(self.visualizer.viewer.static_html(), self.overlay)
 
     def serve_forever(self) -> None:
         """Block until the server stops or the user presses Ctrl-C."""
@@ -141,31 +149,41 @@ def write_html(
     """
     path = check_writable(path)
     with CycleViewer(feeder, cycle, forces, port=port) as viewer:
-        html = viewer.static_html()
-    try:
-        path.write_text(html, encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot write the HTML file {path}: {exc.strerror}") from exc
-    return path
+        return write_text(path, viewer.static_html())
 
 
 def cycle_forces(feeder: Feeder, dynamics: CycleDynamics) -> dict[str, ForceSeries]:
-    """The arrows of ``feeder view``: the piston force at the pin and the pin reactions.
+    """The arrows of ``feeder view``: four loads on four bodies, at four places.
 
-    * ``piston force``: the actuator force on the piston, along its axis, at the rod-eye pin;
-    * ``pin force on the arm``: the closure force of the piston on the arm, at the pin;
-    * ``arm pivot reaction``, ``cylinder pivot reaction``: the frame's force on the arm at its
-      pivot (L1, L2) and on the cylinder at B.
+    * ``piston force``: the cylinder's force on the piston along its axis (Fig. 14), drawn at
+      the piston's centre of gravity S (on its line of action);
+    * ``arm pivot reaction``: the frame's force on the arm at its pivot A = (L1, L2);
+    * ``forearm hinge force``: the arm's force on the forearm at the hinge origin (Fig. 11);
+    * ``grip force``: the tray's force on the payload at its centre of gravity (zero before
+      the grip).
+
+    The pin force on the arm and the cylinder pivot's reaction are left out: the cylinder and
+    piston carry the loop's load along their axis, so both lie on the piston force's line
+    with nearly its size, and would hide it.
     """
-    p, q = feeder.params, dynamics.kinematics.q
+    p, kinematics = feeder.params, dynamics.kinematics
+    q = kinematics.q
     axis = np.column_stack([np.cos(q[:, 0]), np.sin(q[:, 0]), np.zeros(len(q))])
-    pin_point = np.column_stack([pin_position(p, q[:, 2]).T, np.zeros(len(q))])
-    joints = dynamics.reactions.joints
+    model, data = feeder.model, feeder.model.createData()
+    hinge_joint = model.getJointId("forearm_joint")
+    hinge = np.empty((len(q), 3))
+    for k, q_k in enumerate(feeder.to_pinocchio(q)):
+        pin.forwardKinematics(model, data, q_k)
+        hinge[k] = data.oMi[hinge_joint].translation
+    reactions = dynamics.reactions
     return {
-        "piston force": (dynamics.loads.piston_force[:, None] * axis, pin_point),
-        "pin force on the arm": (dynamics.reactions.closure_force, pin_point),
-        "arm pivot reaction": (joints["arm_frame"].force, np.tile([p.L1, p.L2, 0.0], (len(q), 1))),
-        "cylinder pivot reaction": (joints["cylinder_frame"].force, np.zeros((len(q), 3))),
+        "piston force": (dynamics.loads.piston_force[:, None] * axis, q[:, 1:2] * axis),
+        "arm pivot reaction": (
+            reactions.joints["arm_frame"].force,
+            np.tile([p.L1, p.L2, 0.0], (len(q), 1)),
+        ),
+        "forearm hinge force": (reactions.joints["forearm_arm"].force, hinge),
+        "grip force": (reactions.grip_force, kinematics.payload_position),
     }
 
 

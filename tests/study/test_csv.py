@@ -64,11 +64,13 @@ def test_failed_write_is_atomic(columns, tmp_path, monkeypatch):
     path = write_csv(tmp_path / "cycle.csv", columns)
     before = path.read_bytes()
 
-    def half_written(fname, *args, **kwargs):
-        Path(fname).write_text("t,stage,value\n0.0,1", encoding="utf-8")
+    write_text = Path.write_text
+
+    def half_written(self, text, *args, **kwargs):
+        write_text(self, text[: len(text) // 2], *args, **kwargs)
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(np, "savetxt", half_written)
+    monkeypatch.setattr(Path, "write_text", half_written)
     with pytest.raises(InputError, match="No space left"):
         write_csv(path, columns)
     assert path.read_bytes() == before
@@ -77,6 +79,22 @@ def test_failed_write_is_atomic(columns, tmp_path, monkeypatch):
     with pytest.raises(InputError, match="No space left"):
         write_csv(tmp_path / "new.csv", columns)
     assert _folder_listing(tmp_path) == ["cycle.csv"]
+
+
+def test_shortest_text_that_reads_back(tmp_path):
+    """Each number is written as the shortest text that reads back as the same float: 0.3, not
+    its 17 significant digits 0.29999999999999999; 0.1 + 0.2 keeps all 17 it needs."""
+    path = write_csv(tmp_path / "cycle.csv", {"a": np.array([0.3, 0.1 + 0.2, 1.0, -0.0])})
+    assert path.read_text(encoding="utf-8").splitlines() == [
+        "a",
+        "0.3",
+        "0.30000000000000004",
+        "1.0",
+        "-0.0",
+    ]
+    back = read_csv(path)["a"]
+    np.testing.assert_array_equal(back, [0.3, 0.1 + 0.2, 1.0, -0.0])
+    assert np.signbit(back[3])
 
 
 def test_refuses_ragged_columns(columns, tmp_path):

@@ -38,7 +38,7 @@ def test_non_positive_factor_raises(feeder, factors):
 
 @pytest.mark.parametrize("factors", [(np.nan, 1.1), (1.2, np.inf), ("1.2", 1.1)])
 def test_non_numeric_factor_raises(feeder, factors):
-    with pytest.raises(InputError, match="retrofit factors"):
+    with pytest.raises(InputError, match="retrofit (mass|length) factor"):
         retrofit(feeder.params, *factors)
 
 

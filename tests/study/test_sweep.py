@@ -1,18 +1,34 @@
-"""The elevation sweep (feeder.study.sweep): the peaks of each elevation's cycle."""
+"""Sweeps (feeder.study.sweep): the peaks of each case's cycle, in memory and as a resumable
+table, on local worker processes and on a Dask cluster (LocalCluster on 127.0.0.1)."""
 
 from __future__ import annotations
+
+import math
+import socket
 
 import numpy as np
 import pytest
 
 from feeder.dynamics.cycle import cycle_dynamics
-from feeder.exceptions import ElevationError, InputError
+from feeder.exceptions import ElevationError, InputError, OutputBusyError
+from feeder.files import exclusive_lock
 from feeder.motion.laws import CycleSpec
+from feeder.study import sweep as sweep_module
+from feeder.study.grid import Variant, make_grid
 from feeder.study.peaks import cycle_peaks
-from feeder.study.sweep import elevation_sweep
+from feeder.study.sweep import elevation_sweep, run_sweep, sweeps_of
+from feeder.study.sweep_table import PARQUET, TABLE, read_table
+from feeder.viz.report import write_sweep_figures
 
 SWEEP_SPEC = CycleSpec(rate=100.0)
-"""100 Hz: below the forward run's minimum rate, which the sweep does not need."""
+"""100 Hz: below the forward run's minimum rate, which a sweep does not need; fast."""
+
+ELEVATIONS = (-4.0, 20.0, 70.0)
+REFERENCE = (Variant("reference"),)
+
+
+def _grid(elevations=ELEVATIONS, variants=REFERENCE, spec=SWEEP_SPEC):
+    return make_grid(("projectile", "charge"), elevations, variants, spec)
 
 
 def test_sweep_peaks_are_the_cycles_peaks(feeder, capsys):
@@ -30,6 +46,14 @@ def test_sweep_peaks_are_the_cycles_peaks(feeder, capsys):
             assert sweep.units[peak.name] == peak.unit
 
 
+def test_worker_processes_give_the_same_numbers(feeder):
+    elevations = np.radians(ELEVATIONS)
+    here = elevation_sweep(feeder, elevations, SWEEP_SPEC, progress=False, workers=1)
+    pool = elevation_sweep(feeder, elevations, SWEEP_SPEC, progress=False, workers=2)
+    for name in here.peaks:
+        np.testing.assert_array_equal(pool.peaks[name], here.peaks[name], err_msg=name)
+
+
 @pytest.mark.parametrize("bad", [[], np.zeros((2, 2)), 0.1, [0.1, float("nan")]])
 def test_sweep_needs_a_list_of_finite_elevations(feeder, bad):
     with pytest.raises(InputError, match="elevations"):
@@ -39,3 +63,177 @@ def test_sweep_needs_a_list_of_finite_elevations(feeder, bad):
 def test_sweep_checks_every_elevation_first(feeder):
     with pytest.raises(ElevationError, match="80.000°"):
         elevation_sweep(feeder, np.radians([10.0, 80.0]))
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, True, "2"])
+def test_workers_must_be_a_positive_whole_number(feeder, workers):
+    with pytest.raises(InputError, match="workers"):
+        elevation_sweep(feeder, np.radians([10.0]), SWEEP_SPEC, workers=workers)
+
+
+def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
+    """Each row is the case's own cycle reduced to its peaks; a heavier payload needs a larger
+    piston force at every elevation (the physics, not the code, says so)."""
+    grid = _grid(variants=(Variant("reference"), Variant("heavier", {"mass_factor": 1.2})))
+    path = run_sweep(grid, tmp_path, progress=False)
+    assert path == tmp_path / TABLE
+    rows, columns = read_table(path)
+    assert columns[:4] == ["device", "variant", "elevation_deg", "fingerprint"]
+    assert [(r["device"], r["variant"], r["elevation_deg"]) for r in rows] == [
+        case.key for case in grid.cases()
+    ]
+    case = grid.cases()[4]  # the projectile, heavier, at 20°
+    peaks = cycle_peaks(
+        cycle_dynamics(
+            sweep_module.cached_feeder(case.params), case.elevation, SWEEP_SPEC, forward=False
+        )
+    )
+    for peak in peaks:
+        assert rows[4][peak.name] == peak.value and rows[4][f"{peak.name}_time"] == peak.time
+    sweeps = sweeps_of(rows)
+    for device in ("projectile", "charge"):
+        heavier, reference = sweeps[(device, "heavier")], sweeps[(device, "reference")]
+        np.testing.assert_array_equal(np.degrees(reference.elevations), ELEVATIONS)
+        assert np.all(
+            np.abs(heavier.peaks["piston_force"]) > np.abs(reference.peaks["piston_force"])
+        )
+        assert reference.units["piston_force"] == "N"
+
+
+def test_resumes_computing_only_the_missing_cases(tmp_path, monkeypatch):
+    first = run_sweep(_grid(elevations=(-4.0, 20.0)), tmp_path, progress=False, workers=1)
+    before = first.read_text(encoding="utf-8").splitlines()
+    computed = []
+    original = sweep_module.case_peaks
+
+    def counting(case):
+        computed.append(case.key)
+        return original(case)
+
+    monkeypatch.setattr(sweep_module, "case_peaks", counting)
+    run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    assert computed == [("projectile", "reference", 70.0), ("charge", "reference", 70.0)]
+    after = first.read_text(encoding="utf-8").splitlines()
+    assert len(after) == 1 + 6
+    assert set(before) <= set(after)  # the earlier rows, untouched to the last digit
+    computed.clear()
+    run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    assert computed == []
+
+
+def test_an_interrupted_sweep_keeps_what_it_finished(tmp_path, monkeypatch):
+    original = sweep_module.case_peaks
+    calls = []
+
+    def interrupted(case):
+        calls.append(case.key)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return original(case)
+
+    monkeypatch.setattr(sweep_module, "case_peaks", interrupted)
+    monkeypatch.setattr(sweep_module, "CHECKPOINT_SECONDS", 3600.0)  # only the final save
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    rows, _ = read_table(tmp_path / TABLE)
+    assert len(rows) == 2
+    monkeypatch.setattr(sweep_module, "case_peaks", original)
+    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False, workers=1))
+    assert len(rows) == 6
+
+
+def test_refuses_a_folder_of_another_sweep(tmp_path):
+    run_sweep(_grid(elevations=(20.0,)), tmp_path, progress=False, workers=1)
+    with pytest.raises(InputError, match="other parameters or timing"):
+        run_sweep(_grid(elevations=(20.0,), spec=CycleSpec(rate=50.0)), tmp_path, workers=1)
+    with pytest.raises(InputError, match="not in this sweep"):
+        run_sweep(_grid(elevations=(30.0,)), tmp_path, progress=False, workers=1)
+
+
+def test_one_sweep_at_a_time_per_folder(tmp_path):
+    with exclusive_lock(tmp_path / sweep_module.LOCK, "a sweep folder"):
+        with pytest.raises(OutputBusyError, match="another feeder run"):
+            run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    assert not (tmp_path / TABLE).exists()
+    run_sweep(_grid(elevations=(0.0,)), tmp_path, progress=False, workers=1)
+    assert not (tmp_path / sweep_module.LOCK).exists()
+
+
+def test_refuses_an_unwritable_folder(tmp_path):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    with pytest.raises(InputError, match="cannot create the output folder"):
+        run_sweep(_grid(), blocker / "sub", progress=False)
+
+
+def test_overrides_of_devices_and_elevations(tmp_path):
+    path = run_sweep(
+        None, tmp_path, devices=["charge"], elevations=[0.0, 10.0], workers=1, progress=False
+    )
+    rows, _ = read_table(path)
+    assert [(r["device"], r["elevation_deg"]) for r in rows] == [("charge", 0.0), ("charge", 10.0)]
+
+
+def test_parquet_copy_holds_the_same_table(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow (the parquet extra) not installed")
+    run_sweep(_grid(), tmp_path, progress=False, parquet=True)
+    rows, columns = read_table(tmp_path / TABLE)
+    table = pq.read_table(tmp_path / PARQUET).to_pydict()
+    assert list(table) == columns
+    for name in columns:
+        assert table[name] == [row[name] for row in rows], name
+
+
+def test_command_line_flow_writes_the_table_and_a_figure_per_device(tmp_path):
+    """What the proposed ``feeder sweep`` command does: the table, then its figures."""
+    table = run_sweep(_grid(), tmp_path, progress=False)
+    paths = write_sweep_figures(table, tmp_path)
+    assert sorted(p.name for p in paths) == ["sweep_charge.png", "sweep_projectile.png"]
+    for path in paths:
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000
+
+
+@pytest.mark.parametrize("address", ["127.0.0.1:8786", "http://127.0.0.1:8786", "tcp://host"])
+def test_scheduler_address_must_be_tcp_host_port(tmp_path, address):
+    with pytest.raises(InputError, match="tcp://HOST:PORT"):
+        run_sweep(_grid(), tmp_path, scheduler=address)
+
+
+def test_no_scheduler_at_the_address(tmp_path, monkeypatch):
+    pytest.importorskip("distributed", reason="dask.distributed (the cluster extra) not installed")
+    with socket.socket() as probe:  # a port on which nothing listens
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    monkeypatch.setattr(sweep_module, "SCHEDULER_TIMEOUT", 1.0)
+    with pytest.raises(InputError, match="no Dask scheduler answers"):
+        run_sweep(_grid(), tmp_path, scheduler=f"tcp://127.0.0.1:{port}", progress=False)
+
+
+def test_dask_cluster_gives_the_table_of_the_local_run(tmp_path):
+    """The same cases through a Dask LocalCluster (two worker processes on 127.0.0.1) give the
+    same table, to the last digit, as the local process pool."""
+    distributed = pytest.importorskip(
+        "distributed", reason="dask.distributed (the cluster extra) not installed"
+    )
+    grid = _grid(variants=(Variant("reference"), Variant("longer", {"length_factor": 1.15})))
+    local = run_sweep(grid, tmp_path / "local", progress=False)
+    with distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:
+        remote = run_sweep(
+            grid, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False
+        )
+    assert remote.read_text(encoding="utf-8") == local.read_text(encoding="utf-8")
+
+
+def test_peak_times_lie_in_the_cycle(tmp_path):
+    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False))
+    end = float(SWEEP_SPEC.boundaries[-1])
+    for row in rows:
+        times = [value for name, value in row.items() if name.endswith("_time")]
+        assert all(0.0 <= t <= end for t in times)
+        assert math.isfinite(row["piston_force"])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import base64
+import json
 import math
 import os
 import re
@@ -21,16 +22,18 @@ from pathlib import Path
 
 import matplotlib.image
 import numpy as np
+import pinocchio as pin
 import psutil
 import pytest
 import umsgpack
 
 from feeder.__main__ import cmd_view
+from feeder.dynamics.cycle import cycle_dynamics
 from feeder.exceptions import ElevationError, InputError, ViewerPortError
 from feeder.motion import feeding_cycle
 from feeder.viz._meshcat_server import LOOPBACK
-from feeder.viz.scene import ARROW_LENGTH, FRAME_RATE
-from feeder.viz.viewer import CycleViewer, show_cycle, write_html
+from feeder.viz.scene import ARROW_COLORS, ARROW_LENGTH, FRAME_RATE
+from feeder.viz.viewer import CycleViewer, cycle_forces, show_cycle, write_html
 
 ELEVATION_DEG = 30.0
 WINDOW = (1000, 800)
@@ -78,6 +81,20 @@ MIN_BARREL_LENGTH = 0.25
 """The barrel axis' drawn length exceeds 25 % of the window's diagonal (its 1.6 m span)."""
 MAX_BARREL_WIDTH = 0.02
 """A line: its pixels' spread across their main direction is under 2 % of their length."""
+FLOAT32_POSITION = 1e-6
+"""[m] MeshCat's key frames hold float32 positions of ~1 m: a few 1e-8 m of rounding."""
+LOOP_BUDGET_MS = 20000
+"""Chromium's virtual time [ms] before reading the player: page load (seconds on a busy machine,
+its share of virtual time not fixed) plus at least three 4 s cycles. Played once, the player has
+stopped long before; looping, it must have wrapped at least twice and still play."""
+END_MARGIN = 0.05
+"""[s] How far from the cycle's end the stopped clock may read: a frame of Chromium's virtual
+time (1/60 s) plus the player's refresh."""
+MIN_ARROW_PIXELS = 60
+"""An arrow a tenth of the largest is 0.045 m long and 0.02 m wide, ~15 × 7 px in the 1000 ×
+800 window (measured scale ~330 px/m): at least 60 pixels of its colour, or it is hidden."""
+HIDE_LEGEND = "<style>#feeder-legend { display: none; }</style>"
+"""Test-only: the legend shows every arrow's colour; hidden so that only arrows are counted."""
 
 
 def decode_commands(html: str) -> list[dict]:
@@ -309,7 +326,7 @@ def test_force_arrows_to_one_scale(commands, forces, viewer, cycle30):
     # One scale for all: the least-squares scale s with pulled ≈ s · drawn leaves no residual.
     scale = float(np.sum(pulled * drawn) / np.sum(drawn * drawn))
     assert np.abs(pulled - scale * drawn).max() <= POSITION_TOLERANCE * scale
-    assert scale == pytest.approx(viewer.newtons_per_metre, rel=SCALE_ROUND_OFF)
+    assert scale == pytest.approx(viewer.drawn.newtons_per_metre, rel=SCALE_ROUND_OFF)
     assert np.linalg.norm(drawn, axis=1).max() == pytest.approx(ARROW_LENGTH, rel=SCALE_ROUND_OFF)
 
 
@@ -383,7 +400,9 @@ def test_browser_draws_the_barrel_axis(screenshots):
 
 def view_command(device: str, elevation: float, html: str | None, port: int | None) -> int:
     """``feeder view`` as the command line runs it, errors raised rather than printed."""
-    args = argparse.Namespace(device=device, elevation=elevation, html=html, port=port)
+    args = argparse.Namespace(
+        device=device, params=None, elevation=elevation, html=html, port=port
+    )
     return cmd_view(args)
 
 
@@ -435,7 +454,6 @@ def test_serve_forever_stops_on_ctrl_c(viewer):
 @pytest.mark.parametrize(
     ("device", "elevation", "error", "match"),
     [
-        ("mortar", 30.0, InputError, "mortar"),
         ("projectile", 71.0, ElevationError, "71"),
         ("projectile", -4.5, ElevationError, "-4.5"),
         ("projectile", math.nan, InputError, "nan"),
@@ -472,3 +490,166 @@ def test_view_command_busy_port(tmp_path, no_blocking, html):
 def test_view_command_bad_port(no_blocking, port):
     with pytest.raises(InputError, match=str(port)):
         view_command("projectile", 30.0, None, port)
+
+
+# -- issue 11: a legend for every colour, a player (play/pause, loop, time), readable arrows --
+
+
+def scene_colours(commands: list[dict]) -> set[str]:
+    """The ``#rrggbb`` colour of every material the scene sends (MeshCat's set_object)."""
+    colours = set()
+    for command in commands:
+        if command["type"] == "set_object":
+            for material in command["object"].get("materials", []):
+                colours.add(f"#{int(material['color']):06x}")
+    return colours
+
+
+def legend_colours(page: str) -> dict[str, str]:
+    """Colour → label of every legend row of the page."""
+    rows = re.findall(
+        r'class="mark \w+" style="background: (#[0-9a-f]{6});[^"]*"></span>([^<]+)<', page
+    )
+    return {colour: label for colour, label in rows}
+
+
+def test_legend_names_every_colour_of_the_scene(viewer, commands, forces):
+    """Independent of the legend's code: the colours are read from the scene's own commands."""
+    legend = legend_colours(viewer.static_html())
+    missing = scene_colours(commands) - set(legend)
+    assert not missing, f"colours without a legend entry: {missing}"
+    for name in forces:  # each arrow's entry is its name
+        assert name in legend.values()
+    for label in ("barrel axis", "payload path", "floor grid", "cylinder (link 1)"):
+        assert any(label in text for text in legend.values()), label
+
+
+def test_live_page_has_the_legend_and_the_player(viewer):
+    with urllib.request.urlopen(viewer.url, timeout=10) as response:
+        page = response.read().decode("utf-8")
+    assert 'id="feeder-legend"' in page and 'id="feeder-play"' in page
+    assert 'id="feeder-loop"' in page and 'id="feeder-time"' in page
+    assert "main.min.js" in page  # still MeshCat's page
+
+
+def dom_after(url: str, budget_ms: int, profile: Path) -> str:
+    """The page's DOM after ``budget_ms`` of Chromium's virtual time (scripts run)."""
+    command = [
+        CHROMIUM,
+        *CHROMIUM_FLAGS,
+        f"--user-data-dir={profile}",
+        f"--virtual-time-budget={budget_ms}",
+        "--dump-dom",
+        url,
+    ]
+    for _ in range(SCREENSHOT_ATTEMPTS):
+        try:
+            done = subprocess.run(
+                command, capture_output=True, text=True, timeout=SCREENSHOT_TIMEOUT
+            )
+        except subprocess.TimeoutExpired:
+            continue
+        if done.stdout:
+            return done.stdout
+    pytest.fail(f"chromium gave no DOM for {url}")
+
+
+POSITION_PROBE = """<script>
+setTimeout(function () {
+  var node = viewer.scene_tree.find(["meshcat", "feeder", "device", "visuals", "%s"]);
+  document.body.setAttribute("data-position", JSON.stringify(node.object.position.toArray()));
+}, 1500);
+</script></body>"""
+"""Test-only: writes one visual's position (device frame [m]) into the DOM after the page ran."""
+
+
+def player(dom: str) -> tuple[str, str]:
+    """The play button's label and the clock's text in a dumped DOM."""
+    button = re.search(r'id="feeder-play"[^>]*>([^<]*)<', dom).group(1)
+    clock = re.search(r'id="feeder-clock">([^<]*)<', dom).group(1)
+    return button, clock
+
+
+@pytest.fixture(scope="module")
+def static_page(viewer, tmp_path_factory):
+    path = tmp_path_factory.mktemp("player") / "cycle.html"
+    path.write_text(viewer.static_html(), encoding="utf-8")
+    return path
+
+
+@needs_chromium
+def test_page_opens_paused_at_the_time_in_its_address(
+    feeder, viewer, cycle30, static_page, tmp_path
+):
+    """``#t=2.5``: the player shows 2.500 s and "play" (paused), and the payload stands where
+    the kinematics put it at 2.5 s (the same seek as the time slider)."""
+    geometry = next(
+        g
+        for g in viewer.visualizer.visual_model.geometryObjects
+        if g.name.startswith("projectile")
+    )
+    probe = static_page.with_name("probe.html")
+    probe.write_text(
+        static_page.read_text(encoding="utf-8").replace("</body>", POSITION_PROBE % geometry.name),
+        encoding="utf-8",
+    )
+    dom = dom_after(probe.as_uri() + "#t=2.5", 3000, tmp_path / "profile")
+    assert player(dom) == ("play", "t = 2.500 s")
+    assert "stage 3" in dom
+    position = np.array(
+        json.loads(re.search(r'data-position="([^"]*)"', dom).group(1).replace("&quot;", '"'))
+    )
+    k = int(np.argmin(np.abs(cycle30.t - 2.5)))
+    model, data = viewer.visualizer.model, viewer.visualizer.model.createData()
+    geometry_data = pin.GeometryData(viewer.visualizer.visual_model)
+    pin.forwardKinematics(model, data, feeder.to_pinocchio(cycle30.q[k]))
+    pin.updateGeometryPlacements(model, data, viewer.visualizer.visual_model, geometry_data)
+    index = viewer.visualizer.visual_model.getGeometryId(geometry.name)
+    expected = geometry_data.oMg[index].translation
+    assert np.abs(position - expected).max() <= FLOAT32_POSITION
+
+
+@needs_chromium
+@pytest.mark.parametrize("loop", [False, True], ids=["once", "loop"])
+def test_loop_switch(static_page, tmp_path, loop):
+    """:data:`LOOP_BUDGET_MS` after opening (the cycle lasts 4 s): played once, the player has
+    stopped with its clock at the end; with ``#loop`` it still plays, its clock inside the
+    cycle (the animator clamps it to the duration, so the clock alone cannot show the wrap)."""
+    url = static_page.as_uri() + ("#loop" if loop else "")
+    button, clock = player(dom_after(url, LOOP_BUDGET_MS, tmp_path / "profile"))
+    seconds = float(clock.split()[2])
+    if loop:
+        assert button == "pause" and 0.0 <= seconds <= 4.0
+    else:
+        assert button == "play" and seconds >= 4.0 - END_MARGIN
+
+
+@pytest.fixture(scope="module")
+def view_page(feeder, tmp_path_factory):
+    """``feeder view --elevation -4 --html``'s page (the longest travel) with the legend
+    hidden, and the arrows it draws."""
+    dynamics = cycle_dynamics(feeder, math.radians(-4.0), forward=False)
+    forces = cycle_forces(feeder, dynamics)
+    path = tmp_path_factory.mktemp("arrows") / "view.html"
+    page = write_html(feeder, dynamics.kinematics, path, forces).read_text(encoding="utf-8")
+    path.write_text(page.replace("</body>", HIDE_LEGEND + "</body>"), encoding="utf-8")
+    return path, dynamics.kinematics.t, forces
+
+
+@needs_chromium
+@pytest.mark.parametrize("time", [0.5, 1.5, 2.25, 3.9])
+def test_every_loaded_arrow_is_visible(view_page, tmp_path, time):
+    """At every stage, each arrow of ``feeder view`` whose force is at least a tenth of the
+    peak shows on screen (drawn over the bodies, unlit: its exact colour) with at least
+    :data:`MIN_ARROW_PIXELS` pixels."""
+    path, t, forces = view_page
+    image = screenshot(f"{path.as_uri()}#t={time}", tmp_path / "shot.png")
+    pixels = np.rint(image * 255).astype(int)
+    peak = max(np.linalg.norm(force, axis=1).max() for force, _ in forces.values())
+    k = int(np.argmin(np.abs(t - time)))
+    for (name, (force, _)), colour in zip(forces.items(), ARROW_COLORS, strict=False):
+        if np.linalg.norm(force[k]) < 0.1 * peak:
+            continue
+        rgb = np.array([(colour >> 16) & 255, (colour >> 8) & 255, colour & 255])
+        count = int((np.abs(pixels - rgb).max(axis=2) <= 2).sum())
+        assert count >= MIN_ARROW_PIXELS, f"{name} at t = {time} s: {count} pixels"

@@ -1,0 +1,153 @@
+"""The parameter file: one device's parameters as TOML, every number with its unit and source.
+
+``feeder parameters --format toml`` writes it (:func:`parameters_toml`); ``--params FILE`` on
+every command reads it (:func:`read_parameters`). A user with the real drawings edits the
+numbers there instead of the package source. SI units as in :class:`FeederParameters`: metres,
+kilograms, kg·m² and radians (each angle's value in degrees is in its comment). Every field is
+required and no other is allowed, so that a mistyped name is an error rather than a default.
+
+The file is read with the standard library's ``tomllib`` and written here: TOML writers do not
+keep comments, and the units are in the comments.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import fields
+from pathlib import Path
+
+from ..exceptions import FeederError, InputError
+from .loop import check_device
+from .parameters import FeederParameters, LinkInertia
+
+_INERTIA_KEYS = ("mass", "moments", "source")
+
+
+def parameters_toml(params: FeederParameters) -> str:
+    """The parameter file of ``params``: TOML, a comment with the unit and source of each value.
+
+    Reading it back (:func:`read_parameters`) gives ``params`` exactly (floats are written with
+    the shortest digits that round-trip).
+    """
+    lines = [
+        f"# Parameters of the {params.name} feeder: written by `feeder parameters --format toml`,",
+        "# read by `--params FILE` on every feeder command. Edit the numbers, keep every field.",
+        "# SI units, given in each comment: m, kg, kg·m², rad (degrees shown beside radians).",
+        "# Link inertia tables: Table I's moments about axes through the centre of gravity,",
+        "# parallel to the link frame (feeder/device/parameters.py explains the frames).",
+        "",
+    ]
+    tables = []
+    for field in fields(params):
+        value = getattr(params, field.name)
+        if isinstance(value, LinkInertia):
+            tables += [
+                "",
+                f"[{field.name}]",
+                f"mass = {value.mass!r}  # [kg]",
+                f"moments = [{', '.join(repr(float(m)) for m in value.moments)}]  "
+                "# [kg·m²] Ixx, Iyy, Izz",
+                f"source = {_string(value.source)}",
+            ]
+            continue
+        unit, source = field.metadata["unit"], field.metadata["source"]
+        if isinstance(value, str):
+            comment = f"  # {source}" if source != "-" else ""
+            lines.append(f"{field.name} = {_string(value)}{comment}")
+        else:
+            shown = f"[rad] = {math.degrees(value):g}°" if unit == "rad" else f"[{unit}]"
+            lines.append(f"{field.name} = {float(value)!r}  # {shown}; {source}")
+    return "\n".join(lines + tables) + "\n"
+
+
+def parameters_sha256(params: FeederParameters) -> str:
+    """SHA-256 of the parameter file of ``params``: one hash per parameter set, however the
+    file it came from was formatted."""
+    return hashlib.sha256(parameters_toml(params).encode("utf-8")).hexdigest()
+
+
+def read_parameters(path: str | Path) -> FeederParameters:
+    """Read and check a parameter file written by :func:`parameters_toml` (and edited).
+
+    Every check of :func:`~feeder.device.loop.check_device` runs: the numbers, each link's
+    inertia, and the loop over the whole arm travel.
+
+    Raises:
+        InputError: The file is missing or unreadable, is not TOML, lacks a field or has an
+            unknown one, holds a value of the wrong type, or a parameter set that fails a check;
+            the message names the file and the field.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"parameter file not found: {path}")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the parameter file {path}: {exc}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path} is not a TOML parameter file: {exc}") from exc
+    values = {}
+    _check_keys(path, "", data, [f.name for f in fields(FeederParameters)])
+    for field in fields(FeederParameters):
+        value = data[field.name]
+        if field.type == "LinkInertia":
+            values[field.name] = _inertia(path, field.name, value)
+        elif field.type == "str":
+            values[field.name] = _text(path, field.name, value)
+        else:
+            values[field.name] = _number(path, field.name, value, field.metadata["unit"])
+    params = FeederParameters(**values)
+    try:
+        check_device(params)
+    except FeederError as exc:
+        raise InputError(f"{path}: {exc}") from exc
+    return params
+
+
+def _string(text: str) -> str:
+    """``text`` as a TOML basic string (JSON's escapes are TOML's)."""
+    return json.dumps(text, ensure_ascii=False)
+
+
+def _check_keys(path: Path, table: str, data: object, expected: list[str]) -> None:
+    where = f"table [{table}]" if table else "the file"
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: {table} must be a table ([{table}]), got {data!r}")
+    unknown = [key for key in data if key not in expected]
+    if unknown:
+        raise InputError(f"{path}: unknown field {unknown[0]!r} in {where}; fields: {expected}")
+    missing = [key for key in expected if key not in data]
+    if missing:
+        raise InputError(f"{path}: missing field {missing[0]!r} in {where}")
+
+
+def _number(path: Path, name: str, value: object, unit: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InputError(f"{path}: {name} must be a number [{unit}], got {value!r}")
+    if not math.isfinite(value):
+        raise InputError(f"{path}: {name} must be finite [{unit}], got {value!r}")
+    return float(value)
+
+
+def _text(path: Path, name: str, value: object) -> str:
+    if not isinstance(value, str):
+        raise InputError(f"{path}: {name} must be a string, got {value!r}")
+    return value
+
+
+def _inertia(path: Path, name: str, value: object) -> LinkInertia:
+    _check_keys(path, name, value, list(_INERTIA_KEYS))
+    moments = value["moments"]
+    if not isinstance(moments, list) or len(moments) != 3:
+        raise InputError(
+            f"{path}: {name}.moments must be three numbers [kg·m²] (Ixx, Iyy, Izz), "
+            f"got {moments!r}"
+        )
+    return LinkInertia(
+        _number(path, f"{name}.mass", value["mass"], "kg"),
+        tuple(_number(path, f"{name}.moments", m, "kg·m²") for m in moments),
+        _text(path, f"{name}.source", value["source"]),
+    )

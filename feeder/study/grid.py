@@ -1,0 +1,321 @@
+"""The grid of a sweep: elevations × parameter variants × devices, and its cases.
+
+A grid is usually read from a TOML file (:func:`read_grid`); every key is optional::
+
+    devices = ["projectile", "charge"]     # built-in devices (default: ["projectile"])
+    elevations = {start = -4, stop = 70, step = 1}   # [deg], stop included (the default)
+    # elevations = [-4, 0, 30, 70]         # or a list [deg]
+    rate = 1000.0                          # sample rate [Hz] (default 1000)
+    durations = [1.0, 1.0, 2.0]            # stage durations [s] (default 1, 1, 2)
+
+    [[variants]]                           # default: one variant, "reference", no change
+    name = "reference"
+
+    [[variants]]
+    name = "heavier"
+    mass_factor = 1.2                      # the payload 20 % heavier and 15 % longer, moments
+    length_factor = 1.15                   # and centre of gravity with it (feeder.retrofit)
+
+    [[variants]]
+    name = "pivot_up"
+    L2 = 0.29                              # any number of the parameter set, by its name in
+                                           # PARAMETERS.md, in its SI unit there
+
+Each variant applies to every device; each (device, variant, elevation) is one
+:class:`SweepCase`. Every number is checked when the grid is built, and every variant of every
+device is checked to assemble over its travel (:func:`~feeder.device.loop.check_device`), so a
+bad grid fails before any cycle is computed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..device.builtin import DEVICES
+from ..device.loop import check_device
+from ..device.parameters import FeederParameters
+from ..exceptions import FeederError, InputError
+from ..motion.laws import CycleSpec
+from ..validation import check_elevation, check_number
+from .retrofit import retrofit
+
+DEFAULT_ELEVATIONS_DEG = (-4.0, 70.0, 1.0)
+"""Default elevation range (start, stop, step) [deg]: the device's whole range, every degree."""
+
+NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]*")
+"""Variant names: a letter or digit, then letters, digits and ``_ . + -`` (they become table
+cells and file names, so no commas, quotes, spaces or slashes)."""
+
+RETROFIT_KEYS = ("mass_factor", "length_factor")
+"""Variant keys that change the payload as a whole (:func:`~feeder.study.retrofit.retrofit`)."""
+
+MAX_CASES = 1_000_000
+"""Most cases a grid may have (about 8 hours on 2 cores at ~50 ms a case): a typo such as a step
+of 0.0001° is refused rather than started."""
+
+
+def _numeric_fields() -> tuple[str, ...]:
+    return tuple(f.name for f in fields(FeederParameters) if f.type == "float")
+
+
+PARAMETER_KEYS = _numeric_fields()
+"""Variant keys that set one number of :class:`~feeder.device.parameters.FeederParameters`."""
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One change of the devices' parameters.
+
+    Attributes:
+        name: Its name in the table and the figures.
+        changes: Parameter name → value (SI, as in PARAMETERS.md), and/or the retrofit factors
+            ``mass_factor``, ``length_factor``; empty for the unchanged device. Given as a
+            mapping or as (name, value) pairs; kept as pairs of floats.
+    """
+
+    name: str
+    changes: tuple[tuple[str, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        """Check the name and every change, and keep the values as floats.
+
+        Raises:
+            InputError: A name that is not :data:`NAME`, an unknown key, a value that is not
+                one finite number.
+        """
+        if not isinstance(self.name, str) or not NAME.fullmatch(self.name):
+            raise InputError(
+                f"variant name {self.name!r}: use letters, digits and _ . + - (no spaces, "
+                "commas or slashes)"
+            )
+        pairs = self.changes.items() if isinstance(self.changes, Mapping) else self.changes
+        checked = []
+        for key, value in pairs:
+            if key not in PARAMETER_KEYS and key not in RETROFIT_KEYS:
+                raise InputError(
+                    f"variant {self.name!r}: unknown key {key!r}; use "
+                    f"{', '.join(RETROFIT_KEYS)} or a parameter name: {', '.join(PARAMETER_KEYS)}"
+                )
+            checked.append((key, check_number(f"variant {self.name!r}: {key}", value)))
+        object.__setattr__(self, "changes", tuple(checked))
+
+    def apply(self, params: FeederParameters) -> FeederParameters:
+        """``params`` with this variant's changes (retrofit first, then the named numbers)."""
+        changes = dict(self.changes)
+        factors = [changes.pop(key, 1.0) for key in RETROFIT_KEYS]
+        if factors != [1.0, 1.0]:
+            params = retrofit(params, *factors)
+        return replace(params, **changes) if changes else params
+
+
+@dataclass(frozen=True)
+class SweepCase:
+    """One cycle of a sweep.
+
+    Attributes:
+        device: Built-in device name, or the parameter set's name.
+        variant: Variant name.
+        elevation_deg: ε [deg], as given (the table's key and column).
+        elevation: ε [rad] of the cycle.
+        params: The device's parameters with the variant applied.
+        spec: Stage durations and sample rate.
+    """
+
+    device: str
+    variant: str
+    elevation_deg: float
+    elevation: float
+    params: FeederParameters
+    spec: CycleSpec
+
+    @property
+    def key(self) -> tuple[str, str, float]:
+        """(device, variant, elevation [deg]): what identifies the case in a table."""
+        return (self.device, self.variant, self.elevation_deg)
+
+
+def fingerprint(params: FeederParameters, spec: CycleSpec) -> str:
+    """A short hash of every number of a case but its elevation: a table row computed with other
+    parameters or timing has another one."""
+    text = repr((params, spec.durations, spec.rate))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def elevation_range(start: float, stop: float, step: float) -> np.ndarray:
+    """Elevations [deg] from ``start`` to ``stop`` inclusive in steps of ``step`` (> 0).
+
+    Computed as start + k·step (no accumulated rounding), so whole-degree steps give whole
+    numbers; ``stop`` is included when it lies on the grid within 1e-9 of a step.
+
+    Raises:
+        InputError: A bound or step that is not a finite number, a step ≤ 0, stop < start, or
+            more than :data:`MAX_CASES` elevations.
+    """
+    start = check_number("elevation start [deg]", start)
+    stop = check_number("elevation stop [deg]", stop)
+    step = check_number("elevation step [deg]", step)
+    if step <= 0.0 or stop < start:
+        raise InputError(
+            f"elevations must run from start to stop ≥ start in steps > 0 [deg], got start "
+            f"{start:g}, stop {stop:g}, step {step:g}"
+        )
+    count = math.floor((stop - start) / step + 1e-9) + 1
+    if count > MAX_CASES:
+        raise InputError(f"{count} elevations from {start:g}° to {stop:g}° by {step:g}°: too many")
+    return start + step * np.arange(count)
+
+
+@dataclass(frozen=True)
+class SweepGrid:
+    """Elevations × variants × devices, checked.
+
+    Attributes:
+        devices: Device name → its parameters (built-in devices by name).
+        elevations_deg: Elevations ε [deg], shape (K,), each inside every device's range.
+        variants: The parameter variants (names unique).
+        spec: Stage durations and sample rate of every cycle.
+    """
+
+    devices: Mapping[str, FeederParameters]
+    elevations_deg: np.ndarray
+    variants: tuple[Variant, ...]
+    spec: CycleSpec
+
+    def cases(self) -> list[SweepCase]:
+        """Every case, by device, then variant, then elevation."""
+        cases = []
+        for device, params in self.devices.items():
+            for variant in self.variants:
+                changed = variant.apply(params)
+                for elevation in self.elevations_deg:
+                    deg = float(elevation)
+                    cases.append(
+                        SweepCase(device, variant.name, deg, math.radians(deg), changed, self.spec)
+                    )
+        return cases
+
+
+def make_grid(
+    devices: Sequence[str] | Mapping[str, FeederParameters] = ("projectile",),
+    elevations_deg: Sequence[float] | np.ndarray | None = None,
+    variants: Sequence[Variant] = (Variant("reference"),),
+    spec: CycleSpec | None = None,
+) -> SweepGrid:
+    """A checked grid.
+
+    Args:
+        devices: Built-in device names, or name → parameters.
+        elevations_deg: Elevations [deg]; default every degree of −4° … 70°.
+        variants: Parameter variants; default the unchanged devices.
+        spec: Timing; default :class:`~feeder.motion.laws.CycleSpec`.
+
+    Raises:
+        InputError: Unknown device, no device or variant or elevation, a repeated name, a bad
+            variant name or key or value, an elevation outside a device's range.
+        FeederError: A variant whose parameters are not physical or whose loop does not
+            assemble (:func:`~feeder.device.loop.check_device`'s error, naming the device and
+            the variant).
+    """
+    if isinstance(devices, Mapping):
+        chosen = dict(devices)
+    else:
+        if isinstance(devices, str) or not isinstance(devices, Sequence):
+            raise InputError(f"devices must be a list of device names, got {devices!r}")
+        unknown = [d for d in devices if not isinstance(d, str) or d not in DEVICES]
+        if unknown:
+            raise InputError(f"unknown devices {unknown!r}; choose from {sorted(DEVICES)}")
+        chosen = {name: DEVICES[name] for name in devices}
+    if not chosen:
+        raise InputError("a sweep needs at least one device")
+    if elevations_deg is None:
+        elevations_deg = elevation_range(*DEFAULT_ELEVATIONS_DEG)
+    elevations = np.array(
+        [check_number("elevation [deg]", e) for e in np.ravel(np.asarray(elevations_deg, object))]
+    )
+    if elevations.size == 0:
+        raise InputError("a sweep needs at least one elevation")
+    variants = tuple(variants)
+    if not variants:
+        raise InputError("a sweep needs at least one variant (e.g. 'reference', no change)")
+    if elevations.size * len(chosen) * len(variants) > MAX_CASES:
+        raise InputError(f"the grid has more than {MAX_CASES} cases")
+    names = [v.name for v in variants]
+    if len(set(names)) != len(names):
+        raise InputError(f"variant names must be unique, got {names}")
+    for device, params in chosen.items():
+        for e in elevations:
+            check_elevation(math.radians(e), params.elevation_limits)
+        for variant in variants:
+            try:
+                check_device(variant.apply(params))
+            except FeederError as exc:  # the same error, told where it comes from
+                raise type(exc)(f"device {device!r}, variant {variant.name!r}: {exc}") from exc
+    return SweepGrid(chosen, elevations, variants, spec or CycleSpec())
+
+
+def _variant(entry: object, index: int) -> Variant:
+    if not isinstance(entry, dict) or "name" not in entry:
+        raise InputError(f"variants[{index}] must be a table with a name, got {entry!r}")
+    return Variant(entry["name"], tuple((k, v) for k, v in entry.items() if k != "name"))
+
+
+def _elevations(value: object) -> np.ndarray:
+    if isinstance(value, dict):
+        unknown = set(value) - {"start", "stop", "step"}
+        if unknown or not {"start", "stop"} <= set(value):
+            raise InputError(
+                f"elevations: a table needs start and stop [deg] and may have step, got {value!r}"
+            )
+        return elevation_range(value["start"], value["stop"], value.get("step", 1.0))
+    if isinstance(value, list):
+        return np.array([check_number("elevation [deg]", e) for e in value])
+    raise InputError(f"elevations must be a list or {{start, stop, step}} [deg], got {value!r}")
+
+
+GRID_KEYS = ("devices", "elevations", "rate", "durations", "variants")
+"""The keys a grid file may have."""
+
+
+def read_grid(path: str | Path) -> SweepGrid:
+    """Read and check a grid file (TOML, the format of this module's docstring).
+
+    Raises:
+        InputError: A missing or unreadable file, invalid TOML, an unknown key.
+        FeederError: Any error of :func:`make_grid`, its message prefixed with the file.
+    """
+    path = Path(path)
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"cannot read the grid file {path}: {exc.strerror or exc}") from exc
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path} is not a TOML grid file: {exc}") from exc
+    try:
+        unknown = sorted(set(document) - set(GRID_KEYS))
+        if unknown:
+            raise InputError(f"unknown keys {unknown}; a grid has {', '.join(GRID_KEYS)}")
+        spec = CycleSpec(
+            durations=document.get("durations", CycleSpec.durations),
+            rate=document.get("rate", CycleSpec.rate),
+        )
+        variants = document.get("variants", [{"name": "reference"}])
+        if not isinstance(variants, list):
+            raise InputError(f"variants must be an array of tables, got {variants!r}")
+        return make_grid(
+            devices=document.get("devices", ["projectile"]),
+            elevations_deg=(
+                _elevations(document["elevations"]) if "elevations" in document else None
+            ),
+            variants=[_variant(entry, k) for k, entry in enumerate(variants)],
+            spec=spec,
+        )
+    except FeederError as exc:
+        raise type(exc)(f"{path}: {exc}") from exc

@@ -1,0 +1,134 @@
+"""``feeder cycle`` as separate processes: two runs on one folder at once, and Ctrl-C (SIGINT)
+at the worst moments. Nothing is ever half-written, nothing mixes two runs, and the user gets
+one line, not a traceback."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import signal
+import subprocess
+import sys
+import time
+
+from feeder.study.csv import read_csv
+
+from .conftest import REPO
+
+WAIT = 120.0
+"""[s] Longest wait for a run to reach a state or to end (a cycle takes ~5 s here; CI's two
+cores may be busy with another test)."""
+POLL = 0.002
+"""[s] Polling step while waiting for a file to appear: writing cycle.csv takes ~0.5 s."""
+ROWS = 4001
+"""Samples of the default cycle: 4 s at 1 kHz, both ends included (REFERENCE.md)."""
+
+
+def start(*arguments: str) -> subprocess.Popen:
+    """``python -m feeder ...`` with SIGINT at its default (a shell may start tests with it
+    ignored, and Python then keeps it ignored)."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "feeder", *arguments],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+
+
+def wait_for(condition, what: str) -> None:
+    deadline = time.monotonic() + WAIT
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(POLL)
+
+
+def finish(process: subprocess.Popen) -> tuple[int, str, str]:
+    out, err = process.communicate(timeout=WAIT)
+    return process.returncode, out, err
+
+
+def check_complete(folder) -> dict:
+    """The folder's manifest says complete, lists exactly its files, and each hash matches;
+    the table is whole."""
+    manifest = json.loads((folder / "feeder-run.json").read_text(encoding="utf-8"))
+    assert manifest["complete"] is True
+    assert sorted(p.name for p in folder.iterdir()) == sorted(
+        [*manifest["files"], "feeder-run.json"]
+    )
+    for name, digest in manifest["files"].items():
+        assert hashlib.sha256((folder / name).read_bytes()).hexdigest() == digest, name
+    table = read_csv(folder / "cycle.csv")
+    assert len(table["t"]) == ROWS and len(table) == len(set(table))
+    return manifest
+
+
+def test_second_run_on_the_same_folder_is_refused(tmp_path):
+    out = tmp_path / "results"
+    first = start("cycle", "--elevation", "10", "--out", str(out))
+    wait_for(lambda: (out / ".feeder-run.lock").exists(), "the first run's lock")
+    second = start("cycle", "--elevation", "20", "--out", str(out))
+    status, _, err = finish(second)
+    assert status == 2, err
+    assert "another feeder run is writing into" in err and "Traceback" not in err
+    status, _, err = finish(first)
+    assert status == 0, err
+    manifest = check_complete(out)
+    assert manifest["elevation_deg"] == 10.0  # the first run's outputs, all of them
+
+
+def test_simultaneous_runs_never_mix(tmp_path):
+    """Started together: one runs, the other is refused; the folder is the winner's alone."""
+    out = tmp_path / "results"
+    runs = {e: start("cycle", "--elevation", e, "--out", str(out)) for e in ("10", "20")}
+    results = {e: finish(p) for e, p in runs.items()}
+    statuses = sorted(status for status, _, _ in results.values())
+    assert statuses == [0, 2], results
+    (winner,) = [e for e, (status, _, _) in results.items() if status == 0]
+    assert check_complete(out)["elevation_deg"] == float(winner)
+
+
+def test_ctrl_c_while_computing(tmp_path):
+    """Exit 130 with one line; the new folder is removed: nothing looks like a result."""
+    out = tmp_path / "results"
+    run = start("cycle", "--elevation", "10", "--out", str(out))
+    wait_for(lambda: (out / ".feeder-run.lock").exists(), "the run's lock")
+    run.send_signal(signal.SIGINT)
+    status, _, err = finish(run)
+    assert status == 130
+    assert len(err.strip().splitlines()) == 1 and "interrupted" in err, err
+    assert not out.exists()
+
+
+def test_ctrl_c_while_writing_the_table(tmp_path):
+    """Ctrl-C while cycle.csv is being written over an earlier run's: no temporary file is
+    left, the earlier table is intact (its hash unchanged), and the manifest says the folder
+    is incomplete; the next run completes it."""
+    out = tmp_path / "results"
+    status, _, err = finish(start("cycle", "--elevation", "10", "--out", str(out), "--no-forward"))
+    assert status == 0, err
+    before = check_complete(out)["files"]["cycle.csv"]
+    run = start("cycle", "--elevation", "20", "--out", str(out), "--no-forward")
+    wait_for(lambda: any(out.glob(".cycle.csv.*.part")), "cycle.csv being written")
+    run.send_signal(signal.SIGINT)
+    status, _, err = finish(run)
+    assert status == 130 and "Traceback" not in err, err
+    assert len(err.strip().splitlines()) == 1
+    assert not list(out.glob(".*"))  # neither a temporary file nor the lock
+    assert hashlib.sha256((out / "cycle.csv").read_bytes()).hexdigest() == before
+    manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert manifest["complete"] is False
+    status, _, err = finish(start("cycle", "--elevation", "20", "--out", str(out), "--no-forward"))
+    assert status == 0, err
+    assert check_complete(out)["elevation_deg"] == 20.0
+
+
+def test_ctrl_c_stops_the_viewer_cleanly():
+    """Ctrl-C is how ``feeder view`` stops: exit 0, no traceback, once it has said so."""
+    viewer = start("view", "--elevation", "30")
+    address, prompt = viewer.stdout.readline(), viewer.stdout.readline()
+    assert "open http://127.0.0.1:" in address and "press Ctrl-C" in prompt
+    viewer.send_signal(signal.SIGINT)
+    status, _, err = finish(viewer)
+    assert status == 0 and "Traceback" not in err, err

@@ -1,0 +1,61 @@
+"""``import feeder`` is cheap: the public names load on first use, and nothing imports
+matplotlib but the figures (issue 12: the command line's start-up time)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import feeder
+
+from .conftest import REPO
+
+
+def _modules_after(code: str) -> set[str]:
+    """Top-level modules imported by ``code`` in a fresh interpreter."""
+    script = (
+        f"import sys\n{code}\nprint(' '.join(sorted({{m.split('.')[0] for m in sys.modules}})))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True
+    )
+    return set(done.stdout.split())
+
+
+def test_import_feeder_loads_neither_pinocchio_nor_matplotlib():
+    loaded = _modules_after("import feeder")
+    assert "pinocchio" not in loaded and "matplotlib" not in loaded
+
+
+def test_a_cycle_study_needs_no_matplotlib():
+    loaded = _modules_after(
+        "import feeder\nfeeder.run_cycle_study(feeder.load_feeder(), 0.5, "
+        "feeder.CycleSpec(rate=100.0), forward=False).columns()"
+    )
+    assert "pinocchio" in loaded and "matplotlib" not in loaded
+
+
+def test_figure_writers_load_matplotlib_only_to_draw():
+    """feeder.viz.report ships data to the figure workers; drawing happens there."""
+    loaded = _modules_after("import feeder.viz.report as r\nr.study_figure_names()")
+    assert "matplotlib" not in loaded
+    assert "matplotlib" in _modules_after("from feeder.viz import sweep_figure")
+
+
+def test_every_public_name_resolves_to_its_module_object():
+    from feeder.outputs import write_cycle_outputs
+    from feeder.study.cycle_study import run_cycle_study
+
+    for name in feeder.__all__:
+        assert getattr(feeder, name) is not None, name
+    assert feeder.write_cycle_outputs is write_cycle_outputs
+    assert feeder.run_cycle_study is run_cycle_study
+    assert set(feeder.__all__) <= set(dir(feeder))
+    assert feeder.viz.__name__ == "feeder.viz"
+
+
+def test_unknown_name_is_an_attribute_error():
+    with pytest.raises(AttributeError, match="no_such_name"):
+        feeder.no_such_name  # noqa: B018

@@ -1,0 +1,150 @@
+"""The output folder: checked before anything is created, one run at a time, a manifest that
+says which run wrote which file (each with its SHA-256), and no outputs of an earlier run left
+beside a new one."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+
+import pytest
+
+import feeder as api
+from feeder.exceptions import InputError, OutputBusyError
+from feeder.files import write_text
+from feeder.outputs import LOCK, MANIFEST, OutputFolder, write_kinematics_outputs
+
+RECORD = {"command": "test", "device": "none"}
+
+
+def writers(**texts: str):
+    """Writers of small text files, by name."""
+    return {name: (lambda path, text=text: write_text(path, text)) for name, text in texts.items()}
+
+
+def manifest(folder):
+    return json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+
+
+def sha256(path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.mark.parametrize("path", ["", "  "])
+def test_empty_path_is_refused(path):
+    with pytest.raises(InputError, match="empty path"):
+        OutputFolder(path)
+
+
+def test_checks_create_nothing(tmp_path):
+    OutputFolder(tmp_path / "new" / "deeper")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "where, message",
+    [("file", "is a file"), ("under_file", "file is a file"), ("foreign", "no feeder run wrote")],
+)
+def test_refused_folders(tmp_path, where, message):
+    (tmp_path / "file").write_text("x")
+    (tmp_path / "foreign").mkdir()
+    (tmp_path / "foreign" / "notes.txt").write_text("mine")
+    path = {
+        "file": tmp_path / "file",
+        "under_file": tmp_path / "file" / "out",
+        "foreign": tmp_path / "foreign",
+    }[where]
+    with pytest.raises(InputError, match=message):
+        OutputFolder(path)
+    assert (tmp_path / "foreign" / "notes.txt").read_text() == "mine"
+
+
+def test_manifest_lists_every_output_with_its_hash(tmp_path):
+    folder = tmp_path / "out"
+    with OutputFolder(folder) as out:
+        paths = out.write(writers(a="1", b="2"), RECORD)
+    assert paths == [folder / "a", folder / "b"]
+    record = manifest(folder)
+    assert record["complete"] is True
+    assert record["command"] == "test" and record["feeder_version"] == api.__version__
+    assert record["files"] == {"a": sha256(folder / "a"), "b": sha256(folder / "b")}
+    assert record["started"] <= record["finished"]
+    assert sorted(p.name for p in folder.iterdir()) == ["a", "b", MANIFEST]  # lock removed
+
+
+def test_a_new_run_removes_the_outputs_of_the_previous_one(tmp_path):
+    with OutputFolder(tmp_path) as out:
+        out.write(writers(a="old", b="old", c="old"), RECORD)
+    (tmp_path / "notes.txt").write_text("mine")  # added by the user after the run: kept
+    with OutputFolder(tmp_path) as out:
+        out.write(writers(a="new"), RECORD)
+    assert (tmp_path / "a").read_text() == "new"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", MANIFEST, "notes.txt"]
+    assert list(manifest(tmp_path)["files"]) == ["a"]
+
+
+def test_a_failed_run_removes_the_folder_it_created(tmp_path):
+    folder = tmp_path / "new" / "out"
+    with pytest.raises(RuntimeError), OutputFolder(folder):
+        raise RuntimeError("the computation failed")
+    assert not folder.exists()
+
+
+def test_an_interrupted_write_is_marked_incomplete_and_cleaned_up_next_time(tmp_path):
+    """Ctrl-C after the first output of a run into an earlier run's folder: the manifest says
+    the folder is incomplete and lists both runs' files; the next run removes the leftovers."""
+    with OutputFolder(tmp_path) as out:
+        out.write(writers(a="old", b="old", c="old"), RECORD)
+
+    def interrupted(path):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt), OutputFolder(tmp_path) as out:
+        out.write({**writers(x="new"), "y": interrupted}, RECORD)
+    record = manifest(tmp_path)
+    assert record["complete"] is False and record["finished"] is None
+    assert set(record["files"]) == {"x", "y", "a", "b", "c"}
+    assert (tmp_path / "x").read_text() == "new" and not (tmp_path / LOCK).exists()
+    with OutputFolder(tmp_path) as out:
+        out.write(writers(z="newest"), RECORD)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST, "z"]
+
+
+def test_a_second_run_on_the_folder_is_refused(tmp_path):
+    with OutputFolder(tmp_path) as out:
+        with pytest.raises(OutputBusyError, match=str(tmp_path)):
+            with OutputFolder(tmp_path):
+                pass
+        out.write(writers(a="1"), RECORD)
+    assert manifest(tmp_path)["complete"] is True
+
+
+def test_write_needs_the_with_block(tmp_path):
+    with pytest.raises(InputError, match="with block"):
+        OutputFolder(tmp_path).write(writers(a="1"), RECORD)
+
+
+@pytest.mark.parametrize(
+    "files",
+    [{"../escape": None}, {"sub/a": None}, {MANIFEST: None}, {"..": None}, {"": None}, "abc", []],
+)
+def test_a_manifest_that_points_outside_is_refused(tmp_path, files):
+    (tmp_path / MANIFEST).write_text(json.dumps({"files": files}))
+    with pytest.raises(InputError):
+        OutputFolder(tmp_path)
+
+
+def test_a_corrupt_manifest_is_refused(tmp_path):
+    (tmp_path / MANIFEST).write_text("{half")
+    with pytest.raises(InputError, match="not a feeder manifest"):
+        OutputFolder(tmp_path)
+
+
+def test_kinematics_outputs_record_the_run(tmp_path, feeder):
+    cycle = api.feeding_cycle(feeder, math.radians(30.0), api.CycleSpec(rate=100.0))
+    paths = write_kinematics_outputs(feeder, cycle, tmp_path / "k", command="feeder kinematics")
+    record = manifest(tmp_path / "k")
+    assert list(record["files"]) == [p.name for p in paths]
+    assert record["device"] == "projectile" and record["elevation_deg"] == pytest.approx(30.0)
+    assert record["sample_rate_hz"] == 100.0 and record["command"] == "feeder kinematics"

@@ -1,0 +1,92 @@
+"""Type confusion at the public entry points: a number typed as text or as a truth value, a
+device name in a list, is refused with a feeder error naming the value (numpy would read "0.5"
+and True as numbers and run a whole study with them)."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import feeder as api
+from feeder.device import PROJECTILE_FEEDER, LinkInertia
+from feeder.exceptions import FeederError, InputError
+from feeder.validation import check_number, check_path
+
+
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        ("0.5", "text '0.5'"),
+        (True, "truth value True"),
+        (np.True_, "truth value"),
+        ([0.5], "one number"),
+        (None, "numeric"),
+        (float("nan"), "finite"),
+    ],
+)
+@pytest.mark.parametrize("entry", ["run_cycle_study", "feeding_cycle"])
+def test_elevation_must_be_one_number(feeder, entry, bad, match):
+    with pytest.raises(InputError, match=f"elevation.*{match}"):
+        getattr(api, entry)(feeder, bad)
+
+
+def test_text_length_in_parameters_is_refused_before_any_study():
+    with pytest.raises(InputError, match="c must be numeric, got the text '0.05'"):
+        api.load_feeder(dataclasses.replace(PROJECTILE_FEEDER, c="0.05"))
+
+
+@pytest.mark.parametrize("device", [["projectile"], ("projectile",), 1, None])
+def test_device_must_be_a_name_or_parameters(device):
+    with pytest.raises(InputError, match="unknown device"):
+        api.load_feeder(device)
+
+
+def test_text_mass_is_refused_with_the_link_name():
+    payload = LinkInertia("43.5", PROJECTILE_FEEDER.payload.moments, "typed as text")
+    with pytest.raises(InputError, match="link 'projectile': mass .* text '43.5'"):
+        api.load_feeder(dataclasses.replace(PROJECTILE_FEEDER, payload=payload))
+
+
+@pytest.mark.parametrize(
+    "value, expected", [(0.5, 0.5), (np.float32(0.25), 0.25), (3, 3.0), (np.int64(-4), -4.0)]
+)
+def test_check_number_accepts_real_numbers(value, expected):
+    assert check_number("x", value) == expected
+
+
+@pytest.mark.parametrize("bad", ["1", b"1", True, np.False_, [1.0], np.ones(2), 1j, {"x": 1}])
+def test_check_number_refuses_everything_else(bad):
+    with pytest.raises(FeederError, match="x must be"):
+        check_number("x", bad)
+
+
+@pytest.mark.parametrize(
+    "bad, match", [("", "empty"), ("   ", "empty"), (3, "a path"), (None, "a path")]
+)
+def test_check_path_refuses_empty_and_non_paths(bad, match):
+    """An empty path is the current folder to pathlib: ``--out ""`` wrote there."""
+    with pytest.raises(InputError, match=match):
+        check_path("out", bad)
+
+
+def test_check_path_accepts_text_and_paths(tmp_path):
+    assert check_path("out", "results") == Path("results")
+    assert check_path("out", tmp_path) == tmp_path
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda f: __import__("feeder").workspace(f, True),
+        lambda f: __import__("feeder").elevation_sweep(f, [True], progress=False),
+        lambda f: __import__("feeder").retrofit(f.params, True, 1.0),
+        lambda f: __import__("feeder").CycleSpec(rate=True),
+    ],
+    ids=["workspace", "sweep", "retrofit", "rate"],
+)
+def test_truth_values_are_not_numbers(feeder, call):
+    with pytest.raises(InputError, match="truth value"):
+        call(feeder)
