@@ -10,8 +10,9 @@ Figures:
 
 * ``cycle_cold_cli``: ``feeder cycle --elevation -4`` as a user runs it (a fresh interpreter,
   every figure), wall time [s], median of ``--cold-runs`` runs; goal ≤ 0.8 s.
-* ``cycle_cold_job``: the same job with the figures drawn by :class:`feeder.viz.report.
-  FigureWorkers` started before the study (the flow proposed for the command line), [s].
+* ``cycle_cold_job``: the same job as a short script, without the command line's checks,
+  output folder, manifest and summary (figures drawn by :class:`feeder.viz.report.
+  FigureWorkers` started before the study, as the command line does), [s].
 * ``cycle_cold_no_figures``: the job without figures (``--no-figures``), [s].
 * The steps in one process: imports (numpy + Pinocchio, feeder, matplotlib), model,
   kinematics, inverse dynamics, reactions, forward run, Lagrange equations, CSV, figures.
@@ -75,8 +76,8 @@ with FigureWorkers(None if {draw} else 1) as figures:
             write(out / name)
     print(study.summary())
 """
-"""The cycle job as the proposed command line runs it: figure workers started before the study
-(they import matplotlib meanwhile), the table written while they draw."""
+"""The cycle job as a script, as the command line runs it: figure workers started before the
+study (they import matplotlib meanwhile), the table written while they draw."""
 
 
 def best_time(function: Callable[[], object], repeats: int, calls: int = 1) -> float:
@@ -244,7 +245,7 @@ def measure_sweeps(figures: dict, cases: int, repeats: int, folder: Path) -> Non
 def report(figures: dict, previous: dict | None) -> None:
     rows = [
         ("feeder cycle, cold (CLI as wired)", "cycle_cold_cli", "s"),
-        ("feeder cycle job, cold, FigureWorkers", "cycle_cold_job", "s"),
+        ("feeder cycle job, cold, as a script", "cycle_cold_job", "s"),
         ("feeder cycle job, cold, no figures", "cycle_cold_no_figures", "s"),
         ("import numpy + pinocchio", "import_numpy_pinocchio", "s"),
         ("import feeder (study)", "import_feeder_study", "s"),

@@ -168,14 +168,19 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     from .motion.laws import CycleSpec
     from .outputs import OutputFolder, write_cycle_outputs
     from .study.cycle_study import run_cycle_study
+    from .viz.report import FigureWorkers
 
     folder = OutputFolder(args.out)
     params = _params(args)
     elevation, spec = _elevation(args, params), CycleSpec(rate=args.rate)
-    feeder = load_feeder(params)
-    with folder:
-        study = run_cycle_study(feeder, elevation, spec, progress=True, forward=args.forward)
-        paths = write_cycle_outputs(study, folder, _command(args), figures=args.figures)
+    # The figure workers start first: they import matplotlib while this process computes.
+    with FigureWorkers(None if args.figures else 1) as workers:
+        feeder = load_feeder(params)
+        with folder:
+            study = run_cycle_study(feeder, elevation, spec, progress=True, forward=args.forward)
+            paths = write_cycle_outputs(
+                study, folder, _command(args), figures=args.figures, workers=workers
+            )
     print(f"{feeder.params.name} feeder")
     print(study.summary())
     figures = f" and {len(paths) - 1} figures" if args.figures else ""

@@ -26,24 +26,31 @@ import json
 import math
 from collections.abc import Callable, Mapping
 from datetime import UTC, datetime
+from functools import partial
 from pathlib import Path
-
-from matplotlib.figure import Figure
+from typing import TYPE_CHECKING
 
 from .device.feeder import Feeder
 from .device.parameter_file import parameters_sha256
 from .exceptions import InputError
-from .files import atomic_path, exclusive_lock, write_text
+from .files import exclusive_lock, write_text
 from .motion.cycle import CycleKinematics
 from .study.analyze import Analysis
 from .study.columns import kinematic_columns
 from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
 from .validation import check_path
-from .viz.report import kinematics_figures, study_figures
+from .viz.report import (
+    FigureData,
+    FigureWorkers,
+    kinematics_figures,
+    png_bytes,
+    study_figure_names,
+    write_png,
+)
 
-FIGURE_DPI = 120
-"""Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 960 × 504."""
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 MANIFEST = "feeder-run.json"
 """The manifest of the run that wrote an output folder (JSON)."""
@@ -74,20 +81,26 @@ class OutputFolder:
         self._previous_files()  # the checks, before anything exists
 
     def __enter__(self) -> OutputFolder:
-        existed = self.path.is_dir()
         try:
-            self.path.mkdir(parents=True, exist_ok=True)
+            self.path.mkdir(parents=True)  # raises if it exists: of two runs, one created it
+            self._created = True
+        except FileExistsError:
+            self._created = False
         except OSError as exc:
             raise InputError(
                 f"cannot create the output folder {self.path}: {exc.strerror or exc}"
             ) from exc
-        self._created = not existed
-        self._lock = exclusive_lock(self.path / LOCK, f"the output folder {self.path}")
+        lock = exclusive_lock(self.path / LOCK, f"the output folder {self.path}")
         try:
-            self._lock.__enter__()
-            self._previous_files()  # again, now that no other run can change the folder
+            lock.__enter__()
         except BaseException:
             self._remove_if_created(())
+            raise
+        self._lock = lock
+        try:
+            self._previous_files()  # again, now that no other run can change the folder
+        except BaseException as error:
+            self.__exit__(type(error), error, error.__traceback__)  # unlock, then clean up
             raise
         return self
 
@@ -206,19 +219,12 @@ def run_record(feeder: Feeder, cycle: CycleKinematics, command: str | None) -> d
     }
 
 
-def save_figure(fig: Figure, path: str | Path) -> Path:
-    """Write ``fig`` to ``path`` (format from the suffix, e.g. ``.png``), atomically."""
-    path = Path(path)
-    with atomic_path(path) as temporary:
-        fig.savefig(temporary, dpi=FIGURE_DPI, format=path.suffix.lstrip(".") or "png")
-    return path
-
-
 def write_cycle_outputs(
     study: CycleStudy,
     directory: str | Path | OutputFolder,
     command: str | None = None,
     figures: bool = True,
+    workers: FigureWorkers | None = None,
 ) -> list[Path]:
     """Write ``cycle.csv``, every figure of the study (:func:`~feeder.viz.study_figures`) and
     the manifest into ``directory`` (an :class:`OutputFolder` already entered, or a path: it is
@@ -229,11 +235,15 @@ def write_cycle_outputs(
         directory: The output folder.
         command: The command line that made the study, for the manifest.
         figures: Draw the figures (False: the table and the manifest only, for batch use).
+        workers: Figure worker processes entered before the study was computed (they have
+            imported matplotlib meanwhile), which draw while the table is written; default:
+            draw here, one figure after the other.
     """
     kinematics = study.dynamics.kinematics
     outputs: dict[str, Writer] = {"cycle.csv": lambda path: write_csv(path, study.columns())}
     if figures:
-        outputs |= _figure_writers(study_figures(study))
+        drawing = FigureWorkers(1) if workers is None else workers
+        outputs |= drawing.writers(FigureData.of_study(study), study_figure_names())
     record = run_record(study.feeder, kinematics, command)
     record["forward_run"] = study.dynamics.forward is not None
     return _write(directory, outputs, record)
@@ -280,7 +290,11 @@ def write_analysis_outputs(
 
 
 def _figure_writers(figures: Mapping[str, Figure]) -> dict[str, Writer]:
-    return {name: (lambda path, fig=fig: save_figure(fig, path)) for name, fig in figures.items()}
+    return {name: partial(_write_figure, fig) for name, fig in figures.items()}
+
+
+def _write_figure(fig: Figure, path: Path) -> Path:
+    return write_png(path, png_bytes(fig))
 
 
 def _write(

@@ -6,10 +6,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import signal
 import subprocess
 import sys
 import time
+
+import pytest
 
 from feeder.study.csv import read_csv
 
@@ -24,9 +27,10 @@ ROWS = 4001
 """Samples of the default cycle: 4 s at 1 kHz, both ends included (REFERENCE.md)."""
 
 
-def start(*arguments: str) -> subprocess.Popen:
+def start(*arguments: str, group: bool = False) -> subprocess.Popen:
     """``python -m feeder ...`` with SIGINT at its default (a shell may start tests with it
-    ignored, and Python then keeps it ignored)."""
+    ignored, and Python then keeps it ignored); with ``group``, in a process group of its own,
+    as a terminal's foreground job."""
     return subprocess.Popen(
         [sys.executable, "-m", "feeder", *arguments],
         cwd=REPO,
@@ -34,6 +38,7 @@ def start(*arguments: str) -> subprocess.Popen:
         stderr=subprocess.PIPE,
         text=True,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        start_new_session=group,
     )
 
 
@@ -99,6 +104,34 @@ def test_ctrl_c_while_computing(tmp_path):
     assert status == 130
     assert len(err.strip().splitlines()) == 1 and "interrupted" in err, err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("moment", [".feeder-run.lock", ".cycle.csv.*.part"])
+def test_ctrl_c_at_the_terminal_stops_the_figure_workers(tmp_path, moment):
+    """A terminal's Ctrl-C reaches the whole process group, the figure workers too (while they
+    import matplotlib, after the lock; while they draw, as the table is written): still one
+    line and status 130, no worker left running, and the folder removed, unless the signal came
+    after the last output was in place (the workers end after the outputs are written): then the
+    folder holds a complete run."""
+    out = tmp_path / "results"
+    run = start("cycle", "--elevation", "10", "--out", str(out), group=True)
+    wait_for(lambda: any(out.glob(moment)), moment)
+    os.killpg(run.pid, signal.SIGINT)
+    status, _, err = finish(run)
+    assert status == 130
+    assert len(err.strip().splitlines()) == 1 and "interrupted" in err, err
+    if out.exists():
+        check_complete(out)
+    wait_for(lambda: not group_alive(run.pid), "the workers to end")
+
+
+def group_alive(group: int) -> bool:
+    """Whether any process of the process group is still running."""
+    try:
+        os.killpg(group, 0)
+    except ProcessLookupError:
+        return False
+    return True
 
 
 def test_ctrl_c_while_writing_the_table(tmp_path):

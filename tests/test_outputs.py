@@ -91,6 +91,22 @@ def test_a_failed_run_removes_the_folder_it_created(tmp_path):
     assert not folder.exists()
 
 
+def test_ctrl_c_while_locking_removes_the_folder_it_created(tmp_path, monkeypatch):
+    """Ctrl-C as the new folder is locked and checked again (the lock file already exists):
+    the lock is released first, so the folder it created is removed, not left empty."""
+    folder = tmp_path / "out"
+    out = OutputFolder(folder)
+
+    def interrupted(self):
+        assert (folder / LOCK).exists()
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(OutputFolder, "_previous_files", interrupted)
+    with pytest.raises(KeyboardInterrupt), out:
+        pass
+    assert not folder.exists()
+
+
 def test_an_interrupted_write_is_marked_incomplete_and_cleaned_up_next_time(tmp_path):
     """Ctrl-C after the first output of a run into an earlier run's folder: the manifest says
     the folder is incomplete and lists both runs' files; the next run removes the leftovers."""

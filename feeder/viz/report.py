@@ -14,6 +14,7 @@ from __future__ import annotations
 import io
 import multiprocessing
 import re
+import signal
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -178,6 +179,12 @@ def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
     return {name: png_bytes(draw(name, data)) for name in names}
 
 
+def _ignore_interrupt() -> None:
+    """In a worker: leave Ctrl-C to the parent (the terminal sends SIGINT to the whole process
+    group; the parent stops the pool, and a worker's own traceback would only add noise)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _warm_up() -> None:
     """Import what drawing needs, in a worker, before there is anything to draw."""
     from . import comparisons, drawings  # noqa: F401  (matplotlib and the figure modules)
@@ -220,7 +227,9 @@ class FigureWorkers:
         forkable = "fork" in multiprocessing.get_all_start_methods()
         if self.workers > 1 and forkable and threading.active_count() == 1:
             context = multiprocessing.get_context("fork")
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=context)
+            self._pool = ProcessPoolExecutor(
+                self.workers, mp_context=context, initializer=_ignore_interrupt
+            )
             for _ in range(self.workers):
                 self._pool.submit(_warm_up)
         return self
