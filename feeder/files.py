@@ -13,7 +13,7 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import os
-import tempfile
+import secrets
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -33,20 +33,21 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         InputError: The folder does not exist or cannot be written, or the rename fails.
     """
     path = Path(path)
+    # Named before it exists, so that a Ctrl-C at any moment after its creation still finds it.
+    temporary: Path | None = path.with_name(f".{path.name}.{secrets.token_hex(8)}.part")
     try:
-        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    os.close(handle)
-    temporary = Path(name)
-    try:
+        try:
+            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+        except OSError as exc:
+            temporary = None  # not created here: nothing of ours to remove
+            raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
         yield temporary
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a file gets 0666 − umask
         os.replace(temporary, path)
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
     finally:
-        temporary.unlink(missing_ok=True)
+        if temporary is not None:
+            temporary.unlink(missing_ok=True)
 
 
 def write_text(path: str | Path, text: str) -> Path:
@@ -70,32 +71,13 @@ def exclusive_lock(path: str | Path, what: str) -> Iterator[Path]:
         InputError: The lock file cannot be created.
     """
     path = Path(path)
-    for _ in range(LOCK_ATTEMPTS):
-        try:
-            handle = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as exc:
-            raise InputError(f"cannot lock {what}: {exc.strerror or exc}") from exc
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(handle)
-            raise OutputBusyError(
-                f"another feeder run is writing into {what} (it holds {path}); wait for it to "
-                "finish or choose another folder"
-            ) from None
-        try:
-            current = os.stat(path)
-        except FileNotFoundError:
-            current = None
-        opened = os.fstat(handle)
-        if current is not None and (current.st_ino, current.st_dev) == (
-            opened.st_ino,
-            opened.st_dev,
-        ):
-            break
-        os.close(handle)  # the previous holder removed this file as we opened it: again
-    else:
-        raise OutputBusyError(f"cannot lock {what}: other runs keep replacing {path}")
+    try:
+        handle = _acquire(path, what)
+    except (InputError, OutputBusyError):
+        raise
+    except BaseException:  # e.g. Ctrl-C while locking: leave no lock file of ours behind
+        _remove_if_free(path)
+        raise
     try:
         yield path
     finally:
@@ -103,8 +85,51 @@ def exclusive_lock(path: str | Path, what: str) -> Iterator[Path]:
         os.close(handle)
 
 
-def _umask() -> int:
-    """The process' file-creation mask (read by setting it and setting it back)."""
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
+def _acquire(path: Path, what: str) -> int:
+    """An open handle of the lock file ``path`` (created), exclusively locked."""
+    for _ in range(LOCK_ATTEMPTS):
+        try:
+            handle = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise InputError(f"cannot lock {what}: {exc.strerror or exc}") from exc
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            locked = _same_file(handle, path)
+        except BaseException as exc:
+            os.close(handle)  # releases the lock if this run took it
+            if isinstance(exc, BlockingIOError):
+                raise OutputBusyError(
+                    f"another feeder run is writing into {what} (it holds {path}); wait for "
+                    "it to finish or choose another folder"
+                ) from None
+            raise
+        if locked:
+            return handle
+        os.close(handle)  # the previous holder removed this file as we opened it: again
+    raise OutputBusyError(f"cannot lock {what}: other runs keep replacing {path}")
+
+
+def _same_file(handle: int, path: Path) -> bool:
+    """Whether the open ``handle`` is the file now at ``path``."""
+    try:
+        current = os.stat(path)
+    except FileNotFoundError:
+        return False
+    opened = os.fstat(handle)
+    return (current.st_ino, current.st_dev) == (opened.st_ino, opened.st_dev)
+
+
+def _remove_if_free(path: Path) -> None:
+    """Remove the lock file ``path`` if no process holds it (after an interrupted locking)."""
+    try:
+        handle = os.open(path, os.O_RDWR)
+    except OSError:
+        return
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        if _same_file(handle, path):
+            path.unlink()
+    except OSError:
+        pass  # another run holds it, or it is gone: not this run's to remove
+    finally:
+        os.close(handle)

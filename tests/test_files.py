@@ -3,11 +3,13 @@ writer at a time, and no stale lock after a run dies."""
 
 from __future__ import annotations
 
+import fcntl
 import subprocess
 import sys
 
 import pytest
 
+from feeder import files
 from feeder.exceptions import InputError, OutputBusyError
 from feeder.files import atomic_path, exclusive_lock, write_text
 
@@ -80,3 +82,31 @@ def test_lock_in_a_missing_folder(tmp_path):
     with pytest.raises(InputError, match="cannot lock"):
         with exclusive_lock(tmp_path / "missing" / "run.lock", "x"):
             pass
+
+
+def test_interrupted_locking_leaves_no_lock_file(tmp_path, monkeypatch):
+    """Ctrl-C after the lock file was created and locked, before the block starts: the lock is
+    released and its file removed (else the run's new output folder could not be removed)."""
+    path = tmp_path / "lock"
+
+    calls, flock = [], fcntl.flock
+
+    def flock_then_interrupted(handle, operation):
+        calls.append(operation)
+        flock(handle, operation)
+        if len(calls) == 1:  # the locking, not the clean-up's test of the lock
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(files.fcntl, "flock", flock_then_interrupted)
+    with pytest.raises(KeyboardInterrupt), exclusive_lock(path, "the folder"):
+        pass
+    assert not path.exists()
+
+
+def test_a_lock_file_another_run_holds_is_not_removed(tmp_path):
+    """The clean-up after an interrupted locking leaves a lock that another run holds."""
+    path = tmp_path / "lock"
+    with exclusive_lock(path, "the folder"):
+        files._remove_if_free(path)
+        assert path.exists()
+    assert not path.exists()

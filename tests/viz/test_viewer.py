@@ -609,19 +609,49 @@ def test_page_opens_paused_at_the_time_in_its_address(
     assert np.abs(position - expected).max() <= FLOAT32_POSITION
 
 
+PLAYED_FOR = """<script>
+(function () {  // test-only: the page's time [s] since the animation arrived, in #test-played
+  var start = null, out = document.createElement("div");
+  out.id = "test-played"; document.body.appendChild(out);
+  (function tick() {
+    if (start === null && viewer.animator.actions.length) { start = performance.now(); }
+    if (start !== null) { out.textContent = ((performance.now() - start) / 1000).toFixed(3); }
+    requestAnimationFrame(tick);
+  })();
+})();
+</script>"""
+"""Appended to the page in :func:`test_loop_switch`: how long the animation has had to play."""
+LOOP_ATTEMPTS = 5
+"""Chromium's virtual time budget does not fix how much of it the page spends loading: a
+reading taken before the page has played one cycle and a half is inconclusive and repeated
+(it happened in about one run in five under load)."""
+
+
 @needs_chromium
 @pytest.mark.parametrize("loop", [False, True], ids=["once", "loop"])
 def test_loop_switch(static_page, tmp_path, loop):
-    """:data:`LOOP_BUDGET_MS` after opening (the cycle lasts 4 s): played once, the player has
-    stopped with its clock at the end; with ``#loop`` it still plays, its clock inside the
-    cycle (the animator clamps it to the duration, so the clock alone cannot show the wrap)."""
-    url = static_page.as_uri() + ("#loop" if loop else "")
-    button, clock = player(dom_after(url, LOOP_BUDGET_MS, tmp_path / "profile"))
-    seconds = float(clock.split()[2])
-    if loop:
-        assert button == "pause" and 0.0 <= seconds <= 4.0
-    else:
-        assert button == "play" and seconds >= 4.0 - END_MARGIN
+    """Once the page has played the 4 s cycle one and a half times: played once, the player
+    has stopped with its clock at the end; with ``#loop`` it still plays, its clock inside the
+    cycle (so it has wrapped)."""
+    page = tmp_path / "cycle.html"
+    page.write_text(
+        static_page.read_text(encoding="utf-8").replace("</body>", PLAYED_FOR + "</body>"),
+        encoding="utf-8",
+    )
+    url = page.as_uri() + ("#loop" if loop else "")
+    for attempt in range(LOOP_ATTEMPTS):
+        dom = dom_after(url, LOOP_BUDGET_MS, tmp_path / f"profile{attempt}")
+        played = re.search(r'id="test-played">([0-9.]*)<', dom)
+        if played is None or float(played.group(1)) < 6.0:
+            continue  # the page spent the budget loading: not yet a cycle and a half
+        button, clock = player(dom)
+        seconds = float(clock.split()[2])
+        if loop:
+            assert button == "pause" and 0.0 <= seconds <= 4.0, (button, clock)
+        else:
+            assert button == "play" and seconds >= 4.0 - END_MARGIN, (button, clock)
+        return
+    pytest.fail(f"the page never played 6 s of the cycle in {LOOP_ATTEMPTS} attempts")
 
 
 @pytest.fixture(scope="module")
