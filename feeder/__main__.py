@@ -255,6 +255,13 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
+def _switch(sub: argparse.ArgumentParser, flag: str, dest: str, help: str) -> None:
+    """A flag given at most once: ``--no-X`` turns ``dest`` off (default on), any other turns
+    it on (default off)."""
+    on = not flag.startswith("--no-")
+    sub.add_argument(flag, dest=dest, action=_Once, nargs=0, const=on, default=not on, help=help)
+
+
 def _device_options(sub: argparse.ArgumentParser, default: str) -> None:
     """``--device NAME`` or ``--params FILE`` (one of them)."""
     group = sub.add_mutually_exclusive_group()
@@ -324,23 +331,17 @@ def _parser() -> argparse.ArgumentParser:
         help=f"{rate_help}; the force-rule forward run needs ≥ {FORWARD_MIN_RATE:g} Hz with the "
         "default stages (below that, add --no-forward); the loads have no minimum",
     )
-    cycle.add_argument(
+    _switch(
+        cycle,
         "--no-forward",
-        dest="forward",
-        action=_Once,
-        nargs=0,
-        const=False,
-        default=True,
-        help="skip the force-rule forward run and its forward_* columns (default: run it)",
+        "forward",
+        "skip the force-rule forward run and its forward_* columns (default: run it)",
     )
-    cycle.add_argument(
+    _switch(
+        cycle,
         "--no-figures",
-        dest="figures",
-        action=_Once,
-        nargs=0,
-        const=False,
-        default=True,
-        help="write the table and the manifest only, for batch use (default: every figure)",
+        "figures",
+        "write the table and the manifest only, for batch use (default: every figure)",
     )
 
     kinematics = command("kinematics", cmd_kinematics, "kinematics of the feeding cycle")
@@ -442,22 +443,17 @@ def _parser() -> argparse.ArgumentParser:
         help="run the cases on this Dask cluster (pip install 'feeder[cluster]'; default: "
         "this machine)",
     )
-    sweep.add_argument(
+    _switch(
+        sweep,
         "--parquet",
-        action=_Once,
-        nargs=0,
-        const=True,
-        default=False,
-        help="also write sweep_peaks.parquet (pip install 'feeder[parquet]'; default: CSV only)",
+        "parquet",
+        "also write sweep_peaks.parquet (pip install 'feeder[parquet]'; default: CSV only)",
     )
-    sweep.add_argument(
+    _switch(
+        sweep,
         "--no-figures",
-        dest="figures",
-        action=_Once,
-        nargs=0,
-        const=False,
-        default=True,
-        help="the table only (default: one figure of peaks against elevation per device)",
+        "figures",
+        "the table only (default: one figure of peaks against elevation per device)",
     )
 
     analyze = command(
@@ -494,13 +490,11 @@ def _parser() -> argparse.ArgumentParser:
         help="output folder for loads.csv, summary.txt and the figures, required unless "
         "--check (default: none)",
     )
-    analyze.add_argument(
+    _switch(
+        analyze,
         "--check",
-        action=_Once,
-        nargs=0,
-        const=True,
-        default=False,
-        help="print the mobility report at the model's reference pose instead (default: off)",
+        "check",
+        "print the mobility report at the model's reference pose instead (default: off)",
     )
     return parser
 

@@ -70,7 +70,7 @@ from lxml import etree
 
 from ..exceptions import InputError, UrdfError
 from .closure import ClosedChain, Closure
-from .urdf import AXIS_MIN_NORM, build_model, check_urdf
+from .urdf import AXIS_MIN_NORM, build_model, check_urdf, parse_xml
 
 SDF_VERSIONS = ("1.4", "1.5", "1.6", "1.7")
 """SDF versions read (their pose and axis conventions are the module docstring's)."""
@@ -104,13 +104,6 @@ SDF_TYPES = {
 
 MODEL_FRAME = "__model__"
 """SDF 1.7's name of the model frame."""
-
-_PARSER = etree.XMLParser(
-    recover=False, resolve_entities=False, no_network=True, load_dtd=False, remove_comments=True
-)
-"""Same settings as :mod:`feeder.chain.urdf`'s parser: no recovery, no network, no DTD, no
-entities."""
-
 
 # -- reading ---------------------------------------------------------------------------------
 
@@ -161,18 +154,7 @@ def _read_tree(path: str | Path) -> tuple[etree._Element, str]:
         data = path.read_bytes()
     except OSError as exc:
         raise UrdfError(f"cannot read SDF file {source}: {exc}") from exc
-    try:
-        root = etree.fromstring(data, _PARSER)
-    except etree.XMLSyntaxError as exc:
-        raise UrdfError(f"{source}: malformed XML: {exc}") from exc
-    info = root.getroottree().docinfo
-    if info.doctype or info.internalDTD is not None:
-        raise UrdfError(
-            f"{source}: a document type declaration ({info.doctype or '<!DOCTYPE>'}) is not "
-            "allowed in an SDF file read here (its entities are not expanded)"
-        )
-    if root.tag != "sdf":
-        raise UrdfError(f"{source}: root element is <{root.tag}>, expected <sdf>")
+    root = parse_xml(data, source, "sdf")
     version = (root.get("version") or "").strip()
     if version not in SDF_VERSIONS:
         raise UrdfError(

@@ -36,6 +36,28 @@ _PARSER = etree.XMLParser(
 )
 
 
+def parse_xml(data: bytes, source: str, root_tag: str) -> etree._Element:
+    """The root element of a robot description (URDF ``robot`` or SDF ``sdf``), parsed strictly.
+
+    Raises:
+        UrdfError: Malformed XML, a document type declaration (its entities would be read
+            differently by Pinocchio's own parser), or another root element.
+    """
+    try:
+        root = etree.fromstring(data, _PARSER)
+    except etree.XMLSyntaxError as exc:
+        raise UrdfError(f"{source}: malformed XML: {exc}") from exc
+    info = root.getroottree().docinfo
+    if info.doctype or info.internalDTD is not None:
+        raise UrdfError(
+            f"{source}: a document type declaration ({info.doctype or '<!DOCTYPE>'}) is not "
+            f"allowed in a <{root_tag}> file: its entities would not be read as written"
+        )
+    if root.tag != root_tag:
+        raise UrdfError(f"{source}: root element is <{root.tag}>, expected <{root_tag}>")
+    return root
+
+
 def read_urdf(path: str | Path) -> str:
     """Return the text of the URDF file at ``path``.
 
@@ -78,18 +100,7 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
             finite, or a moving joint's axis that is not a direction.
         InertiaError: A link whose mass or inertia no rigid body can have.
     """
-    try:
-        root = etree.fromstring(xml.encode("utf-8"), _PARSER)
-    except etree.XMLSyntaxError as exc:
-        raise UrdfError(f"{source}: malformed XML: {exc}") from exc
-    doctype = root.getroottree().docinfo
-    if doctype.doctype or doctype.internalDTD is not None:
-        raise UrdfError(
-            f"{source}: a document type declaration ({doctype.doctype or '<!DOCTYPE>'}) is not "
-            "allowed in a URDF: its entities would be read differently by Pinocchio"
-        )
-    if root.tag != "robot":
-        raise UrdfError(f"{source}: root element is <{root.tag}>, expected <robot>")
+    root = parse_xml(xml.encode("utf-8"), source, "robot")
     links = [link.get("name") for link in root.findall("link")]
     if not links or None in links or len(set(links)) != len(links):
         raise UrdfError(f"{source}: links must exist and have unique names, got {links}")

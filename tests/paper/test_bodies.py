@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-import pytest
 
 from feeder.paper import bodies
 
@@ -19,21 +18,6 @@ UNIT_ATOL = 1e-15
 same angles, so agreement to a few ε."""
 SAMPLES = 20
 """States of the per-sample Pinocchio loops (each a Python call per state)."""
-
-
-@pytest.fixture(scope="module", params=cases.DEVICE_NAMES)
-def device(request):
-    return cases.device(request.param)
-
-
-@pytest.fixture(scope="module")
-def reference(device):
-    return cases.pinocchio_reference(device.params.name)
-
-
-@pytest.fixture(scope="module")
-def states(device):
-    return cases.random_states(device.params.name)
 
 
 def test_positions_match_pinocchio(device, reference, states):

@@ -4,7 +4,6 @@ the pipeline's closed-form loop, Pinocchio's closure Jacobian and finite differe
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from feeder.paper import closure
 
@@ -21,16 +20,6 @@ ACCELERATION_ATOL = 1e-12
 accelerations ~3 rad/s², lengths < 1 m), their sum vanishes to ~100 ε of that."""
 PINOCCHIO_SAMPLES = 10
 """States of the per-sample Pinocchio comparison (a Python call each)."""
-
-
-@pytest.fixture(scope="module", params=cases.DEVICE_NAMES)
-def device(request):
-    return cases.device(request.param)
-
-
-@pytest.fixture(scope="module")
-def states(device):
-    return cases.random_states(device.params.name)
 
 
 def test_residual_vanishes_on_assembled_states(device, states):

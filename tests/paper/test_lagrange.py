@@ -60,21 +60,6 @@ FORWARD_STEP = 10
 """Every 10th cycle sample for the forward check: each costs a proximal solve."""
 
 
-@pytest.fixture(scope="module", params=cases.DEVICE_NAMES)
-def device(request):
-    return cases.device(request.param)
-
-
-@pytest.fixture(scope="module")
-def reference(device):
-    return cases.pinocchio_reference(device.params.name)
-
-
-@pytest.fixture(scope="module")
-def states(device):
-    return cases.random_states(device.params.name)
-
-
 @pytest.fixture(scope="module", params=ELEVATIONS, ids=[f"{e:g}deg" for e in ELEVATIONS])
 def device_cycle(request, device):
     """The cycles of both devices (conftest's ``cycle`` is the projectile feeder's only)."""
