@@ -20,7 +20,8 @@ import numpy as np
 import pinocchio as pin
 
 from feeder.chain import ChainDynamics, ClosedChain, Closure, Partition, load_closed_chain
-from feeder.chain.inverse import check_motion, closure_wrenches, joint_reactions, solve_loads
+from feeder.chain.dynamics.inverse import check_motion, solve_loads
+from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
 from feeder.device import CLOSURE, load_feeder
 
 REPEATS = 5
@@ -98,7 +99,7 @@ def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
         _, _, _, motion, rows = check_motion(dyn, q, v, a)
         _, lam, _ = solve_loads(dyn, motion, rows)
         _, terms = closure_wrenches(chain, rows, lam)
-        joint_reactions(dyn, motion, terms)
+        joint_reactions(dyn.chain, motion, terms)
 
     call = best_time(bare) / n
     per_loads = best_time(loads_only) / n

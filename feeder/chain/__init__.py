@@ -2,24 +2,32 @@
 inverse dynamics with every joint's reaction, and forward simulation.
 
 This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions` and
-:mod:`feeder.validation` (tests/test_layers.py checks it). Data flow:
-model file (URDF, MJCF, SDF) and closure side-file (:mod:`~feeder.chain.spec`) →
-:class:`ClosedChain` (the tree and its :class:`Closure` s) → :class:`Partition` (assembly,
-velocity, acceleration, continuation along a trajectory) and :func:`mobility` (degrees of
-freedom, redundant rows, admissible inputs, distance to a singular pose) →
-:func:`inverse_dynamics` (actuator loads, closure forces, every joint's reaction) and
-:func:`simulate` (forward runs driven by actuator forces).
+:mod:`feeder.validation` (tests/test_layers.py checks it). Its subpackages follow the data:
+
+* :mod:`~feeder.chain.model` — the tree and its loop closures (:class:`ClosedChain`,
+  :class:`Closure`);
+* :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
+  Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
+* :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once;
+* :mod:`~feeder.chain.assembly` — closed poses from the open one, velocities, accelerations and
+  continuation along a motion (:class:`Partition`);
+* :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
+  motions, distance to a singular pose;
+* :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
+  reaction) and forward runs.
 """
 
-from .assembly import MAX_GAIN, POSITION_TOLERANCE, Partition
-from .closure import ClosedChain, Closure, load_closed_chain
-from .derivatives import mass_matrix_derivative
-from .forward import ForwardRun, simulate
-from .inertia import check_inertia
-from .inverse import ChainDynamics, ChainLoads, ClosureWrench, JointWrench, inverse_dynamics
+from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
+from .dynamics.derivatives import mass_matrix_derivative
+from .dynamics.forward import ForwardRun, simulate
+from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from .dynamics.reactions import ClosureWrench, JointWrench
 from .mobility import MobilityReport, mobility
-from .spec import MechanismSpec, MotionTable, load_mechanism, read_motion, read_spec
-from .urdf import build_model, check_urdf, read_urdf
+from .model.closure import ClosedChain, Closure
+from .readers.inertia import check_inertia
+from .readers.motion_table import MotionTable, read_motion
+from .readers.side_file import MechanismSpec, load_mechanism, read_spec
+from .readers.urdf import build_model, check_urdf, load_closed_chain, read_urdf
 
 __all__ = [
     "MAX_GAIN",

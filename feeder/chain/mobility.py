@@ -9,10 +9,10 @@ the admissible choices of independent joints, and the distance to a singular pos
   along them are statically indeterminate in a rigid model.
 * An independent-joint choice is admissible when the remaining (dependent) columns of the
   Jacobian determine the dependent velocities and let the chosen ones move freely
-  (:class:`~feeder.chain.assembly.Partition`'s rank test).
+  (:class:`~feeder.chain.assembly.partition.Partition`'s rank test).
 * Distance to a singular pose: the smallest singular value of the closure Jacobian's dependent
   columns relative to the largest of the whole Jacobian, and the velocity gain
-  ‖J_dep⁺ J_ind‖₂ (:data:`~feeder.chain.assembly.MAX_GAIN`).
+  ‖J_dep⁺ J_ind‖₂ (:data:`~feeder.chain.assembly.partition.MAX_GAIN`).
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import InputError
-from .assembly import RANK_TOLERANCE, Partition
-from .closure import ClosedChain
+from .assembly.partition import RANK_TOLERANCE, Partition
+from .model.closure import ClosedChain
 
 MAX_CHOICES = 20_000
 """Largest number of independent-joint combinations :func:`mobility` enumerates."""
@@ -45,7 +45,7 @@ class MobilityReport:
         redundant_rows: One choice of closure rows that can be dropped without changing the
             constraints (later rows repeating earlier ones). Every row that takes part in a
             redundancy has a statically indeterminate force
-            (:attr:`~feeder.chain.inverse.ChainLoads.indeterminate` lists them all).
+            (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.indeterminate` lists them all).
         admissible: Independent-joint choices (tuples of ``mobility`` names) that work here.
         singular_values: Singular values of the closure Jacobian, descending.
         margin: For the choice ``independent``: smallest singular value of the dependent

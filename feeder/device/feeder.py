@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.closure import ClosedChain
-from ..chain.urdf import build_model
+from ..chain.model.closure import ClosedChain
+from ..chain.readers.urdf import build_model
 from ..exceptions import InputError
 from .builtin import DEVICES
 from .parameters import GRAVITY, FeederParameters

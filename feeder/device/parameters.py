@@ -45,7 +45,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from ..chain.inertia import check_inertia
+from ..chain.readers.inertia import check_inertia
 from ..exceptions import InputError
 from ..validation import check_number, check_vector
 

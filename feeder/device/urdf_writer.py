@@ -9,7 +9,7 @@ The URDF is the device's open kinematic tree (REFERENCE.md names):
                                                                               (fixed) ─ projectile
 
 The loop is cut at the rod-eye pin: the frames ``piston_pin`` and ``arm_pin`` coincide when the
-loop is assembled; the closure itself is added in code (:mod:`feeder.chain.closure`). Visual
+loop is assembled; the closure itself is added in code (:mod:`feeder.chain.model.closure`). Visual
 geometry is made of URDF primitives only, so the file needs no meshes.
 
 Regenerate the shipped files with ``feeder urdf --out urdf``.

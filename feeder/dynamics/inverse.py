@@ -12,7 +12,7 @@ chain when the pin force λ acts on the piston at ``piston_pin`` and −λ on th
   moment on φ4 (``forearm_joint``); φ1 and φ3 are passive (zero generalized force).
 
 Four equations, five unknowns (τ_piston, τ_forearm, λx, λy, λz), rank four: the generic
-closed-chain solver (:mod:`feeder.chain.inverse`) does the work. The loop is planar: the cylinder
+closed-chain solver (:mod:`feeder.chain.dynamics`) does the work. The loop is planar: the cylinder
 and arm pivots turn about world z and the piston slides in the x–y plane, so the z row of J
 vanishes identically and λz drops out of the equations. The out-of-plane pin force is **statically
 indeterminate** in the rigid model: any pair ±λz along the pin axis is balanced by bending moments
@@ -34,8 +34,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.inverse import ClosureKinematics, closure_kinematics, solve_loads
-from ..chain.kinematics import TreeMotion, tree_motion
+from ..chain.dynamics.inverse import solve_loads
+from ..chain.kinematics.rows import ClosureKinematics, closure_kinematics
+from ..chain.kinematics.tree import TreeMotion, tree_motion
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples
@@ -117,7 +118,7 @@ def check_motion(
 def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
     """Piston force, forearm moment and pin force that produce a prescribed closed-chain motion.
 
-    The generic closed-chain inverse dynamics of :mod:`feeder.chain.inverse` on the device's
+    The generic closed-chain inverse dynamics (:mod:`feeder.chain.dynamics`) on the device's
     model (with or without the payload, by the grip flag), all samples of a run at once.
 
     Args:

@@ -1,5 +1,5 @@
 """The device's dynamics models: the open tree with and without the payload, each with its
-generic closed-chain dynamics (:mod:`feeder.chain.inverse`) and its constraint containers for
+generic closed-chain dynamics (:mod:`feeder.chain.dynamics`) and its constraint containers for
 ``constraintDynamics`` (the forward run).
 
 The payload is gripped at the end of stage 1: samples with ``gripped == 0`` use a copy of the
@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.closure import ClosedChain
-from ..chain.forward import BAUMGARTE_RATE
-from ..chain.inverse import ChainDynamics
+from ..chain.dynamics.forward import BAUMGARTE_RATE
+from ..chain.dynamics.inverse import ChainDynamics
+from ..chain.model.closure import ClosedChain
 from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
 
 ACTUATED_JOINTS = ("piston_joint", "forearm_joint")

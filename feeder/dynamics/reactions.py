@@ -2,7 +2,7 @@
 
 With the pin force λ of :func:`feeder.dynamics.inverse.actuator_loads` applied at the cut (λ on
 the piston at ``piston_pin``, −λ on the arm at ``arm_pin``), the generic closed-chain reactions
-(:func:`feeder.chain.inverse.joint_reactions`, Newton–Euler over all samples, equal to
+(:func:`feeder.chain.dynamics.reactions.joint_reactions`, Newton–Euler over all samples, equal to
 Pinocchio's RNEA with the pin force as external forces) give the wrench that the parent body
 exerts on the child through each joint, world axes, moment about the joint's origin. Its
 component along the joint's axis is the joint's generalized force: the actuator load for
@@ -29,9 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.inverse import JointWrench, closure_wrenches
-from ..chain.inverse import joint_reactions as chain_reactions
-from ..chain.kinematics import cross
+from ..chain.dynamics.reactions import JointWrench, closure_wrenches
+from ..chain.dynamics.reactions import joint_reactions as chain_reactions
+from ..chain.kinematics.tree import cross
 from ..device.feeder import PAPER_JOINTS
 from ..exceptions import InputError
 from .inverse import ActuatorLoads
@@ -63,9 +63,10 @@ class JointReactions:
 def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions:
     """Reaction wrenches of every joint and the grip, with the pin force applied at the cut.
 
-    The generic closed-chain reactions (:func:`feeder.chain.inverse.joint_reactions`) of the
-    device's model (with or without the payload, by the grip flag), all samples of a run at
-    once; the grip from the forearm's motion (module docstring).
+    The generic closed-chain reactions
+    (:func:`feeder.chain.dynamics.reactions.joint_reactions`) of the device's model (with or
+    without the payload, by the grip flag), all samples of a run at once; the grip from the
+    forearm's motion (module docstring).
 
     Args:
         dyn: The device's dynamics models.
@@ -85,7 +86,7 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
     for run, flag, kinematics, rows in loads.runs:
         chain = dyn.cases[flag].dynamics
         _, terms = closure_wrenches(chain.chain, rows, loads.closure_force[run])
-        joints = chain_reactions(chain, kinematics, terms)
+        joints = chain_reactions(chain.chain, kinematics, terms)
         for name, joint in zip(JOINT_NAMES, PAPER_JOINTS, strict=True):
             for f in fields:
                 wrenches[name][f][run] = getattr(joints[joint], f)

@@ -1,6 +1,6 @@
 """The sampled feeding cycle: the prescribed laws (:mod:`feeder.motion.laws`), the closed loop
 (:mod:`feeder.device.loop`) and the payload's path from the URDF model's forward kinematics
-(:mod:`feeder.chain.kinematics`, every sample at once).
+(:mod:`feeder.chain.kinematics.tree`, every sample at once).
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.kinematics import cross, frame_placements, tree_motion
+from ..chain.kinematics.tree import cross, frame_placements, tree_motion
 from ..device.feeder import Feeder
 from ..device.loop import solve_loop, transmission_angle
 from ..validation import check_elevation
@@ -55,7 +55,7 @@ def payload_kinematics(
     """Payload CG position [m], velocity [m/s], axis (unit, nose first) and closure gap [m].
 
     Forward kinematics of the URDF's model, all samples at once
-    (:func:`~feeder.chain.kinematics.tree_motion`: no per-sample Python call).
+    (:func:`~feeder.chain.kinematics.tree.tree_motion`: no per-sample Python call).
 
     Args:
         feeder: The device.

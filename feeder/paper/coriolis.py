@@ -21,7 +21,7 @@ C_chr = ½ (Ṁ + N − Nᵀ). Consequences of the paper's convention:
   d/dt(½ q̇ᵀ M q̇) = q̇ᵀ (τ − g − J_fᵀ λ) still holds.
 
 :func:`kronecker_coriolis` is eq. (27) on a given ∂M/∂q, for any robot:
-:func:`feeder.chain.derivatives.mass_matrix_derivative` gets ∂M/∂q of any Pinocchio model.
+:func:`feeder.chain.dynamics.derivatives.mass_matrix_derivative` gets ∂M/∂q of any Pinocchio model.
 numpy only: the caller has checked the arrays.
 """
 

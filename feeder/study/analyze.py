@@ -1,10 +1,10 @@
 """Analysis of a user's closed-chain mechanism (``feeder analyze``): its mobility, its motion
 followed on one assembly branch, and the loads and reactions of every joint and cut.
 
-Data flow: side-file and model (:mod:`feeder.chain.spec`) → :class:`~feeder.chain.ClosedChain`
+Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder.chain.ClosedChain`
 → mobility report at the first sample (:mod:`feeder.chain.mobility`) → the motion table's
 independent coordinates tracked by continuation (:meth:`~feeder.chain.Partition.track`) →
-inverse dynamics with every reaction (:mod:`feeder.chain.inverse`) → the table
+inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
 (:meth:`Analysis.columns`) and its summary.
 """
 
@@ -16,11 +16,12 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from ..chain.assembly import Partition
-from ..chain.closure import ClosedChain
-from ..chain.inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.assembly.partition import Partition
+from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.mobility import MobilityReport, mobility
-from ..chain.spec import MechanismSpec, MotionTable, load_mechanism, read_motion, read_spec
+from ..chain.model.closure import ClosedChain
+from ..chain.readers.motion_table import MotionTable, read_motion
+from ..chain.readers.side_file import MechanismSpec, load_mechanism, read_spec
 
 
 @dataclass(frozen=True)
@@ -134,7 +135,7 @@ def analyze(
     """Follow the motion table on one branch and compute every load and reaction.
 
     Args:
-        spec_path: The closure side-file (TOML, :mod:`feeder.chain.spec`).
+        spec_path: The closure side-file (TOML, :mod:`feeder.chain.readers.side_file`).
         motion_path: The motion table (CSV).
         model: The model file, overriding the side-file's.
         q_guess: A configuration that picks the assembly branch (default: the model's neutral).

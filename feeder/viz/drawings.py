@@ -10,7 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..chain.kinematics import frame_placements, tree_motion
+from ..chain.kinematics.tree import frame_placements, tree_motion
 from ..device.feeder import Feeder
 from ..device.loop import TRANSMISSION_BAND_DEG, arm_travel, required_stroke, solve_loop
 from ..device.urdf_writer import barrel_length

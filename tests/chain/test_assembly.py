@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeder.chain.assembly import Partition
-from feeder.chain.closure import load_closed_chain
+from feeder.chain import load_closed_chain
+from feeder.chain.assembly.partition import Partition
 from feeder.device.feeder import INDEPENDENT_JOINTS
 from feeder.exceptions import SingularPoseError
 

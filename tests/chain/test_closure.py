@@ -7,9 +7,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.assembly import POSITION_TOLERANCE, Partition
-from feeder.chain.closure import ClosedChain, Closure, load_closed_chain
-from feeder.chain.urdf import build_model
+from feeder.chain import ClosedChain, Closure, load_closed_chain
+from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
+from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import ClosureFrameError, InputError, UnreachablePoseError
 
 from ..conftest import FOURBAR_COUPLER, FOURBAR_CRANK, FOURBAR_GROUND, FOURBAR_ROCKER, REPO
@@ -228,7 +228,7 @@ def test_a_hinge_assembled_upside_down_is_not_closed():
     """The example four-bar cut with hinge axes declared opposite (+z on the coupler, −z on the
     rocker): its hinge rows vanish at every pose (all axes are parallel), but the hinge would be
     upside down everywhere, which assembly and the dynamics both refuse."""
-    from feeder.chain.inverse import ChainDynamics, inverse_dynamics
+    from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
 
     closure = Closure("coupler_tip", "rocker_tip", "revolute", axis_b=(0.0, 0.0, -1.0))
     chain = load_closed_chain(REPO / "examples" / "four_bar" / "four_bar.urdf", [closure])

@@ -1,6 +1,6 @@
-"""∂M/∂q of any Pinocchio model (feeder.chain.derivatives) against finite differences of crba,
-on the feeder's open tree (revolute and prismatic joints) and the four-bar; bad models and bad
-configurations are refused."""
+"""∂M/∂q of any Pinocchio model (feeder.chain.dynamics.derivatives) against finite differences of
+crba, on the feeder's open tree (revolute and prismatic joints) and the four-bar; bad models and
+bad configurations are refused."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.closure import load_closed_chain
-from feeder.chain.derivatives import mass_matrix_derivative
+from feeder.chain import load_closed_chain
+from feeder.chain.dynamics.derivatives import mass_matrix_derivative
 from feeder.exceptions import InputError
 
 from ..conftest import robots_dir

@@ -15,9 +15,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.assembly import Partition
-from feeder.chain.closure import Closure, load_closed_chain
-from feeder.chain.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain import Closure, load_closed_chain
+from feeder.chain.assembly.partition import Partition
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
 
 from ..conftest import REPO
 

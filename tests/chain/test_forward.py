@@ -9,10 +9,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.assembly import POSITION_TOLERANCE, Partition
-from feeder.chain.closure import Closure, load_closed_chain
-from feeder.chain.forward import simulate
-from feeder.chain.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain import Closure, load_closed_chain
+from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
+from feeder.chain.dynamics.forward import simulate
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
 from feeder.exceptions import InputError
 
 from ..conftest import REPO

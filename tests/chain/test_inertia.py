@@ -1,5 +1,5 @@
-"""Physical rigid-body inertia (feeder.chain.inertia): what no rigid body can have is refused,
-whatever the frame the tensor is written in."""
+"""Physical rigid-body inertia (feeder.chain.readers.inertia): what no rigid body can have is
+refused, whatever the frame the tensor is written in."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.inertia import check_inertia
+from feeder.chain.readers.inertia import check_inertia
 from feeder.exceptions import InertiaError
 
 

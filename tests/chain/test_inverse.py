@@ -15,10 +15,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.assembly import Partition
-from feeder.chain.closure import ClosedChain, Closure, load_closed_chain
-from feeder.chain.inverse import ChainDynamics, inverse_dynamics
-from feeder.chain.urdf import build_model
+from feeder.chain import ClosedChain, Closure, load_closed_chain
+from feeder.chain.assembly.partition import Partition
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
 from ..conftest import REPO

@@ -8,9 +8,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.closure import Closure, load_closed_chain
-from feeder.chain.inverse import closure_kinematics
-from feeder.chain.kinematics import (
+from feeder.chain import Closure, load_closed_chain
+from feeder.chain.dynamics.inverse import closure_kinematics
+from feeder.chain.kinematics.tree import (
     frame_placements,
     generalized_forces,
     joint_wrenches,

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.assembly import POSITION_TOLERANCE, Partition
-from feeder.chain.closure import Closure, load_closed_chain
+from feeder.chain import Closure, load_closed_chain
+from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
 from feeder.chain.mobility import mobility
 from feeder.exceptions import SingularPoseError
 

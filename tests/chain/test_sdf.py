@@ -13,9 +13,9 @@ import pinocchio as pin
 import pytest
 from lxml import etree
 
-from feeder.chain.assembly import POSITION_TOLERANCE, Partition
+from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
 from feeder.chain.mobility import mobility
-from feeder.chain.sdf import branch_links, load_sdf, read_sdf
+from feeder.chain.readers.sdf import branch_links, load_sdf, read_sdf
 from feeder.exceptions import InputError, SingularPoseError, UrdfError
 
 from ..conftest import (

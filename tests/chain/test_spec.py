@@ -7,9 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.assembly import Partition
+from feeder.chain.assembly.partition import Partition
 from feeder.chain.mobility import mobility
-from feeder.chain.spec import load_mechanism, read_motion, read_spec
+from feeder.chain.readers.motion_table import read_motion
+from feeder.chain.readers.side_file import load_mechanism, read_spec
 from feeder.exceptions import InputError, UrdfError
 
 from ..conftest import REPO

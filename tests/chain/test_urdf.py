@@ -6,8 +6,8 @@ import pinocchio as pin
 import pytest
 import yourdfpy
 
-from feeder.chain.closure import load_closed_chain
-from feeder.chain.urdf import build_model, read_urdf
+from feeder.chain import load_closed_chain
+from feeder.chain.readers.urdf import build_model, read_urdf
 from feeder.device.builtin import PROJECTILE_FEEDER
 from feeder.device.urdf_writer import urdf_string
 from feeder.exceptions import ClosureFrameError, InertiaError, UrdfError

@@ -10,8 +10,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain.assembly import POSITION_TOLERANCE, Partition
-from feeder.chain.closure import ClosedChain
+from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
+from feeder.chain.model.closure import ClosedChain
 from feeder.device.feeder import CLOSURE, INDEPENDENT_JOINTS, Feeder
 from feeder.device.loop import (
     CLOSURE_TOLERANCE,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from feeder.chain.kinematics import tree_motion
+from feeder.chain.kinematics.tree import tree_motion
 from feeder.device.parameters import GRAVITY
 
 BALANCE_TOLERANCE = 1e-10

@@ -1,5 +1,5 @@
 """Eq. (27), the Kronecker-product Coriolis matrix (feeder.paper.coriolis), on robots from
-example-robot-data, with ∂M/∂q of any Pinocchio model (feeder.chain.derivatives).
+example-robot-data, with ∂M/∂q of any Pinocchio model (feeder.chain.dynamics.derivatives).
 
 Checks, per robot and random state: ∂M/∂q (exact, from Pinocchio's Christoffel C) against
 finite differences of crba; C q̇ against Pinocchio's Coriolis–centrifugal term
@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from feeder.chain.derivatives import mass_matrix_derivative
+from feeder.chain.dynamics.derivatives import mass_matrix_derivative
 from feeder.exceptions import InputError
 from feeder.paper.coriolis import christoffel_coriolis, kronecker_coriolis
 

@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.derivatives import mass_matrix_derivative
+from feeder.chain.dynamics.derivatives import mass_matrix_derivative
 from feeder.device.parameters import SINGULAR_TRANSMISSION_DEG
 from feeder.exceptions import InputError, SingularPoseError
 from feeder.motion.cycle import feeding_cycle
@@ -135,7 +135,7 @@ def test_mass_matrix_coriolis_gravity_along_cycles(device, reference, device_cyc
 
 def test_mass_matrix_gradient_layout_and_values(device, reference, states):
     """Eq. (4) layout: entry (i, 4 j + k) = ∂M_ij/∂q_k, against finite differences of M and
-    against Pinocchio's exact ∂M/∂q (feeder.chain.derivatives)."""
+    against Pinocchio's exact ∂M/∂q (feeder.chain.dynamics.derivatives)."""
     p = device.params
     q, gripped = states.q[:PINOCCHIO_SAMPLES], states.gripped[:PINOCCHIO_SAMPLES]
     closed = lagrange.mass_matrix_gradient(p, q, gripped)

@@ -7,7 +7,7 @@ when the closure forces λ act at the cuts and the actuators drive the named joi
 
 * M q̈ + b are the tree's Newton–Euler forces (gravity from the model); w_e are the external
   wrenches on named frames, J_e their frame Jacobians;
-* J (nc × nv) are the closure rows (:class:`~feeder.chain.closure.ClosedChain`), λ the forces
+* J (nc × nv) are the closure rows (:class:`~feeder.chain.model.closure.ClosedChain`), λ the forces
   conjugate to them: a force [N] on the body of ``frame_a`` at its origin for the point rows, a
   moment [N·m] for the rotation rows, and the opposite on the body of ``frame_b``;
 * S selects the actuated joints' velocity components; τ are their generalized forces.
@@ -23,8 +23,9 @@ supports of stiffness K would share — and those rows are listed in
 
 The reaction wrench of every joint of the tree is the wrench its parent exerts on its child,
 world axes, moment about the joint's origin: the rate of momentum of the child's subtree less
-gravity, the closure forces and the external wrenches acting on it (:mod:`feeder.chain.kinematics`:
-Newton–Euler over all samples at once, equal to Pinocchio's RNEA to round-off).
+gravity, the closure forces and the external wrenches acting on it
+(:mod:`feeder.chain.kinematics.tree`: Newton–Euler over all samples at once, equal to Pinocchio's
+RNEA to round-off).
 """
 
 from __future__ import annotations
@@ -33,22 +34,20 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
-from ..exceptions import InputError, SingularPoseError, UnreachablePoseError
-from ..validation import check_finite, check_samples
-from .assembly import RANK_TOLERANCE
-from .closure import ClosedChain
-from .kinematics import (
+from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
+from ...validation import check_finite, check_samples
+from ..assembly.partition import RANK_TOLERANCE
+from ..kinematics.rows import ClosureKinematics, closure_kinematics
+from ..kinematics.tree import (
     TreeMotion,
-    cross,
-    frame_placements,
     generalized_forces,
     joint_wrenches,
-    point_jacobian,
     supports_batches,
     tree_motion,
 )
+from ..model.closure import ClosedChain
+from .reactions import ClosureWrench, JointWrench, closure_wrenches, joint_reactions
 
 CLOSURE_TOLERANCE = 1e-9
 """Largest accepted closure residual [m, rad] of a prescribed configuration, and (per second,
@@ -84,42 +83,6 @@ CONVENTION = (
     "statically indeterminate closure forces: minimum ‖K^(-1/2) λ‖ (K the per-row stiffness, "
     "default 1: minimum norm in SI units)"
 )
-
-
-@dataclass(frozen=True)
-class JointWrench:
-    """Wrench that a joint's parent exerts on its child, N samples, world axes.
-
-    Attributes:
-        force: Force [N], (N, 3).
-        moment: Moment [N·m] about the joint's origin, (N, 3).
-        drive: Its component along the joint's axis [N or N·m], (N,): the actuator load of an
-            actuated joint, zero for a passive one.
-        constraint_force: ``force`` less its component along a prismatic joint's axis [N].
-        constraint_moment: ``moment`` less its component about a revolute joint's axis [N·m].
-    """
-
-    force: np.ndarray
-    moment: np.ndarray
-    drive: np.ndarray
-    constraint_force: np.ndarray
-    constraint_moment: np.ndarray
-
-
-@dataclass(frozen=True)
-class ClosureWrench:
-    """The force and moment of one closure on the body of its ``frame_a`` (the opposite acts on
-    ``frame_b``'s), N samples.
-
-    Attributes:
-        force, moment: World axes [N], [N·m] (moment about frame a's origin), (N, 3).
-        local_force, local_moment: The same in frame a's axes, (N, 3).
-    """
-
-    force: np.ndarray
-    moment: np.ndarray
-    local_force: np.ndarray
-    local_moment: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -198,113 +161,6 @@ class ChainDynamics:
             weights[rows] = values
         self.row_scale = np.sqrt(weights)
         self.data = chain.model.createData()
-
-
-@dataclass(frozen=True)
-class ClosureKinematics:
-    """The closure rows along a motion, N samples.
-
-    Attributes:
-        jacobian: J, (N, nc, nv). residual: the rows' position error, (N, nc).
-        rate, acceleration: The rows' first and second time derivatives, (N, nc).
-        directions: Per closure, the revolute rows' moment directions (N, 2, 3) (None otherwise).
-        rotation_a: Per closure, frame a's world rotation (N, 3, 3).
-        hinge_alignment: Revolute closure label → u_a · u_b of its hinge axes (N,) (1 assembled,
-            −1 upside down).
-    """
-
-    jacobian: np.ndarray
-    residual: np.ndarray
-    rate: np.ndarray
-    acceleration: np.ndarray
-    directions: list[np.ndarray | None]
-    rotation_a: list[np.ndarray]
-    hinge_alignment: dict[str, np.ndarray]
-
-
-NEAR_HALF_TURN = 1e-6
-"""Below this sine of the angle, the rotation vector is not read off the antisymmetric part: near
-0 the factor θ / (2 sin θ) is ½, near π that part vanishes and Pinocchio's log3 takes over."""
-
-
-def _log3(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3), angles in [0, π]."""
-    cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(cosine)
-    skew = np.stack(
-        [
-            rotation[:, 2, 1] - rotation[:, 1, 2],
-            rotation[:, 0, 2] - rotation[:, 2, 0],
-            rotation[:, 1, 0] - rotation[:, 0, 1],
-        ],
-        axis=1,
-    )
-    sine = np.sin(angle)
-    near = sine <= NEAR_HALF_TURN
-    factor = np.where(near, 0.5, angle / np.where(near, 1.0, 2.0 * sine))
-    out = factor[:, None] * skew
-    for k in np.flatnonzero(near & (cosine < 0.0)):  # near a half turn: the skew part vanishes
-        out[k] = pin.log3(rotation[k])
-    return out
-
-
-def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
-    """Classical acceleration (N, 3) of a frame's origin at ``point`` (N, 3)."""
-    j = model.frames[frame].parentJoint
-    r = point - motion.origin[j]
-    w = motion.omega[j]
-    return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
-
-
-def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) -> ClosureKinematics:
-    """Every closure row's Jacobian, error, rate and acceleration along a batched motion."""
-    model = chain.model
-    n = v.shape[0]
-    jacobian = np.zeros((n, chain.nc, model.nv))
-    residual = np.zeros((n, chain.nc))
-    acceleration = np.zeros((n, chain.nc))
-    directions, rotations, alignment = [], [], {}
-    for closure, rows, (a, b), perpendicular in zip(
-        chain.closures, chain.row_slices, chain.frame_ids, chain.hinge_normals, strict=True
-    ):
-        rot_a, p_a = frame_placements(model, motion, a)
-        rot_b, p_b = frame_placements(model, motion, b)
-        jac_a, jac_b = point_jacobian(model, motion, a), point_jacobian(model, motion, b)
-        start = rows.start
-        jacobian[:, start : start + 3] = jac_a[:, :3] - jac_b[:, :3]
-        residual[:, start : start + 3] = p_a - p_b
-        acceleration[:, start : start + 3] = _frame_acceleration(
-            model, motion, a, p_a
-        ) - _frame_acceleration(model, motion, b, p_b)
-        ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
-        relative = motion.omega[ja] - motion.omega[jb]
-        spin = motion.alpha[ja] - motion.alpha[jb]
-        direction = None
-        if closure.kind == "weld":
-            jacobian[:, start + 3 : rows.stop] = jac_a[:, 3:] - jac_b[:, 3:]
-            residual[:, start + 3 : rows.stop] = _log3(rot_a @ np.swapaxes(rot_b, 1, 2))
-            acceleration[:, start + 3 : rows.stop] = spin
-        elif closure.kind == "revolute":
-            normals = rot_a @ perpendicular.T  # (N, 3, 2): columns n_1, n_2
-            u_b = rot_b @ np.array(closure.axis_b)
-            normals = np.swapaxes(normals, 1, 2)  # (N, 2, 3)
-            direction = np.cross(normals, u_b[:, None, :])
-            alignment[closure.label] = np.einsum("ni,ni->n", rot_a @ np.array(closure.axis), u_b)
-            jacobian[:, start + 3 : rows.stop] = direction @ (jac_a[:, 3:] - jac_b[:, 3:])
-            residual[:, start + 3 : rows.stop] = np.einsum("nki,ni->nk", normals, u_b)
-            w_a, w_b = motion.omega[ja], motion.omega[jb]
-            rates = np.cross(np.cross(w_a[:, None, :], normals), u_b[:, None, :]) + np.cross(
-                normals, np.cross(w_b, u_b)[:, None, :]
-            )
-            acceleration[:, start + 3 : rows.stop] = np.einsum(
-                "nki,ni->nk", rates, relative
-            ) + np.einsum("nki,ni->nk", direction, spin)
-        directions.append(direction)
-        rotations.append(rot_a)
-    rate = np.einsum("ncv,nv->nc", jacobian, v)
-    return ClosureKinematics(
-        jacobian, residual, rate, acceleration, directions, rotations, alignment
-    )
 
 
 def check_motion(
@@ -400,7 +256,7 @@ def inverse_dynamics(
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     tau, lam, indeterminate = solve_loads(dyn, motion, rows, terms)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
-    joints = joint_reactions(dyn, motion, closure_terms + terms)
+    joints = joint_reactions(dyn.chain, motion, closure_terms + terms)
     return ChainLoads(
         actuators={name: tau[:, i] for i, name in enumerate(dyn.actuated)},
         closure_forces=lam,
@@ -508,57 +364,3 @@ def _solve_svd(
         if basis.size:
             null |= np.abs(basis).max(axis=(0, 1)) > NULL_SPACE
     return solution, null
-
-
-def closure_wrenches(
-    chain: ClosedChain, rows: ClosureKinematics, lam: np.ndarray
-) -> tuple[dict[str, ClosureWrench], list[tuple[int, np.ndarray]]]:
-    """Each closure's wrench on the body of frame a (world and local axes) from the closure forces
-    λ (N, nc), and the wrenches that :func:`joint_reactions` applies: (frame id, world wrench
-    [force, moment about the frame's origin] (N, 6)), on frame a and, opposite, on frame b."""
-    out, terms = {}, []
-    for i, (closure, span, (a, b)) in enumerate(
-        zip(chain.closures, chain.row_slices, chain.frame_ids, strict=True)
-    ):
-        force = lam[:, span.start : span.start + 3]
-        if closure.kind == "weld":
-            moment = lam[:, span.start + 3 : span.stop]
-        elif closure.kind == "revolute":
-            moment = np.einsum(
-                "nk,nki->ni", lam[:, span.start + 3 : span.stop], rows.directions[i]
-            )
-        else:
-            moment = np.zeros_like(force)
-        rotation = rows.rotation_a[i]
-        out[closure.label] = ClosureWrench(
-            force,
-            moment,
-            np.einsum("nji,nj->ni", rotation, force),
-            np.einsum("nji,nj->ni", rotation, moment),
-        )
-        wrench = np.hstack([force, moment])
-        terms += [(a, wrench), (b, -wrench)]
-    return out, terms
-
-
-def joint_reactions(
-    dyn: ChainDynamics, motion: TreeMotion, external: list[tuple[int, np.ndarray]]
-) -> dict[str, JointWrench]:
-    """Every joint's reaction wrench with the wrenches ``external`` ((frame id, world wrench
-    (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`) acting on the tree."""
-    model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external)
-    joints = {}
-    for j in range(1, model.njoints):
-        e = motion.axis[j]
-        along = moment[j] if motion.revolute[j] else force[j]
-        drive = np.einsum("ni,ni->n", e, along)
-        part = drive[:, None] * e
-        joints[model.names[j]] = JointWrench(
-            force=force[j],
-            moment=moment[j],
-            drive=drive,
-            constraint_force=force[j] if motion.revolute[j] else force[j] - part,
-            constraint_moment=moment[j] - part if motion.revolute[j] else moment[j],
-        )
-    return joints

@@ -29,10 +29,10 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InputError, UrdfError
-from ..validation import check_finite
-from .closure import KINDS, ClosedChain, Closure
-from .inertia import check_inertia
+from ...exceptions import InputError
+from ...validation import check_finite
+from ..model.closure import KINDS, ClosedChain, Closure
+from .mjcf import read_mjcf
 from .urdf import build_model, read_urdf
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
@@ -204,137 +204,8 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
         model = build_model(xml, str(spec.model))
         closures = cuts + closures
     else:
-        model, extra = _read_mjcf(spec.model)
+        model, extra = read_mjcf(spec.model)
         closures = extra + closures
     if spec.gravity is not None:
         model.gravity = pin.Motion(spec.gravity, np.zeros(3))
     return ClosedChain(model, closures)
-
-
-def _read_mjcf(path: Path) -> tuple[pin.Model, list[Closure]]:
-    """Pinocchio's MJCF model and its equality constraints as closures (frames added)."""
-    if not path.is_file():
-        raise UrdfError(f"MJCF file not found: {path}")
-    try:
-        model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
-    except (ValueError, RuntimeError) as exc:
-        raise UrdfError(f"{path}: Pinocchio cannot read the MJCF model: {exc}") from exc
-    for j in range(1, model.njoints):
-        inertia = model.inertias[j]
-        if inertia.mass > 0.0:
-            check_inertia(model.names[j], inertia.mass, inertia.inertia)
-    equality = _equality_names(path)
-    closures = []
-    for i, constraint in enumerate(constraints):
-        names = (f"mjcf_constraint_{i}_a", f"mjcf_constraint_{i}_b")
-        for name, joint, placement in zip(
-            names,
-            (constraint.joint1_id, constraint.joint2_id),
-            (constraint.joint1_placement, constraint.joint2_placement),
-            strict=True,
-        ):
-            parent_frame = model.getFrameId(model.names[joint]) if joint else 0
-            model.addFrame(pin.Frame(name, joint, parent_frame, placement, pin.FrameType.OP_FRAME))
-        kind = "weld" if constraint.type == pin.ContactType.CONTACT_6D else "point"
-        label = (
-            constraint.name or (equality[i] if i < len(equality) else "") or f"mjcf_constraint_{i}"
-        )
-        closures.append(Closure(*names, kind=kind, name=label))
-    return model, closures
-
-
-def _equality_names(path: Path) -> list[str]:
-    """Names of an MJCF's ``equality/connect|weld`` elements, in file order ("" if unnamed):
-    Pinocchio 4.1 leaves its constraint models unnamed."""
-    from lxml import etree
-
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
-    try:
-        root = etree.parse(str(path), parser).getroot()
-    except (OSError, etree.XMLSyntaxError) as exc:
-        raise UrdfError(f"{path}: malformed MJCF: {exc}") from exc
-    return [
-        element.get("name", "")
-        for equality in root.iter("equality")
-        for element in equality
-        if element.tag in ("connect", "weld")
-    ]
-
-
-@dataclass(frozen=True)
-class MotionTable:
-    """A prescribed motion of the independent joints.
-
-    Attributes:
-        t: Times [s], (N,).
-        x, dx, ddx: Positions, rates and accelerations of the independent joints (N, n).
-        differentiated: Joints whose rates were differentiated from the positions.
-    """
-
-    t: np.ndarray
-    x: np.ndarray
-    dx: np.ndarray
-    ddx: np.ndarray
-    differentiated: tuple[str, ...]
-
-
-def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
-    """Read a motion table (module docstring) for the ``independent`` joints.
-
-    Raises:
-        InputError: Missing or malformed file, a missing column (named), non-finite values,
-            times that do not increase.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"motion file not found: {path}")
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the motion file {path}: {exc}") from exc
-    rows = [line.split(",") for line in lines if line.strip()]
-    if len(rows) < 3:
-        raise InputError(f"{path}: a header row and at least two rows of numbers are needed")
-    header = [name.strip() for name in rows[0]]
-    if any(len(row) != len(header) for row in rows[1:]):
-        raise InputError(f"{path}: every row must have {len(header)} values, like the header")
-    try:
-        table = np.array([[float(x) for x in row] for row in rows[1:]])
-    except ValueError as exc:
-        raise InputError(f"{path}: every row after the header must be numbers: {exc}") from exc
-    table = check_finite(f"{path}", table)
-    columns = {name: table[:, i] for i, name in enumerate(header)}
-    if "t" not in columns:
-        raise InputError(f"{path}: no column 't' [s]; columns: {header}")
-    t = columns["t"]
-    if np.any(np.diff(t) <= 0.0):
-        raise InputError(f"{path}: times must increase")
-
-    x, dx, ddx, differentiated = [], [], [], []
-    for joint in independent:
-        if f"q_{joint}" not in columns:
-            raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
-        position = columns[f"q_{joint}"]
-        if (f"v_{joint}" not in columns or f"a_{joint}" not in columns) and t.size < 3:
-            raise InputError(
-                f"{path}: the rates of {joint!r} are differentiated from its positions, which "
-                "needs at least 3 rows; give v_ and a_ columns or more samples"
-            )
-        rate = columns.get(f"v_{joint}")
-        if rate is None:
-            rate = np.gradient(position, t, edge_order=2)
-            differentiated.append(joint)
-        acceleration = columns.get(f"a_{joint}")
-        if acceleration is None:
-            acceleration = np.gradient(rate, t, edge_order=2)
-            differentiated.append(joint)
-        x.append(position)
-        dx.append(rate)
-        ddx.append(acceleration)
-    return MotionTable(
-        t=t,
-        x=np.column_stack(x),
-        dx=np.column_stack(dx),
-        ddx=np.column_stack(ddx),
-        differentiated=tuple(dict.fromkeys(differentiated)),
-    )

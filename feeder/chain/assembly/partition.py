@@ -24,9 +24,9 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InputError, SingularPoseError, UnreachablePoseError
-from ..validation import check_number, check_samples, check_vector
-from .closure import ClosedChain
+from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
+from ...validation import check_number, check_samples, check_vector
+from ..model.closure import ClosedChain
 
 POSITION_TOLERANCE = 1e-13
 """Closure residual [m] at which Newton stops: a few ulps of the mechanism's size (~1 m)."""

@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InputError
-from ..validation import check_vector
+from ...exceptions import InputError
+from ...validation import check_vector
 
 
 def mass_matrix_derivative(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:

@@ -18,7 +18,7 @@ the body of ``frame_b``): a force [N] at frame a's origin for the point rows, a 
 the rotation rows. A planar loop closed in its plane has redundant rows (the out-of-plane force,
 the two tilting moments of a revolute cut): the closure Jacobian is rank-deficient everywhere,
 and every solve here is rank-revealing, so redundancy is harmless; :mod:`feeder.chain.mobility`
-reports it and :mod:`feeder.chain.inverse` flags the indeterminate force components.
+reports it and :mod:`feeder.chain.dynamics.inverse` flags the indeterminate force components.
 
 Pinocchio receives each closure as ``RigidConstraintModel`` s for ``constraintDynamics``: a
 ``CONTACT_3D`` for a point, a ``CONTACT_6D`` for a weld and, as Pinocchio 4.1 has no hinge
@@ -29,14 +29,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import ClosureFrameError, InputError
-from ..validation import check_vector
-from .urdf import build_model, read_urdf
+from ...exceptions import ClosureFrameError, InputError
+from ...validation import check_vector
 
 KINDS = {"point": 3, "weld": 6, "revolute": 5}
 """Closure kinds and their number of scalar constraints."""
@@ -393,22 +391,3 @@ def _constraint_models(
             pin.ContactType.CONTACT_3D, fa.placement * shift_a, fb.placement * shift_b, ":axis"
         ),
     ]
-
-
-def load_closed_chain(
-    urdf: str | Path, closures: Sequence[Closure | Sequence[str]]
-) -> ClosedChain:
-    """Load a URDF file strictly and close its loops.
-
-    Args:
-        urdf: Path of the URDF file (fixed base; meshes are not needed).
-        closures: :class:`Closure` s, or pairs of frame names (point closures).
-
-    Raises:
-        UrdfError: Missing or malformed file.
-        InertiaError: A non-physical link inertia.
-        ClosureFrameError: A closure frame that is not in the model.
-        InputError: ``closures`` not closures or name pairs, or a pair of frames on the same
-            body.
-    """
-    return ClosedChain(build_model(read_urdf(urdf), str(urdf)), closures)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import InertiaError
+from ...exceptions import InertiaError
 
 
 def check_inertia(link: str, mass: float, inertia: np.ndarray) -> None:

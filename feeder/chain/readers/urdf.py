@@ -13,13 +13,15 @@ inertia instead, so the checked model and the built one would differ. URDF needs
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 from lxml import etree
 
-from ..exceptions import InertiaError, UrdfError
+from ...exceptions import InertiaError, UrdfError
+from ..model.closure import ClosedChain, Closure
 from .inertia import check_inertia
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
@@ -185,3 +187,22 @@ def build_model(xml: str, source: str = "<string>") -> pin.Model:
         return pin.buildModelFromXML(xml)
     except (ValueError, RuntimeError) as exc:
         raise UrdfError(f"{source}: Pinocchio cannot build the model: {exc}") from exc
+
+
+def load_closed_chain(
+    urdf: str | Path, closures: Sequence[Closure | Sequence[str]]
+) -> ClosedChain:
+    """Load a URDF file strictly and close its loops.
+
+    Args:
+        urdf: Path of the URDF file (fixed base; meshes are not needed).
+        closures: :class:`Closure` s, or pairs of frame names (point closures).
+
+    Raises:
+        UrdfError: Missing or malformed file.
+        InertiaError: A non-physical link inertia.
+        ClosureFrameError: A closure frame that is not in the model.
+        InputError: ``closures`` not closures or name pairs, or a pair of frames on the same
+            body.
+    """
+    return ClosedChain(build_model(read_urdf(urdf), str(urdf)), closures)

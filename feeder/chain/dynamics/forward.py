@@ -1,7 +1,7 @@
 """Forward simulation of any closed chain driven by actuator forces.
 
 The accelerations come from the closed chain's equations of motion with the closure rows of
-:class:`~feeder.chain.closure.ClosedChain` (any mix of point, weld and revolute cuts):
+:class:`~feeder.chain.model.closure.ClosedChain` (any mix of point, weld and revolute cuts):
 
     [M  Jᵀ] [ q̈]   [Sᵀ u(t, q, q̇) − b      ]
     [J  0 ] [−λ] = [−J̇ q̇ − 2ω J q̇ − ω² r(q)]
@@ -13,7 +13,7 @@ the least-squares sense, so redundant closure rows (a planar loop) are harmless.
 
 The state is integrated with the classical fourth-order Runge–Kutta method on the caller's time
 grid. Drift control: Baumgarte's corrector always, and optionally a projection after every step
-(:class:`~feeder.chain.assembly.Partition`: Newton back onto the closure at the step's
+(:class:`~feeder.chain.assembly.partition.Partition`: Newton back onto the closure at the step's
 independent coordinates, and the velocity onto J q̇ = 0).
 
 Reports: the closure residual at every sample (drift), the mechanical energy (kinetic plus
@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InputError, UnreachablePoseError
-from ..validation import check_finite, check_number, check_vector
-from .assembly import Partition
+from ...exceptions import InputError, UnreachablePoseError
+from ...validation import check_finite, check_number, check_vector
+from ..assembly.partition import Partition
 from .inverse import ChainDynamics
 
 BAUMGARTE_RATE = 20.0

@@ -2,15 +2,15 @@
 
 Pinocchio 4.1's wheel has no SDF support, and URDF cannot hold a loop, so an SDF model is
 turned into the URDF text of a spanning tree of its links and the list of
-:class:`~feeder.chain.closure.Closure` s that close the loops; :func:`load_sdf` builds the two
-into a :class:`~feeder.chain.closure.ClosedChain`.
+:class:`~feeder.chain.model.closure.Closure` s that close the loops; :func:`load_sdf` builds
+the two into a :class:`~feeder.chain.model.closure.ClosedChain`.
 
 **What is read.** SDF versions 1.4 to 1.7 (``<sdf version>``), one ``<model>`` (directly under
 ``<sdf>`` or in a ``<world>``): its links (pose and inertial), its joints (type, parent, child,
 pose, axis, limits, damping and friction) and, in SDF 1.7, its ``<frame>`` s (only as targets of
 ``relative_to``). Visuals, collisions, sensors, plugins and the model's own pose are dropped.
 Refused with a :class:`~feeder.exceptions.UrdfError` naming the file and the element: nested
-models and ``<include>``, a document type declaration (as in :mod:`feeder.chain.urdf`), a
+models and ``<include>``, a document type declaration (as in :mod:`feeder.chain.readers.urdf`), a
 ``<pose frame="...">`` naming a frame (SDF 1.5/1.6 left its meaning undefined), ``relative_to``
 before SDF 1.7, a number that is not finite, an unknown link or frame, joint types other than
 those below.
@@ -68,8 +68,8 @@ import numpy as np
 import pinocchio as pin
 from lxml import etree
 
-from ..exceptions import InputError, UrdfError
-from .closure import ClosedChain, Closure
+from ...exceptions import InputError, UrdfError
+from ..model.closure import ClosedChain, Closure
 from .urdf import AXIS_MIN_NORM, build_model, check_urdf, parse_xml
 
 SDF_VERSIONS = ("1.4", "1.5", "1.6", "1.7")
@@ -579,7 +579,7 @@ def read_sdf(
 
     Returns:
         The URDF text (fixed base, every link's inertial, no visuals) and one
-        :class:`~feeder.chain.closure.Closure` per cut joint (module docstring), in file order.
+        :class:`~feeder.chain.Closure` per cut joint (module docstring), in file order.
 
     Raises:
         UrdfError: A missing file, malformed XML, no model, an unsupported element, joint type
@@ -646,7 +646,7 @@ def load_sdf(
     limits: bool = True,
 ) -> ClosedChain:
     """The closed chain of an SDF model (:func:`read_sdf`, built with
-    :func:`~feeder.chain.urdf.build_model`); its q = 0 is the SDF's pose.
+    :func:`~feeder.chain.readers.urdf.build_model`); its q = 0 is the SDF's pose.
 
     Raises:
         UrdfError, InputError, InertiaError: See :func:`read_sdf`.

@@ -1,0 +1,1 @@
+"""Closed poses: assembly, velocities, accelerations and continuation along a motion."""

@@ -1,0 +1,103 @@
+"""Reaction wrenches: each closure's wrench on its two bodies and every joint's reaction, from the
+closure forces of :mod:`feeder.chain.dynamics.inverse` (Newton–Euler over all samples at once,
+:mod:`feeder.chain.kinematics.tree`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kinematics.rows import ClosureKinematics
+from ..kinematics.tree import TreeMotion, joint_wrenches
+from ..model.closure import ClosedChain
+
+
+@dataclass(frozen=True)
+class JointWrench:
+    """Wrench that a joint's parent exerts on its child, N samples, world axes.
+
+    Attributes:
+        force: Force [N], (N, 3).
+        moment: Moment [N·m] about the joint's origin, (N, 3).
+        drive: Its component along the joint's axis [N or N·m], (N,): the actuator load of an
+            actuated joint, zero for a passive one.
+        constraint_force: ``force`` less its component along a prismatic joint's axis [N].
+        constraint_moment: ``moment`` less its component about a revolute joint's axis [N·m].
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    drive: np.ndarray
+    constraint_force: np.ndarray
+    constraint_moment: np.ndarray
+
+
+@dataclass(frozen=True)
+class ClosureWrench:
+    """The force and moment of one closure on the body of its ``frame_a`` (the opposite acts on
+    ``frame_b``'s), N samples.
+
+    Attributes:
+        force, moment: World axes [N], [N·m] (moment about frame a's origin), (N, 3).
+        local_force, local_moment: The same in frame a's axes, (N, 3).
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    local_force: np.ndarray
+    local_moment: np.ndarray
+
+
+def closure_wrenches(
+    chain: ClosedChain, rows: ClosureKinematics, lam: np.ndarray
+) -> tuple[dict[str, ClosureWrench], list[tuple[int, np.ndarray]]]:
+    """Each closure's wrench on the body of frame a (world and local axes) from the closure forces
+    λ (N, nc), and the wrenches that :func:`joint_reactions` applies: (frame id, world wrench
+    [force, moment about the frame's origin] (N, 6)), on frame a and, opposite, on frame b."""
+    out, terms = {}, []
+    for i, (closure, span, (a, b)) in enumerate(
+        zip(chain.closures, chain.row_slices, chain.frame_ids, strict=True)
+    ):
+        force = lam[:, span.start : span.start + 3]
+        if closure.kind == "weld":
+            moment = lam[:, span.start + 3 : span.stop]
+        elif closure.kind == "revolute":
+            moment = np.einsum(
+                "nk,nki->ni", lam[:, span.start + 3 : span.stop], rows.directions[i]
+            )
+        else:
+            moment = np.zeros_like(force)
+        rotation = rows.rotation_a[i]
+        out[closure.label] = ClosureWrench(
+            force,
+            moment,
+            np.einsum("nji,nj->ni", rotation, force),
+            np.einsum("nji,nj->ni", rotation, moment),
+        )
+        wrench = np.hstack([force, moment])
+        terms += [(a, wrench), (b, -wrench)]
+    return out, terms
+
+
+def joint_reactions(
+    chain: ClosedChain, motion: TreeMotion, external: list[tuple[int, np.ndarray]]
+) -> dict[str, JointWrench]:
+    """Every joint's reaction wrench with the wrenches ``external`` ((frame id, world wrench
+    (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`) acting on the tree."""
+    model = chain.model
+    force, moment = joint_wrenches(model, motion, external)
+    joints = {}
+    for j in range(1, model.njoints):
+        e = motion.axis[j]
+        along = moment[j] if motion.revolute[j] else force[j]
+        drive = np.einsum("ni,ni->n", e, along)
+        part = drive[:, None] * e
+        joints[model.names[j]] = JointWrench(
+            force=force[j],
+            moment=moment[j],
+            drive=drive,
+            constraint_force=force[j] if motion.revolute[j] else force[j] - part,
+            constraint_moment=moment[j] - part if motion.revolute[j] else moment[j],
+        )
+    return joints

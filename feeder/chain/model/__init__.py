@@ -1,0 +1,1 @@
+"""The kinematic tree and its loop closures: :class:`~feeder.chain.model.closure.ClosedChain`."""

@@ -1,0 +1,92 @@
+"""The motion table (CSV, header row): ``t`` [s] and, for every independent joint j, ``q_j`` and
+optionally ``v_j``, ``a_j`` (SI units); rates that are missing are differentiated from the
+positions (second-order central differences, ``numpy.gradient``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...exceptions import InputError
+from ...validation import check_finite
+
+
+@dataclass(frozen=True)
+class MotionTable:
+    """A prescribed motion of the independent joints.
+
+    Attributes:
+        t: Times [s], (N,).
+        x, dx, ddx: Positions, rates and accelerations of the independent joints (N, n).
+        differentiated: Joints whose rates were differentiated from the positions.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    dx: np.ndarray
+    ddx: np.ndarray
+    differentiated: tuple[str, ...]
+
+
+def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
+    """Read a motion table (module docstring) for the ``independent`` joints.
+
+    Raises:
+        InputError: Missing or malformed file, a missing column (named), non-finite values,
+            times that do not increase.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"motion file not found: {path}")
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the motion file {path}: {exc}") from exc
+    rows = [line.split(",") for line in lines if line.strip()]
+    if len(rows) < 3:
+        raise InputError(f"{path}: a header row and at least two rows of numbers are needed")
+    header = [name.strip() for name in rows[0]]
+    if any(len(row) != len(header) for row in rows[1:]):
+        raise InputError(f"{path}: every row must have {len(header)} values, like the header")
+    try:
+        table = np.array([[float(x) for x in row] for row in rows[1:]])
+    except ValueError as exc:
+        raise InputError(f"{path}: every row after the header must be numbers: {exc}") from exc
+    table = check_finite(f"{path}", table)
+    columns = {name: table[:, i] for i, name in enumerate(header)}
+    if "t" not in columns:
+        raise InputError(f"{path}: no column 't' [s]; columns: {header}")
+    t = columns["t"]
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError(f"{path}: times must increase")
+
+    x, dx, ddx, differentiated = [], [], [], []
+    for joint in independent:
+        if f"q_{joint}" not in columns:
+            raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
+        position = columns[f"q_{joint}"]
+        if (f"v_{joint}" not in columns or f"a_{joint}" not in columns) and t.size < 3:
+            raise InputError(
+                f"{path}: the rates of {joint!r} are differentiated from its positions, which "
+                "needs at least 3 rows; give v_ and a_ columns or more samples"
+            )
+        rate = columns.get(f"v_{joint}")
+        if rate is None:
+            rate = np.gradient(position, t, edge_order=2)
+            differentiated.append(joint)
+        acceleration = columns.get(f"a_{joint}")
+        if acceleration is None:
+            acceleration = np.gradient(rate, t, edge_order=2)
+            differentiated.append(joint)
+        x.append(position)
+        dx.append(rate)
+        ddx.append(acceleration)
+    return MotionTable(
+        t=t,
+        x=np.column_stack(x),
+        dx=np.column_stack(dx),
+        ddx=np.column_stack(ddx),
+        differentiated=tuple(dict.fromkeys(differentiated)),
+    )
