@@ -38,14 +38,9 @@ import numpy as np
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
 from ..assembly.partition import RANK_TOLERANCE
+from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
-from ..kinematics.tree import (
-    TreeMotion,
-    generalized_forces,
-    joint_wrenches,
-    supports_batches,
-    tree_motion,
-)
+from ..kinematics.tree import TreeMotion, generalized_forces, joint_wrenches, tree_motion
 from ..model.closure import ClosedChain
 from .reactions import ClosureWrench, JointWrench, closure_wrenches, joint_reactions
 
@@ -111,16 +106,17 @@ class ChainDynamics:
     """What the inverse dynamics of one chain needs that does not change along a motion.
 
     Args:
-        chain: The closed chain (its model's gravity is used); a tree of one-coordinate revolute
-            and prismatic joints.
-        actuated: Names of the actuated joints (one-dof each).
+        chain: The closed chain (its model's gravity is used); a tree of any joints of
+            :mod:`~feeder.chain.kinematics.joints`.
+        actuated: Names of the actuated joints (one coordinate each: revolute, continuous,
+            prismatic).
         stiffness: Optional closure label → per-row stiffness (rows of that closure), for the
             split of statically indeterminate forces; default 1 everywhere.
 
     Raises:
-        InputError: A joint the dynamics do not handle (spherical, free-flyer, planar,
-            Pinocchio's two-coordinate continuous), an unknown actuated joint, a name given
-            twice, a bad stiffness.
+        InputError: A joint type the dynamics do not handle (helical, ellipsoid, composite,
+            mimic), an unknown or multi-coordinate actuated joint, a name given twice, a bad
+            stiffness.
     """
 
     def __init__(
@@ -129,15 +125,8 @@ class ChainDynamics:
         actuated: Sequence[str],
         stiffness: Mapping[str, Sequence[float]] | None = None,
     ):
-        if not supports_batches(chain.model):
-            kinds = sorted(
-                {chain.model.joints[j].shortname() for j in range(1, chain.model.njoints)}
-            )
-            raise InputError(
-                f"model {chain.model.name!r} has joints {kinds}: the dynamics handle trees of "
-                "one-coordinate revolute and prismatic joints (URDF revolute, prismatic; a "
-                "continuous joint with limits of [0, 0] is a revolute one without limits)"
-            )
+        for j in range(1, chain.model.njoints):
+            kind_of(chain.model.joints[j])
         if isinstance(actuated, str) or not isinstance(actuated, Sequence):
             raise InputError(f"actuated joints must be a list of names, got {actuated!r}")
         if len(set(actuated)) != len(actuated):
@@ -145,6 +134,12 @@ class ChainDynamics:
         self.chain = chain
         self.actuated = tuple(actuated)
         self.columns = [chain.joint_slice(name).start for name in self.actuated]
+        for name in self.actuated:
+            if chain.joint_slice(name).stop - chain.joint_slice(name).start != 1:
+                raise InputError(
+                    f"actuated joint {name!r} has several coordinates: actuate revolute, "
+                    "continuous or prismatic joints"
+                )
         weights = np.ones(chain.nc)
         labels = [closure.label for closure in chain.closures]
         for label, values in (stiffness or {}).items():

@@ -20,10 +20,15 @@ class JointWrench:
     Attributes:
         force: Force [N], (N, 3).
         moment: Moment [N·m] about the joint's origin, (N, 3).
-        drive: Its component along the joint's axis [N or N·m], (N,): the actuator load of an
-            actuated joint, zero for a passive one.
-        constraint_force: ``force`` less its component along a prismatic joint's axis [N].
-        constraint_moment: ``moment`` less its component about a revolute joint's axis [N·m].
+        drive: Its generalized forces, the components along the joint's free directions [N or
+            N·m]: (N,) for a one-coordinate joint (revolute, continuous, prismatic), (N, nv_j)
+            for the others in the order of their velocity (a ball joint's three moments about
+            its child's axes, say); the actuator load of an actuated joint, zero for a passive
+            one.
+        constraint_force: ``force`` less its part along the joint's sliding directions [N]
+            (prismatic, planar, translation, free-flyer).
+        constraint_moment: ``moment`` less its part about the joint's turning directions [N·m]
+            (revolute: its axis; universal: its two axes; ball: all of it).
     """
 
     force: np.ndarray
@@ -89,15 +94,27 @@ def joint_reactions(
     force, moment = joint_wrenches(model, motion, external)
     joints = {}
     for j in range(1, model.njoints):
-        e = motion.axis[j]
-        along = moment[j] if motion.revolute[j] else force[j]
-        drive = np.einsum("ni,ni->n", e, along)
-        part = drive[:, None] * e
+        linear, angular = motion.linear[j], motion.angular[j]
+        drive = np.einsum("nik,ni->nk", linear, force[j]) + np.einsum(
+            "nik,ni->nk", angular, moment[j]
+        )
         joints[model.names[j]] = JointWrench(
             force=force[j],
             moment=moment[j],
-            drive=drive,
-            constraint_force=force[j] if motion.revolute[j] else force[j] - part,
-            constraint_moment=moment[j] - part if motion.revolute[j] else moment[j],
+            drive=drive[:, 0] if drive.shape[1] == 1 else drive,
+            constraint_force=force[j] - _along(linear, force[j]),
+            constraint_moment=moment[j] - _along(angular, moment[j]),
         )
     return joints
+
+
+def _along(columns: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    """The part (N, 3) of ``vector`` (N, 3) in the span of ``columns`` (N, 3, k) (orthogonal
+    projection; zero where the columns are zero: a joint that does not turn, or slide)."""
+    active = np.abs(columns).max(axis=(0, 1)) > 0.0
+    if not active.any():
+        return np.zeros_like(vector)
+    basis = columns[:, :, active]
+    gram = np.swapaxes(basis, 1, 2) @ basis
+    weights = np.linalg.solve(gram, np.einsum("nik,ni->nk", basis, vector)[..., None])
+    return (basis @ weights)[..., 0]

@@ -1,22 +1,22 @@
 """Kinematics and Newton–Euler dynamics of a tree at every sample at once (numpy, world frame).
 
 One Pinocchio call per sample costs a Python round trip each; for the thousands of samples of a
-motion the same recursions run here over the joint tree once, on arrays of all samples, for
-trees of one-degree-of-freedom revolute and prismatic joints (every URDF joint but ``floating``,
-``planar`` and ``continuous``). For a joint j with parent p, joint placement (R₀, t₀) in p's
-frame and unit axis s in its own frame (world axis e = R_p R₀ s), coordinate θ:
+motion the same recursions run here over the joint tree once, on arrays of all samples, for every
+joint type of :mod:`~feeder.chain.kinematics.joints`. For a joint j with parent p, placement
+(R₀, t₀) in p's frame ("before": R_b = R_p R₀, o_b = o_p + R_p t₀) and the child's motion
+relative to "before" (R_rel, p_rel, w_rel, v_rel, α_rel, a_rel; columns A, B):
 
-* placement: R_j = R_p R₀ exp(θ [s]×) (revolute) or R_p R₀ (prismatic); o_j = o_p + R_p t₀
-  (+ e θ, prismatic);
-* angular velocity and acceleration: ω_j = ω_p + e θ̇, α_j = α_p + e θ̈ + ω_p × e θ̇ (revolute;
-  a prismatic joint keeps its parent's);
-* origin velocity and acceleration, r = o_j − o_p: v_j = v_p + ω_p × r (+ e θ̇),
-  a_j = a_p + α_p × r + ω_p × (ω_p × r) (+ 2 ω_p × e θ̇ + e θ̈, prismatic).
+* placement: R_j = R_b R_rel, o_j = o_b + R_b p_rel;
+* angular velocity and acceleration: ω_j = ω_p + R_b w_rel,
+  α_j = α_p + R_b α_rel + ω_p × R_b w_rel;
+* origin velocity and acceleration, r = o_j − o_p: v_j = v_p + ω_p × r + R_b v_rel,
+  a_j = a_p + α_p × r + ω_p × (ω_p × r) + 2 ω_p × R_b v_rel + R_b a_rel;
+* the joint's world columns at its origin: linear R_b B, angular R_b A (its motion subspace).
 
 The backward pass (Newton–Euler) gives the wrench each joint transmits, parent on child, about
 its origin: the rate of momentum of its subtree less gravity and the external wrenches applied
-to it. Its component along the joint axis is the joint's generalized force: Pinocchio's RNEA to
-round-off (tests/chain/test_kinematics.py checks both passes against Pinocchio).
+to it. Its components along the joint's columns are the joint's generalized forces: Pinocchio's
+RNEA to round-off (tests/chain/kinematics/test_tree.py checks both passes against Pinocchio).
 """
 
 from __future__ import annotations
@@ -26,18 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-
-def supports_batches(model: pin.Model) -> bool:
-    """Whether every joint is a one-coordinate revolute or prismatic joint (batchable)."""
-    data = model.createData()
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        subspace = np.asarray(data.joints[j].S, dtype=float).ravel()
-        if joint.nq != 1 or joint.nv != 1 or subspace.shape != (6,):
-            return False
-        if np.any(subspace[:3]) and np.any(subspace[3:]):
-            return False
-    return True
+from .joints import axes_of, kind_of, relative_motion
 
 
 @dataclass(frozen=True)
@@ -46,16 +35,17 @@ class TreeMotion:
     joint id (0 is the world, at rest), each entry an array over the samples.
 
     Attributes:
-        rotation: R_j, (N, 3, 3). origin: o_j [m], (N, 3). axis: e_j, the joint's world axis,
-            (N, 3) (zero for the world). revolute: (njoints,) bool, True for revolute joints.
+        rotation: R_j, (N, 3, 3). origin: o_j [m], (N, 3).
+        linear, angular: The joint's world columns at its origin (N, 3, nv_j) (module docstring;
+            for a revolute joint, angular is its world axis and linear is zero).
         omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (N, 3).
         velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin, (N, 3).
     """
 
     rotation: list[np.ndarray]
     origin: list[np.ndarray]
-    axis: list[np.ndarray]
-    revolute: np.ndarray
+    linear: list[np.ndarray]
+    angular: list[np.ndarray]
     omega: list[np.ndarray]
     alpha: list[np.ndarray]
     velocity: list[np.ndarray]
@@ -91,51 +81,47 @@ def tree_motion(
     model: pin.Model, q: np.ndarray, v: np.ndarray | None = None, a: np.ndarray | None = None
 ) -> TreeMotion:
     """The forward recursion of the module docstring for configurations q (N, nq) and, if given,
-    velocities v and accelerations a (N, nv) (zero otherwise). The model must pass
-    :func:`supports_batches`; q, v, a are trusted (checked by the caller)."""
+    velocities v and accelerations a (N, nv) (zero otherwise). q, v, a are trusted (checked by
+    the caller); a joint type that is not handled raises :class:`~feeder.exceptions.InputError`."""
     n, count = q.shape[0], model.njoints
     v = np.zeros((n, model.nv)) if v is None else v
     a = np.zeros((n, model.nv)) if a is None else a
-    data = model.createData()
     zero = np.zeros((n, 3))
     rotation = [np.broadcast_to(np.eye(3), (n, 3, 3))]
-    origin, axis, w, dw, vel, acc = ([zero] for _ in range(6))
-    revolute = np.zeros(count, dtype=bool)
+    origin, w, dw, vel, acc = ([zero] for _ in range(5))
+    linear, angular = [np.zeros((n, 3, 0))], [np.zeros((n, 3, 0))]
     for j in range(1, count):
-        p, placement = model.parents[j], model.jointPlacements[j]
-        subspace = np.asarray(data.joints[j].S, dtype=float).ravel()
-        turning = bool(np.any(subspace[3:]))
-        revolute[j] = turning
-        local = subspace[3:] if turning else subspace[:3]
-        x = q[:, model.joints[j].idx_q]
-        dx = v[:, model.joints[j].idx_v][:, None]
-        ddx = a[:, model.joints[j].idx_v][:, None]
+        joint, p, placement = model.joints[j], model.parents[j], model.jointPlacements[j]
+        kind = kind_of(joint)
+        rel = relative_motion(
+            kind,
+            axes_of(joint, kind),
+            q[:, joint.idx_q : joint.idx_q + joint.nq],
+            v[:, joint.idx_v : joint.idx_v + joint.nv],
+            a[:, joint.idx_v : joint.idx_v + joint.nv],
+        )
         before = _rows(rotation[p], placement.rotation)
         here = origin[p] + _apply(rotation[p], placement.translation)
-        e = _apply(before, local)
-        axis.append(e)
-        if turning:
-            skew = pin.skew(local)
-            s, c = np.sin(x)[:, None, None], np.cos(x)[:, None, None]
-            rotation.append(
-                before + s * _rows(before, skew) + (1.0 - c) * _rows(before, skew @ skew)
-            )
-            w.append(w[p] + e * dx)
-            dw.append(dw[p] + e * ddx + cross(w[p], e * dx))
-        else:
-            here = here + e * x[:, None]
-            rotation.append(before)
-            w.append(w[p])
-            dw.append(dw[p])
+        if rel.position.any():
+            here = here + _turn(before, rel.position)
+        rotation.append(before @ rel.rotation)
+        linear.append(before @ rel.linear)
+        angular.append(before @ rel.angular)
+        turn, slide = _turn(before, rel.omega), _turn(before, rel.velocity)
+        w.append(w[p] + turn)
+        dw.append(dw[p] + _turn(before, rel.alpha) + cross(w[p], turn))
         r = here - origin[p]
         spin = cross(w[p], r)
-        vel.append(vel[p] + spin)
-        acc.append(acc[p] + cross(dw[p], r) + cross(w[p], spin))
-        if not turning:
-            vel[j] = vel[j] + e * dx
-            acc[j] = acc[j] + 2.0 * cross(w[p], e * dx) + e * ddx
+        vel.append(vel[p] + spin + slide)
+        acc.append(
+            acc[p]
+            + cross(dw[p], r)
+            + cross(w[p], spin)
+            + 2.0 * cross(w[p], slide)
+            + _turn(before, rel.acceleration)
+        )
         origin.append(here)
-    return TreeMotion(rotation, origin, axis, revolute, w, dw, vel, acc)
+    return TreeMotion(rotation, origin, linear, angular, w, dw, vel, acc)
 
 
 def frame_placements(
@@ -151,19 +137,20 @@ def frame_placements(
 
 def point_jacobian(model: pin.Model, motion: TreeMotion, frame: int) -> np.ndarray:
     """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
-    velocity], columns e_k × (p − o_k), e_k for revolute ancestors k, e_k, 0 for prismatic."""
+    velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
+    (L_k, W_k)."""
     n = motion.origin[0].shape[0]
     _, point = frame_placements(model, motion, frame)
     jac = np.zeros((n, 6, model.nv))
     j = model.frames[frame].parentJoint
     while j > 0:
         k = model.joints[j].idx_v
-        e = motion.axis[j]
-        if motion.revolute[j]:
-            jac[:, :3, k] = cross(e, point - motion.origin[j])
-            jac[:, 3:, k] = e
-        else:
-            jac[:, :3, k] = e
+        columns = slice(k, k + model.joints[j].nv)
+        lever = point - motion.origin[j]
+        jac[:, :3, columns] = motion.linear[j] + cross(
+            np.swapaxes(motion.angular[j], 1, 2), lever[:, None, :]
+        ).swapaxes(1, 2)
+        jac[:, 3:, columns] = motion.angular[j]
         j = model.parents[j]
     return jac
 
@@ -214,9 +201,13 @@ def joint_wrenches(
 def generalized_forces(
     model: pin.Model, motion: TreeMotion, force: list[np.ndarray], moment: list[np.ndarray]
 ) -> np.ndarray:
-    """Each joint's generalized force (N, nv): e · moment (revolute), e · force (prismatic)."""
+    """Each joint's generalized forces (N, nv): its columns' components of the wrench it
+    transmits, Lᵀ force + Wᵀ moment (e · moment for a revolute joint, e · force for a prismatic
+    one)."""
     tau = np.zeros((force[0].shape[0], model.nv))
     for j in range(1, model.njoints):
-        along = moment[j] if motion.revolute[j] else force[j]
-        tau[:, model.joints[j].idx_v] = np.einsum("ni,ni->n", motion.axis[j], along)
+        k = model.joints[j].idx_v
+        tau[:, k : k + model.joints[j].nv] = np.einsum(
+            "nik,ni->nk", motion.linear[j], force[j]
+        ) + np.einsum("nik,ni->nk", motion.angular[j], moment[j])
     return tau

@@ -1,0 +1,221 @@
+"""Every Pinocchio joint type, at every sample at once: the motion of a joint's child frame
+relative to the frame it is placed in (numpy).
+
+A joint j sits in its parent's frame at the fixed placement (R₀, t₀); call that frame "before".
+Its coordinates q_j (nq_j) and velocity v_j (nv_j) give the child frame's placement
+(R_rel, p_rel) in "before", its angular velocity w_rel = A v_j and its origin's velocity
+v_rel = B v_j (both in "before" axes, A and B (3, nv_j) the joint's angular and linear columns),
+and the classical accelerations α_rel, a_rel. The conventions are Pinocchio's (its q and v):
+
+=========================  ====  ====  =========================================================
+kind (Pinocchio models)    nq    nv    child frame relative to "before"
+=========================  ====  ====  =========================================================
+``revolute`` (RX, RY, RZ,  1     1     turn θ about the unit axis s
+RevoluteUnaligned)
+``continuous`` (RUBX…,     2     1     the same, q = (cos θ, sin θ)
+RevoluteUnboundedUnaligned)
+``universal``              2     2     turn q₁ about a₁, then q₂ about the turned a₂
+``spherical_zyx``          3     3     turns about z, the turned y, the turned x (q = angles)
+``prismatic`` (PX, PY, PZ, 1     1     slide x along the unit axis s
+PrismaticUnaligned)
+``translation``            3     3     slide by q
+``spherical``              4     3     rotation of the unit quaternion q = (x, y, z, w); v is the
+                                       angular velocity in the child's axes
+``planar``                 4     3     q = (x, y, cos θ, sin θ); v = (v_x, v_y, ω) in the
+                                       child's axes
+``free_flyer``             7     6     q = (position, quaternion); v = (linear, angular) in the
+                                       child's axes
+=========================  ====  ====  =========================================================
+
+For the axis chains (revolute, continuous, universal, spherical_zyx) with world-like axes
+e_k = R_{<k} a_k: w_rel = Σ e_k q̇_k and α_rel = Σ (e_k q̈_k + w_{<k} × e_k q̇_k). For the joints
+whose v is in the child's axes, the classical acceleration of the origin is
+a_rel = R_rel a_lin + w_rel × v_rel (Pinocchio's a is the spatial one).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ...exceptions import InputError
+
+_Z = np.array([0.0, 0.0, 1.0])
+
+
+def kind_of(joint: pin.JointModel) -> str:
+    """The kind (module docstring) of a Pinocchio joint model.
+
+    Raises:
+        InputError: A joint type the kinematics do not handle (helical, ellipsoid, composite,
+            mimic), named.
+    """
+    name = joint.shortname()
+    if name in ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned"):
+        return "revolute"
+    if name.startswith("JointModelRUB") or name == "JointModelRevoluteUnboundedUnaligned":
+        return "continuous"
+    if name in ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"):
+        return "prismatic"
+    kinds = {
+        "JointModelUniversal": "universal",
+        "JointModelSphericalZYX": "spherical_zyx",
+        "JointModelTranslation": "translation",
+        "JointModelSpherical": "spherical",
+        "JointModelPlanar": "planar",
+        "JointModelFreeFlyer": "free_flyer",
+    }
+    if name not in kinds:
+        raise InputError(
+            f"joint type {name} is not handled (revolute, continuous, prismatic, universal, "
+            "spherical, spherical ZYX, translation, planar and free-flyer joints are)"
+        )
+    return kinds[name]
+
+
+def axes_of(joint: pin.JointModel, kind: str) -> np.ndarray:
+    """The unit axes (k, 3) of an axis chain or prismatic joint in its own axes, in the order of
+    its velocity ((0, 3) for the other kinds): the columns of its motion subspace at q = 0, read
+    off a one-joint Pinocchio model (the generic ``JointModel`` of ``model.joints`` does not
+    expose the axes of every type)."""
+    if kind not in ("revolute", "continuous", "universal", "spherical_zyx", "prismatic"):
+        return np.zeros((0, 3))
+    model = pin.Model()
+    model.addJoint(0, joint, pin.SE3.Identity(), "probe")
+    data = model.createData()
+    pin.computeJointJacobians(model, data, pin.neutral(model))
+    subspace = np.reshape(pin.getJointJacobian(model, data, 1, pin.LOCAL), (6, joint.nv))
+    columns = subspace[:3] if kind == "prismatic" else subspace[3:]
+    return (columns / np.linalg.norm(columns, axis=0)).T
+
+
+@dataclass(frozen=True)
+class RelativeMotion:
+    """A joint's child frame relative to "before", N samples (module docstring).
+
+    Attributes:
+        rotation: R_rel (N, 3, 3). position: p_rel [m] (N, 3).
+        angular, linear: The columns A, B (N, 3, nv_j) [rad/s, m/s per unit of v_j].
+        omega, velocity: w_rel [rad/s], v_rel [m/s] (N, 3).
+        alpha, acceleration: α_rel [rad/s²], a_rel [m/s²] (N, 3).
+    """
+
+    rotation: np.ndarray
+    position: np.ndarray
+    angular: np.ndarray
+    linear: np.ndarray
+    omega: np.ndarray
+    velocity: np.ndarray
+    alpha: np.ndarray
+    acceleration: np.ndarray
+
+
+def rotation_about(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Rotations (N, 3, 3) by ``angle`` (N,) [rad] about the unit ``axis`` (3,) (Rodrigues)."""
+    skew = pin.skew(axis)
+    s, c = np.sin(angle)[:, None, None], np.cos(angle)[:, None, None]
+    return np.eye(3) + s * skew + (1.0 - c) * (skew @ skew)
+
+
+def quaternion_matrix(quaternion: np.ndarray) -> np.ndarray:
+    """Rotation matrices (N, 3, 3) of unit quaternions (N, 4) in Pinocchio's order (x, y, z, w)."""
+    x, y, z, w = (quaternion[:, k] for k in range(4))
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=1,
+    )
+
+
+def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
+    out = np.empty(np.broadcast_shapes(u.shape, w.shape))
+    out[..., 0] = u[..., 1] * w[..., 2] - u[..., 2] * w[..., 1]
+    out[..., 1] = u[..., 2] * w[..., 0] - u[..., 0] * w[..., 2]
+    out[..., 2] = u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0]
+    return out
+
+
+def relative_motion(
+    kind: str, axes: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> RelativeMotion:
+    """The child frame's motion relative to "before" (module docstring) for coordinates q
+    (N, nq_j), velocities v and accelerations a (N, nv_j)."""
+    n = q.shape[0]
+    zero = np.zeros((n, 3))
+    if kind in ("revolute", "continuous", "universal", "spherical_zyx"):
+        angles = np.arctan2(q[:, 1], q[:, 0])[:, None] if kind == "continuous" else q
+        rotation = np.broadcast_to(np.eye(3), (n, 3, 3))
+        omega, alpha = zero, zero
+        columns = []
+        for k, axis in enumerate(axes):
+            e = rotation @ axis if k else np.broadcast_to(axis, (n, 3))
+            columns.append(e)
+            turn = e * v[:, k : k + 1]
+            alpha = alpha + e * a[:, k : k + 1] + _cross(omega, turn)
+            omega = omega + turn
+            rotation = (
+                rotation @ rotation_about(axis, angles[:, k])
+                if k
+                else rotation_about(axis, angles[:, k])
+            )
+        angular = np.stack(columns, axis=2)
+        return RelativeMotion(
+            rotation, zero, angular, np.zeros_like(angular), omega, zero, alpha, zero
+        )
+    identity = np.broadcast_to(np.eye(3), (n, 3, 3))
+    if kind in ("prismatic", "translation"):
+        linear = (
+            np.broadcast_to(axes[0][None, :, None], (n, 3, 1)) if kind == "prismatic" else identity
+        )
+        return RelativeMotion(
+            identity,
+            (linear @ q[:, :, None])[..., 0],
+            np.zeros_like(linear),
+            linear,
+            zero,
+            (linear @ v[:, :, None])[..., 0],
+            zero,
+            (linear @ a[:, :, None])[..., 0],
+        )
+    if kind == "spherical":
+        rotation = quaternion_matrix(q)
+        return RelativeMotion(
+            rotation,
+            zero,
+            rotation,
+            np.zeros_like(rotation),
+            (rotation @ v[:, :, None])[..., 0],
+            zero,
+            (rotation @ a[:, :, None])[..., 0],
+            zero,
+        )
+    if kind == "planar":
+        rotation = rotation_about(_Z, np.arctan2(q[:, 3], q[:, 2]))
+        angular = np.zeros((n, 3, 3))
+        angular[:, 2, 2] = 1.0
+        linear = np.zeros((n, 3, 3))
+        linear[:, :, :2] = rotation[:, :, :2]
+        position = np.zeros((n, 3))
+        position[:, :2] = q[:, :2]
+    else:  # free_flyer
+        rotation = quaternion_matrix(q[:, 3:])
+        angular = np.concatenate([np.zeros((n, 3, 3)), rotation], axis=2)
+        linear = np.concatenate([rotation, np.zeros((n, 3, 3))], axis=2)
+        position = q[:, :3]
+    omega = (angular @ v[:, :, None])[..., 0]
+    velocity = (linear @ v[:, :, None])[..., 0]
+    return RelativeMotion(
+        rotation,
+        position,
+        angular,
+        linear,
+        omega,
+        velocity,
+        (angular @ a[:, :, None])[..., 0],
+        (linear @ a[:, :, None])[..., 0] + _cross(omega, velocity),
+    )
