@@ -61,3 +61,8 @@ class ForwardDivergenceError(FeederError):
 
 class ViewerPortError(FeederError):
     """The viewer's web port on 127.0.0.1 cannot be used (busy, or not permitted)."""
+
+
+class FeederWarning(UserWarning):
+    """Something in a user's input is legal but implausible (a body far heavier than the rest, an
+    inertia no body of its size can have): the run goes on, the warning names the element."""

@@ -25,8 +25,9 @@ from .dynamics.reactions import ClosureWrench, JointWrench
 from .mobility import MobilityReport, mobility
 from .model.closure import ClosedChain, Closure
 from .readers.inertia import check_inertia
+from .readers.mechanism import load_mechanism, read_spec
 from .readers.motion_table import MotionTable, read_motion
-from .readers.side_file import MechanismSpec, load_mechanism, read_spec
+from .readers.spec import MechanismSpec
 from .readers.urdf import build_model, check_urdf, load_closed_chain, read_urdf
 
 __all__ = [

@@ -20,8 +20,9 @@ from ..chain.assembly.partition import Partition
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
+from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
-from ..chain.readers.side_file import MechanismSpec, load_mechanism, read_spec
+from ..chain.readers.spec import MechanismSpec
 
 
 @dataclass(frozen=True)

@@ -21,10 +21,10 @@ def rotation_z(angle: float) -> np.ndarray:
 @pytest.mark.parametrize(
     "mass, moments, reason",
     [
-        (-1.0, (1.0, 1.0, 1.0), "positive"),
-        (0.0, (1.0, 1.0, 1.0), "positive"),
-        (1.0, (1.0, 1.0, -0.1), "positive definite"),
-        (1.0, (1.0, 1.0, 2.0), "triangle"),
+        (-1.0, (1.0, 1.0, 1.0), "negative"),
+        (0.0, (1.0, 1.0, 1.0), "without mass"),
+        (1.0, (1.0, 1.0, -0.1), "positive semi-definite"),
+        (1.0, (1.0, 1.0, 2.0 + 1e-6), "triangle"),
         (float("nan"), (1.0, 1.0, 1.0), "finite"),
         (1.0, (1.0, float("inf"), 1.0), "finite"),
     ],
@@ -48,7 +48,7 @@ def test_check_inertia_sees_rotated_tensors():
     # A negative principal moment can hide behind a positive diagonal: it is found.
     hidden = rotation @ np.diag([-0.05, 1.0, 1.0]) @ rotation.T
     assert np.all(np.diag(hidden) > 0.0)
-    with pytest.raises(InertiaError, match="positive definite"):
+    with pytest.raises(InertiaError, match="positive semi-definite"):
         check_inertia("hidden", 1.0, hidden)
 
 
@@ -61,3 +61,19 @@ def test_check_inertia_refuses_an_asymmetric_tensor():
     symmetric = lopsided.copy()
     symmetric[1, 0] = 0.1
     check_inertia("symmetric", 1.0, symmetric)
+
+
+@pytest.mark.parametrize(
+    "mass, moments",
+    [
+        (0.0, (0.0, 0.0, 0.0)),  # a CAD frame link: no mass, no inertia
+        (1e-9, (0.0, 0.0, 0.0)),  # the same, exported as 1e-9 kg
+        (2.0, (0.5, 0.5, 0.0)),  # a thin rod: one moment zero, I₁ = I₂
+        (2.0, (0.3, 0.2, 0.5)),  # a lamina: I₃ = I₁ + I₂
+        (2.0, (0.3, 0.2, 0.5 * (1.0 + 1e-12))),  # the same, rounded up by the export
+    ],
+)
+def test_idealised_bodies_are_accepted(mass, moments):
+    """Real exports: frame links, and the triangle inequality's limiting cases in any frame."""
+    rotation = rotation_z(0.7)
+    check_inertia("ideal", mass, rotation @ np.diag(moments) @ rotation.T)

@@ -9,8 +9,8 @@ import pytest
 
 from feeder.chain.assembly.partition import Partition
 from feeder.chain.mobility import mobility
+from feeder.chain.readers.mechanism import load_mechanism, read_spec
 from feeder.chain.readers.motion_table import read_motion
-from feeder.chain.readers.side_file import load_mechanism, read_spec
 from feeder.exceptions import InputError, UrdfError
 
 from ..conftest import REPO

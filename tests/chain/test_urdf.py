@@ -64,11 +64,11 @@ def test_broken_trees(tmp_path, urdf_text, old, new, message):
 @pytest.mark.parametrize(
     "old, new, link, message",
     [
-        ('<mass value="18.663" />', '<mass value="-18.663" />', "arm", "positive"),
+        ('<mass value="18.663" />', '<mass value="-18.663" />', "arm", "negative"),
         ('<mass value="18.663" />', '<mass value="nan" />', "arm", "finite"),
         ('<mass value="18.663" />', '<mass value="heavy" />', "arm", "unparsable"),
         ('iyy="0.005036"', 'iyy="0.05036"', "arm", "triangle"),
-        ('iyy="0.01054"', 'iyy="-0.01054"', "piston", "positive definite"),
+        ('iyy="0.01054"', 'iyy="-0.01054"', "piston", "positive semi-definite"),
     ],
 )
 def test_non_physical_inertia_names_the_link(tmp_path, urdf_text, old, new, link, message):

@@ -1,20 +1,29 @@
 """Assembly of a closed chain: the dependent coordinates from the independent ones.
 
-Position level: damped Gauss–Newton (Levenberg–Marquardt, damping μ = ‖r‖², which keeps Newton's
-quadratic convergence near a solution and shortens the steps far from it) on the closure residual
-r(q) = 0 over the dependent coordinates, the independent ones held fixed; revolute angles are
-wrapped into their joint's range after convergence. A branch is chosen by the guess or by a
-condition the caller gives (:meth:`Partition.assemble`), and kept along a trajectory by
-continuation (:meth:`Partition.track`). Velocity and acceleration level: the linear systems
-J q̇ = 0 and J q̈ + J̇ q̇ = 0 solved for the dependent components. All solves are least squares,
-so redundant rows (a planar loop) do no harm.
+Position level: the mechanism is first *mounted* from a reference pose (the CAD's open one, or a
+pose the user gives) onto the nearest closed pose over every coordinate
+(:func:`~feeder.chain.assembly.newton.mount`); the independent coordinates are then moved to the
+requested values by continuation, so the branch is the one nearest the reference — never one that
+the joint limits or a random guess select. Along a trajectory the branch is kept by continuation
+(:meth:`Partition.track`): a tangent predictor and damped minimum-norm Newton corrections over the
+dependent coordinates. Revolute angles are wrapped into their joint's range (or (−π, π] where it
+is not set), never wound. Velocity and acceleration level: the linear systems J q̇ = 0 and
+J q̈ + J̇ q̇ = 0 solved for the dependent components by truncated least squares (minimum norm).
 
-The rank test runs at the solution only: the dependent Jacobian must determine the dependent
-velocities (full column rank) and let the independent ones move freely (same rank as the whole
-Jacobian). Near a singular pose (a toggle, a dead centre) the dependent velocities grow without
-bound for a bounded independent motion; the *velocity gain* ‖J_dep⁺ J_ind‖₂ measures it, and a
-pose whose gain exceeds ``max_gain`` (default :data:`MAX_GAIN`) is refused with
-:class:`~feeder.exceptions.SingularPoseError`.
+*Idle motions*: the motions of the dependent joints with every independent one locked that move no
+joint's origin, no frame and no centre of gravity — a rod with a ball at each end spinning about
+its axis, two coaxial hinges turning together. They are allowed: the kinematics follow the
+minimum-norm solution (no idle velocity, no spinning rod), and the dynamics find their
+accelerations
+(:mod:`feeder.chain.dynamics.inverse`). A locked-input motion that moves an origin means too few
+independent joints, or a singular pose: refused.
+
+The rank tests run at each solution: the independent joints must be able to move freely (the
+dependent part of the Jacobian has the whole Jacobian's rank), and the dependent coordinates must
+be determined up to idle motions. Near a singular pose (a toggle, a dead centre) the dependent
+velocities grow without bound for a bounded independent motion; the *velocity gain*
+‖J_dep⁺ J_ind‖₂ measures it, and a pose whose gain exceeds ``max_gain`` (default
+:data:`MAX_GAIN`) is refused with :class:`~feeder.exceptions.SingularPoseError`.
 """
 
 from __future__ import annotations
@@ -27,13 +36,14 @@ import pinocchio as pin
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_number, check_samples, check_vector
 from ..model.closure import ClosedChain
-
-POSITION_TOLERANCE = 1e-13
-"""Closure residual [m] at which Newton stops: a few ulps of the mechanism's size (~1 m)."""
-
-RANK_TOLERANCE = 1e-9
-"""Singular values below this fraction of the largest count as zero in the rank tests: far above
-round-off (1e-16) and far below any physical ratio of a mechanism's lever arms."""
+from .newton import (
+    MAX_ITERATIONS,
+    POSITION_TOLERANCE,
+    RANK_TOLERANCE,
+    loop_gaps,
+    mount,
+    newton,
+)
 
 MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
@@ -45,12 +55,22 @@ CONTINUATION_STEP = 0.5
 the independent coordinates: a first-order predictor errs by O(step²), so a correction this large
 means a step too coarse for the curvature, where the next solution may lie on another branch."""
 
-MAX_ITERATIONS = 100
-"""Newton iterations before assembly gives up."""
+MOUNT_STEP = 0.05
+"""Largest step [rad, m] of the independent coordinates when they are moved from the mounted
+pose to the first requested values (the continuation's own step test refuses coarser ones)."""
+
+MAX_SPLIT = 64
+"""Most equal parts a continuation step is split into before the sample is refused as too coarse
+(:meth:`Partition._continue`)."""
 
 RESTARTS = 50
 """Random restarts (seeded) that :meth:`Partition.assemble` tries when Newton from the guess
 stops at a local minimum of the residual, or its solution misses the requested branch."""
+
+IDLE_TOLERANCE = 1e-9
+"""An idle direction (unit vector of joint rates) may move a joint origin, frame or centre of
+gravity by at most this [m per unit] times the mechanism's size: round-off of the Jacobians
+(1e-16) is far below, any real lever arm (≥ 1e-3 of the size) far above."""
 
 
 class Partition:
@@ -58,11 +78,17 @@ class Partition:
 
     Args:
         chain: The closed chain.
-        independent: Names of the joints whose coordinates are given.
+        independent: Names of the joints whose coordinates are given, one coordinate each
+            (revolute, continuous, prismatic). Every ``x`` of the methods lists their values in
+            this order.
         max_gain: Largest accepted velocity gain (:data:`MAX_GAIN`).
 
+    Attributes:
+        independent: Velocity indices of the independent joints, in the order given.
+        dependent: The other velocity indices, ascending.
+
     Raises:
-        InputError: An unknown joint name, or a name given twice.
+        InputError: An unknown joint name, a name given twice, a multi-coordinate joint.
     """
 
     def __init__(self, chain: ClosedChain, independent: Sequence[str], max_gain: float = MAX_GAIN):
@@ -75,24 +101,36 @@ class Partition:
         self.max_gain = check_number("max_gain", max_gain)
         if not self.max_gain > 1.0:
             raise InputError(f"max_gain must be a number above 1, got {max_gain!r}")
-        mask = np.zeros(chain.model.nv, dtype=bool)
+        model = chain.model
+        columns = []
         for name in self.independent_joints:
-            mask[chain.joint_slice(name)] = True
-        self.independent = np.flatnonzero(mask)
-        self.dependent = np.flatnonzero(~mask)
+            span = chain.joint_slice(name)
+            if span.stop - span.start != 1:
+                raise InputError(
+                    f"independent joint {name!r} has {span.stop - span.start} coordinates: "
+                    "independent joints are revolute, continuous or prismatic"
+                )
+            columns.append(span.start)
+        self.independent = np.array(columns, dtype=int)
+        mask = np.ones(model.nv, dtype=bool)
+        mask[self.independent] = False
+        self.dependent = np.flatnonzero(mask)
+        kinds = {j: model.joints[j].shortname() for j in range(1, model.njoints)}
         self._prismatic = np.array(
-            [
-                chain.model.joints[j].idx_v
-                for j in range(1, chain.model.njoints)
-                if chain.model.joints[j].shortname().startswith("JointModelP")
-            ],
+            [model.joints[j].idx_v for j, kind in kinds.items() if kind.startswith("JointModelP")],
             dtype=int,
         )
         self._angles = [
-            i
-            for i in _revolute_angles(chain.model)
-            if _velocity_index(chain.model, i) in self.dependent
+            model.joints[j].idx_q
+            for j, kind in kinds.items()
+            if kind.startswith(("JointModelR", "JointModelRevolute"))
+            and model.joints[j].nq == 1
+            and model.joints[j].idx_v in self.dependent
         ]
+        self._inputs = []  # (idx_q, continuous) of each independent joint, in the given order
+        for name in self.independent_joints:
+            joint = model.joints[model.getJointId(name)]
+            self._inputs.append((joint.idx_q, joint.nq == 2))
 
     # -- checks -----------------------------------------------------------------------------
 
@@ -116,9 +154,9 @@ class Partition:
         return q
 
     def gain(self, q: np.ndarray) -> float:
-        """Velocity gain ‖J_dep⁺ J_ind‖₂ at ``q`` (∞ where the dependent coordinates are not
-        determined): the largest dependent speed per unit independent speed, prismatic speeds
-        counted in units of the mechanism's size (:meth:`length_scale`)."""
+        """Velocity gain ‖J_dep⁺ J_ind‖₂ at ``q`` (J_dep⁺ truncated: idle motions do not count):
+        the largest dependent speed per unit independent speed, prismatic speeds counted in units
+        of the mechanism's size (:meth:`length_scale`)."""
         q = self.chain.check_q(q)
         return self._gain(q, self.chain.jacobian(q))
 
@@ -141,28 +179,93 @@ class Partition:
     def _split(self, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return jac[:, self.dependent], jac[:, self.independent]
 
+    def idle_motions(self, q: np.ndarray) -> np.ndarray:
+        """Idle motions at the closed pose ``q`` (module docstring): an orthonormal basis
+        (k, nv) of the joint rates that keep the loops closed with the independent joints locked
+        and move no joint origin, frame or centre of gravity (k = 0 when there are none).
+
+        Raises:
+            SingularPoseError: Locked inputs leave a motion that moves an origin (too few
+                independent joints, or a singular pose); the message names its joints.
+        """
+        q = self.chain.check_q(q)
+        return self._idle(q, self.chain.jacobian(q))
+
+    def _idle(self, q: np.ndarray, jac: np.ndarray) -> np.ndarray:
+        """:meth:`idle_motions` with the closure Jacobian at q (the chain's data hold q)."""
+        model, nv = self.chain.model, self.chain.model.nv
+        jac_dep = jac[:, self.dependent]
+        scale = float(np.abs(jac).max(initial=0.0)) or 1.0
+        if jac_dep.size:
+            _, s, vt = np.linalg.svd(jac_dep)
+            rank = int(np.sum(s > RANK_TOLERANCE * scale))
+            free = vt[rank:]
+        else:
+            rank, free = 0, np.eye(self.dependent.size)
+        if free.shape[0] == 0:
+            return np.zeros((0, nv))
+        motions = np.zeros((free.shape[0], nv))
+        motions[:, self.dependent] = free
+        points = self._point_rows()  # (3 p, nv): joint origins, frames, centres of gravity
+        moved = np.abs(points @ motions.T).max(axis=0)
+        size = self.length_scale(q)
+        self.chain.jacobian(q)  # the chain's data back at q for the caller
+        if np.all(moved <= IDLE_TOLERANCE * size):
+            return motions
+        # The locked-input motions that move points: name the joints of the worst one.
+        worst = motions[int(np.argmax(moved))]
+        names = [
+            model.names[j]
+            for j in range(1, model.njoints)
+            if np.abs(
+                worst[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv]
+            ).max(initial=0.0)
+            > 1e-6
+        ]
+        raise SingularPoseError(
+            f"the closure does not determine the {self.dependent.size} dependent coordinates "
+            f"at q = {np.round(q, 6)}: dependent Jacobian rank {rank}; with "
+            f"{list(self.independent_joints)} locked, {', '.join(names)} can still move "
+            f"(up to {moved.max():.3g} m per unit rate: not an idle motion; too few independent "
+            "joints, or a singular pose)"
+        )
+
+    def _point_rows(self) -> np.ndarray:
+        """World velocity rows (3 p, nv) of every joint origin, frame origin and centre of
+        gravity of a body with mass, from the Jacobians in the chain's data (after
+        :meth:`ClosedChain.jacobian`)."""
+        model, data = self.chain.model, self.chain.data
+        world = pin.LOCAL_WORLD_ALIGNED
+        rows = []
+        for j in range(1, model.njoints):
+            jac = pin.getJointJacobian(model, data, j, world)
+            rows.append(jac[:3])
+            if model.inertias[j].mass > 0.0:
+                lever = data.oMi[j].rotation @ model.inertias[j].lever
+                rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
+        for f in range(1, len(model.frames)):
+            if model.frames[f].parentJoint > 0:
+                rows.append(pin.getFrameJacobian(model, data, f, world)[:3])
+        return np.vstack(rows)
+
     def _check_pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Closure Jacobian (nc, nv) and its dependent columns, after the rank and gain tests
-        of the module docstring."""
+        """Closure Jacobian (nc, nv) and its dependent columns, after the rank, idle-motion and
+        gain tests of the module docstring."""
         jac = self.chain.jacobian(q)
-        jac_dep, jac_ind = self._split(jac)
+        jac_dep, _ = self._split(jac)
         scale = float(np.abs(jac).max(initial=0.0)) or 1.0
         rank_full = np.linalg.matrix_rank(jac, tol=RANK_TOLERANCE * scale) if jac.size else 0
         rank_dep = (
             np.linalg.matrix_rank(jac_dep, tol=RANK_TOLERANCE * scale) if jac_dep.size else 0
         )
-        if rank_dep < self.dependent.size:
-            raise SingularPoseError(
-                f"the closure does not determine the {self.dependent.size} dependent "
-                f"coordinates at q = {np.round(q, 6)}: dependent Jacobian rank {rank_dep} "
-                f"(too few independent joints {list(self.independent_joints)}, or a singular pose)"
-            )
         if rank_dep < rank_full:
             raise SingularPoseError(
                 f"the dependent coordinates cannot follow the independent ones at "
                 f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
                 f"{rank_dep} (too many independent joints, or a singular pose)"
             )
+        if rank_dep < self.dependent.size:
+            self._idle(q, jac)
         gain = self._gain(q, jac)
         if gain > self.max_gain:
             raise SingularPoseError(
@@ -174,36 +277,9 @@ class Partition:
 
     # -- position level ---------------------------------------------------------------------
 
-    def _newton(self, q: np.ndarray, max_iterations: int) -> tuple[np.ndarray, float]:
-        """Levenberg–Marquardt on the dependent coordinates from ``q``; returns (q, ‖r‖)."""
-        model, chain = self.chain.model, self.chain
-        residual = chain.residual(q)
-        norm = float(np.linalg.norm(residual))
-        for _ in range(max_iterations):
-            if norm <= POSITION_TOLERANCE:
-                break
-            jac = chain.residual_jacobian(q)[:, self.dependent]
-            damping = norm**2 * np.eye(self.dependent.size)  # [m²]: Yamashita–Fukushima
-            step = np.zeros(model.nv)
-            step[self.dependent] = -np.linalg.solve(jac.T @ jac + damping, jac.T @ residual)
-            trial = pin.integrate(model, q, step)
-            trial_residual = chain.residual(trial)
-            trial_norm = float(np.linalg.norm(trial_residual))
-            halvings = 0
-            while trial_norm > norm and halvings < 30:  # backtrack until the residual drops
-                step *= 0.5
-                trial = pin.integrate(model, q, step)
-                trial_residual = chain.residual(trial)
-                trial_norm = float(np.linalg.norm(trial_residual))
-                halvings += 1
-            if trial_norm > norm:
-                break
-            q, residual, norm = trial, trial_residual, trial_norm
-        return q, norm
-
-    def _wrap(self, q: np.ndarray) -> np.ndarray:
-        """Dependent revolute angles outside their joint's range moved by the multiple of 2π
-        that brings them inside (a range of [0, 0] means "not set": angles go to (−π, π])."""
+    def wrap(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with its dependent revolute angles moved by the multiple of 2π that brings them
+        into their joint's range (a range of [0, 0] or unbounded means "not set": (−π, π])."""
         model = self.chain.model
         q = q.copy()
         for i in self._angles:
@@ -215,24 +291,46 @@ class Partition:
                 shifted = q[i] - 2.0 * np.pi * np.round((q[i] - middle) / (2.0 * np.pi))
                 if low - 1e-12 <= shifted <= high + 1e-12:
                     q[i] = shifted
+                else:
+                    q[i] = np.pi - np.mod(np.pi - q[i], 2.0 * np.pi)
         return q
 
     def _check_limits(self, q: np.ndarray) -> None:
         model = self.chain.model
-        low, high = model.lowerPositionLimit, model.upperPositionLimit
-        unset = (low == 0.0) & (high == 0.0)
-        outside = ~unset & ((q < low - 1e-12) | (q > high + 1e-12))
-        if np.any(outside):
-            i = int(np.flatnonzero(outside)[0])
-            joint = next(
-                model.names[j]
-                for j in range(1, model.njoints)
-                if model.joints[j].idx_q <= i < model.joints[j].idx_q + model.joints[j].nq
-            )
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            if joint.nq != 1:
+                continue  # quaternions, cos/sin pairs, multi-axis joints: no range to check
+            i = joint.idx_q
+            low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
+            if low == high == 0.0:
+                continue  # "not set"
+            if q[i] < low - 1e-12 or q[i] > high + 1e-12:
+                role = "prescribed" if joint.idx_v in self.independent else "dependent"
+                raise UnreachablePoseError(
+                    f"the {role} joint {model.names[j]} = {q[i]:.6g} is outside its limits "
+                    f"[{low:.6g}, {high:.6g}]"
+                    + ("" if role == "prescribed" else " where the loops close")
+                )
+
+    def mount(self, q_reference: np.ndarray) -> np.ndarray:
+        """The closed pose nearest to ``q_reference`` over every coordinate (the branch of the
+        open CAD pose, or of a pose the user gives), angles wrapped.
+
+        Raises:
+            InputError: NaN/inf or misshaped reference.
+            UnreachablePoseError: The loops do not close: which loop, by how much, and how close
+                each gets alone.
+        """
+        q_reference = self.chain.check_q(q_reference)
+        q, norm = mount(self.chain, q_reference)
+        if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
+            detail = "; ".join(loop_gaps(self.chain, q_reference, q))
             raise UnreachablePoseError(
-                f"closing the loop needs {joint} = {q[i]:.6g}, outside its limits "
-                f"[{low[i]:.6g}, {high[i]:.6g}]"
+                f"the loops do not close from the reference pose (residual {norm:.3e} after the "
+                f"mount): {detail}"
             )
+        return self.wrap(q)
 
     def assemble(
         self,
@@ -252,8 +350,7 @@ class Partition:
             max_iterations: Newton iterations per attempt.
 
         Returns:
-            q (nq,) with ‖residual‖ ≤ :data:`POSITION_TOLERANCE`, revolute angles wrapped into
-            their ranges.
+            q (nq,) with ‖residual‖ ≤ :data:`POSITION_TOLERANCE`, revolute angles wrapped.
 
         Raises:
             InputError: NaN/inf or misshaped guess.
@@ -267,12 +364,12 @@ class Partition:
         missed_branch = False
         for attempt in range(1 + RESTARTS):
             start = q_guess if attempt == 0 else self._random_guess(q_guess, rng)
-            q, norm = self._newton(start.copy(), max_iterations)
+            q, norm = newton(self.chain, start.copy(), self.dependent, max_iterations)
             if best is None or norm < best[0]:
                 best = (norm, q)
             if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
                 continue  # not closed, or a hinge assembled upside down
-            q = self._wrap(q)
+            q = self.wrap(q)
             if branch is not None and not branch(q):
                 missed_branch = True
                 continue
@@ -284,13 +381,14 @@ class Partition:
                 f"no assembly on the requested branch found in {RESTARTS + 1} attempts"
             )
         norm, q = best
-        gain = self._gain(q, self.chain.jacobian(q))
-        if gain > self.max_gain:
+        try:
+            self._check_pose(q)
+        except SingularPoseError as exc:
             raise SingularPoseError(
                 f"the loop closes only to {norm:.3e} near q = {np.round(q, 6)}, at a singular "
-                f"pose (toggle, dead centre: velocity gain {gain:.3g} > {self.max_gain:g}): the "
-                "given independent coordinates are at or beyond the end of the mechanism's travel"
-            )
+                "pose (toggle, dead centre): the given independent coordinates are at or beyond "
+                f"the end of the mechanism's travel ({exc})"
+            ) from None
         raise UnreachablePoseError(
             f"the loop does not close at the given independent coordinates (best residual "
             f"{norm:.3e} after {max_iterations} damped Newton steps from the guess and from "
@@ -299,7 +397,7 @@ class Partition:
 
     def _random_guess(self, q: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         """``q`` with its dependent coordinates replaced by random values (±π, or within the
-        joint's range where it is set)."""
+        joint's range where it is set; random rotations for multi-coordinate joints)."""
         model = self.chain.model
         random = pin.integrate(model, pin.neutral(model), rng.uniform(-np.pi, np.pi, model.nv))
         guess = q.copy()
@@ -322,12 +420,8 @@ class Partition:
     # -- velocity and acceleration level ----------------------------------------------------
 
     def velocity(self, q: np.ndarray, v_independent: np.ndarray) -> np.ndarray:
-        """Velocity (nv,) with the given independent components and J q̇ = 0.
-
-        Args:
-            q: Closed configuration (nq,).
-            v_independent: Velocities of the independent coordinates, in the order of
-                ``self.independent``.
+        """Velocity (nv,) with the given independent components (in the order of the
+        independent joints) and J q̇ = 0, minimum norm in the idle motions.
 
         Raises:
             InputError: NaN/inf or misshaped inputs.
@@ -341,11 +435,12 @@ class Partition:
     def _velocity(self, jac: np.ndarray, jac_dep: np.ndarray, v_independent: np.ndarray):
         v = np.zeros(self.chain.model.nv)
         v[self.independent] = v_independent
-        v[self.dependent] = -np.linalg.lstsq(jac_dep, jac @ v, rcond=None)[0]
+        v[self.dependent] = -_least_squares(jac_dep, jac @ v)
         return v
 
     def acceleration(self, q: np.ndarray, v: np.ndarray, a_independent: np.ndarray) -> np.ndarray:
-        """Acceleration (nv,) with the given independent components and J q̈ + J̇ q̇ = 0.
+        """Acceleration (nv,) with the given independent components and J q̈ + J̇ q̇ = 0,
+        minimum norm in the idle motions.
 
         Raises:
             InputError: NaN/inf or misshaped inputs, or velocities that open the loops.
@@ -368,10 +463,26 @@ class Partition:
         a = np.zeros(self.chain.model.nv)
         a[self.independent] = a_independent
         rhs = jac @ a + self.chain.bias(q, v)
-        a[self.dependent] = -np.linalg.lstsq(jac_dep, rhs, rcond=None)[0]
+        a[self.dependent] = -_least_squares(jac_dep, rhs)
         return a
 
     # -- trajectories -----------------------------------------------------------------------
+
+    def independent_values(self, q: np.ndarray) -> np.ndarray:
+        """The independent coordinates of ``q`` (rad for revolute and continuous joints, m for
+        prismatic ones), in the order of the independent joints."""
+        return np.array([np.arctan2(q[i + 1], q[i]) if pair else q[i] for i, pair in self._inputs])
+
+    def with_independent(self, q: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``q`` with the independent coordinates set to ``x`` (in the order of the independent
+        joints; a continuous joint's (cos, sin) from its angle)."""
+        q = q.copy()
+        for (i, pair), value in zip(self._inputs, x, strict=True):
+            if pair:
+                q[i : i + 2] = np.cos(value), np.sin(value)
+            else:
+                q[i] = value
+        return q
 
     def track(
         self,
@@ -383,13 +494,18 @@ class Partition:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Follow a trajectory of the independent coordinates on one assembly branch.
 
-        Each sample starts Newton from the previous solution moved along the closure's tangent
-        (a first-order predictor), which keeps the branch as long as the samples are fine
-        compared with the distance to a singular pose; a pose near one is refused.
+        The first sample: ``q_start`` closed as it is (:meth:`mount` if its loops are open, which
+        picks the branch nearest to it), then its independent coordinates moved to ``x[0]`` by
+        continuation — unless ``branch`` is given, which picks the first sample by
+        :meth:`assemble` from ``q_start`` instead. Each later sample starts Newton from the
+        previous solution moved along the closure's tangent (a first-order predictor), which
+        keeps the branch as long as the samples are fine compared with the distance to a singular
+        pose; a pose near one is refused.
 
         Args:
-            q_start: Guess (nq,) of the first sample's configuration (picks the branch).
-            x: Independent coordinates, (N, n_independent).
+            q_start: A pose (nq,) that picks the branch (the reference pose).
+            x: Independent coordinates, (N, n_independent), columns in the order of the
+                independent joints.
             dx, ddx: Their rates and accelerations (N, n_independent); zero if omitted.
             branch: Optional condition on the first sample's solution (:meth:`assemble`).
 
@@ -408,12 +524,12 @@ class Partition:
         n = x.shape[0]
         qs, vs, accs = np.empty((n, model.nq)), np.empty((n, model.nv)), np.empty((n, model.nv))
         gains = np.empty(n)
-        guess = self._with_independent(self.chain.check_q(q_start), x[0])
+        q_start = self.chain.check_q(q_start)
         for i in range(n):
             if i == 0:
-                q = self.assemble(guess, branch)
+                q = self._first(q_start, x[0], branch)
             else:
-                q = self._continue(qs[i - 1], x[i] - x[i - 1], i)
+                q = self._continue(qs[i - 1], x[i - 1], x[i], i)
             jac = self.chain.jacobian(q)
             jac_dep = jac[:, self.dependent]
             qs[i] = q
@@ -422,78 +538,97 @@ class Partition:
             gains[i] = self._gain(q, jac)
         return qs, vs, accs, gains
 
-    def _continue(self, previous: np.ndarray, step: np.ndarray, sample: int) -> np.ndarray:
-        """The next sample's configuration: Newton from the tangent predictor, no restarts,
-        the correction small next to the step (else a branch switch is possible: refused)."""
-        guess = self._predict(previous, step)
-        q, norm = self._newton(guess.copy(), MAX_ITERATIONS)
-        correction = float(np.abs(pin.difference(self.chain.model, guess, q)).max(initial=0.0))
-        size = float(np.abs(step).max(initial=0.0))
-        if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
-            raise UnreachablePoseError(
-                f"sample {sample}: the loop does not close next to the previous sample (residual "
-                f"{norm:.3e}): the end of the mechanism's travel, or samples too far apart"
+    def _first(self, q_start, x0, branch) -> np.ndarray:
+        """The first sample of :meth:`track` (its docstring)."""
+        if branch is not None:
+            return self.assemble(self.with_independent(q_start, x0), branch)
+        gap = float(np.abs(self.chain.residual(q_start)).max(initial=0.0))
+        q = self.mount(q_start) if gap > POSITION_TOLERANCE else q_start
+        start = self.independent_values(q)
+        steps = max(1, int(np.ceil(np.abs(x0 - start).max(initial=0.0) / MOUNT_STEP)))
+        for k in range(steps):
+            q = self._continue(
+                q, start + (x0 - start) * k / steps, start + (x0 - start) * (k + 1) / steps, 0
             )
-        if correction > CONTINUATION_STEP * max(size, 1e-12) and correction > 1e-9:
-            raise UnreachablePoseError(
-                f"sample {sample}: a step of {size:.3g} of the independent coordinates moved the "
-                f"dependent ones {correction:.3g} off the tangent: the samples are too coarse to "
-                "stay on one assembly branch (sample more finely)"
-            )
-        q = self._wrap(q)
+        return q
+
+    def _continue(
+        self, previous: np.ndarray, x_previous: np.ndarray, x: np.ndarray, sample: int
+    ) -> np.ndarray:
+        """The next sample's configuration, with independent coordinates ``x`` (those of
+        ``previous`` are ``x_previous``): Newton from the tangent predictor, no restarts, the
+        correction small next to the step (else a branch switch is possible). A step whose
+        correction is too large is split into 2, 4, … :data:`MAX_SPLIT` equal steps (a ball joint
+        written as three revolutes, near gimbal lock, curves its coordinates sharply) before the
+        sample is refused."""
+        pieces = 1
+        while True:
+            q, failure = previous, None
+            for k in range(pieces):
+                start = x_previous + (x - x_previous) * (k / pieces)
+                end = x_previous + (x - x_previous) * ((k + 1) / pieces)
+                q, failure = self._step(q, start, end)
+                if failure is not None:
+                    break
+            if failure is None:
+                break
+            if failure.startswith("closure") or pieces >= MAX_SPLIT:
+                raise UnreachablePoseError(f"sample {sample}: {failure.removeprefix('closure ')}")
+            pieces *= 2
+        q = self.wrap(q)
         self._check_limits(q)
         self._check_pose(q)
         return q
 
-    def _with_independent(self, q: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """``q`` with the independent coordinates set to ``x`` (one-dof joints: nq = nv)."""
-        q = q.copy()
-        model = self.chain.model
-        for value, index in zip(x, self.independent, strict=True):
-            joint = next(
-                model.joints[j]
-                for j in range(1, model.njoints)
-                if model.joints[j].idx_v <= index < model.joints[j].idx_v + model.joints[j].nv
+    def _step(
+        self, previous: np.ndarray, x_previous: np.ndarray, x: np.ndarray
+    ) -> tuple[np.ndarray, str | None]:
+        """One predictor–corrector step of :meth:`_continue`; (q, None) or (q, why it failed)."""
+        step = x - x_previous
+        guess = self.with_independent(self._predict(previous, step), x)
+        q, norm = newton(self.chain, guess.copy(), self.dependent)
+        correction = float(np.abs(pin.difference(self.chain.model, guess, q)).max(initial=0.0))
+        size = float(np.abs(step).max(initial=0.0))
+        if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
+            return q, (
+                f"closure the loop does not close next to the previous sample (residual "
+                f"{norm:.3e}): the end of the mechanism's travel, or samples too far apart"
             )
-            if joint.nq != joint.nv:
-                raise InputError("independent joints must have nq = nv (revolute, prismatic)")
-            q[joint.idx_q + index - joint.idx_v] = value
-        return q
+        if correction > CONTINUATION_STEP * max(size, 1e-12) and correction > 1e-9:
+            return q, (
+                f"a step of {size:.3g} of the independent coordinates, split in {MAX_SPLIT}, "
+                f"still moved the dependent ones {correction:.3g} off the tangent: the samples "
+                "are too coarse to stay on one assembly branch (sample more finely)"
+            )
+        return q, None
 
     def _predict(self, q: np.ndarray, step: np.ndarray) -> np.ndarray:
-        """``q`` moved by ``step`` of the independent coordinates along the closure's tangent."""
+        """``q`` moved by ``step`` of the independent coordinates along the closure's tangent
+        (minimum norm in the idle motions)."""
         jac = self.chain.jacobian(q)
         jac_dep, jac_ind = self._split(jac)
         delta = np.zeros(self.chain.model.nv)
         delta[self.independent] = step
-        delta[self.dependent] = -np.linalg.lstsq(jac_dep, jac_ind @ step, rcond=None)[0]
+        delta[self.dependent] = -_least_squares(jac_dep, jac_ind @ step)
         return pin.integrate(self.chain.model, q, delta)
 
 
+def _least_squares(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Minimum-norm least-squares solution, singular values below :data:`RANK_TOLERANCE` of the
+    largest dropped (idle motions get no share)."""
+    if matrix.size == 0:
+        return np.zeros(matrix.shape[1])
+    return np.linalg.lstsq(matrix, rhs, rcond=RANK_TOLERANCE)[0]
+
+
 def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
-    """‖J_dep⁺ J_ind‖₂, ∞ where J_dep has a (numerically) zero singular value."""
-    if jac_dep.shape[1] == 0:
+    """‖J_dep⁺ J_ind‖₂ with J_dep⁺ truncated at :data:`RANK_TOLERANCE` (idle motions, whose
+    singular values are round-off, do not count; a pose approaching a toggle has a small but
+    resolved singular value and a large gain)."""
+    if jac_dep.shape[1] == 0 or jac_ind.size == 0:
         return 0.0
-    singular = np.linalg.svd(jac_dep, compute_uv=False)
+    u, s, vt = np.linalg.svd(jac_dep, full_matrices=False)
     scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
-    if singular.size < jac_dep.shape[1] or singular[-1] <= RANK_TOLERANCE * scale:
-        return float("inf")
-    return float(np.linalg.norm(np.linalg.pinv(jac_dep) @ jac_ind, 2)) if jac_ind.size else 0.0
-
-
-def _velocity_index(model: pin.Model, index_q: int) -> int:
-    """Velocity index of a one-dof joint's configuration index."""
-    joint = next(
-        model.joints[j] for j in range(1, model.njoints) if model.joints[j].idx_q == index_q
-    )
-    return joint.idx_v
-
-
-def _revolute_angles(model: pin.Model) -> list[int]:
-    """Configuration indices of the revolute joints (angle coordinates, 2π-periodic)."""
-    return [
-        model.joints[j].idx_q
-        for j in range(1, model.njoints)
-        if model.joints[j].shortname().startswith(("JointModelR", "JointModelRevolute"))
-        and model.joints[j].nq == 1
-    ]
+    keep = s > RANK_TOLERANCE * scale
+    pinv = (vt[keep].T / s[keep]) @ u[:, keep].T
+    return float(np.linalg.norm(pinv @ jac_ind, 2))

@@ -37,11 +37,12 @@ import numpy as np
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
-from ..assembly.partition import RANK_TOLERANCE
+from ..assembly.partition import RANK_TOLERANCE, Partition
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import TreeMotion, generalized_forces, joint_wrenches, tree_motion
 from ..model.closure import ClosedChain
+from .idle import idle_accelerations, idle_basis
 from .reactions import ClosureWrench, JointWrench, closure_wrenches, joint_reactions
 
 CLOSURE_TOLERANCE = 1e-9
@@ -92,6 +93,10 @@ class ChainLoads:
         indeterminate: Labels of the closure rows whose forces are statically indeterminate
             (reported with the convention :data:`CONVENTION`).
         convention: How indeterminate forces were chosen.
+        accelerations: q̈ (N, nv), the accelerations the loads belong to: the prescribed ones
+            plus the idle motions' (:mod:`~feeder.chain.dynamics.idle`; equal to the prescribed
+            ones when there is none).
+        idle_motions: Number of idle motions (free with every actuated joint locked).
     """
 
     actuators: dict[str, np.ndarray]
@@ -100,6 +105,8 @@ class ChainLoads:
     joints: dict[str, JointWrench]
     indeterminate: tuple[str, ...]
     convention: str
+    accelerations: np.ndarray
+    idle_motions: int
 
 
 class ChainDynamics:
@@ -156,6 +163,16 @@ class ChainDynamics:
             weights[rows] = values
         self.row_scale = np.sqrt(weights)
         self.data = chain.model.createData()
+
+    def idle_count(self, q: np.ndarray) -> int:
+        """Number of idle motions at the closed pose ``q`` with the actuated joints locked
+        (:meth:`~feeder.chain.assembly.partition.Partition.idle_motions`; 0 when the locked
+        mechanism can still move an origin: then it is under-actuated, which the load solve
+        reports)."""
+        try:
+            return Partition(self.chain, self.actuated).idle_motions(q).shape[0]
+        except SingularPoseError:
+            return 0
 
 
 def check_motion(
@@ -249,6 +266,11 @@ def inverse_dynamics(
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
+    count = dyn.idle_count(q[0])
+    if count:
+        basis = idle_basis(rows, dyn.columns, count)
+        a = a + idle_accelerations(dyn.chain.model, q, motion, basis, terms)
+        motion = tree_motion(dyn.chain.model, q, v, a)
     tau, lam, indeterminate = solve_loads(dyn, motion, rows, terms)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints = joint_reactions(dyn.chain, motion, closure_terms + terms)
@@ -259,6 +281,8 @@ def inverse_dynamics(
         joints=joints,
         indeterminate=indeterminate,
         convention=CONVENTION,
+        accelerations=a,
+        idle_motions=count,
     )
 
 

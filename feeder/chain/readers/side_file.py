@@ -1,5 +1,5 @@
-"""A user's mechanism from files: the model (URDF, MJCF or SDF), a closure side-file (TOML) and a
-motion table (CSV).
+"""The TOML closure side-file: the model (URDF, MJCF or SDF), the actuated and independent joints,
+gravity and the cut joints.
 
 The side-file (TOML, read with the standard library's ``tomllib``: no extra dependency)::
 
@@ -14,55 +14,23 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     type = "revolute"               # point | weld | revolute
     axis = [0.0, 0.0, 1.0]          # revolute: hinge axis in the frames' axes
     stiffness = [1, 1, 1, 1, 1]     # optional, per row: the split of indeterminate forces
-
-The motion table (CSV, header row): ``t`` [s] and, for every independent joint j, ``q_j`` and
-optionally ``v_j``, ``a_j`` (SI units); rates that are missing are differentiated from the
-positions (second-order central differences, ``numpy.gradient``).
 """
 
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
-import pinocchio as pin
 
 from ...exceptions import InputError
 from ...validation import check_finite
-from ..model.closure import KINDS, ClosedChain, Closure
-from .mjcf import read_mjcf
-from .urdf import build_model, read_urdf
+from ..model.closure import KINDS, Closure
+from .spec import MechanismSpec, format_of
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
 """Keys of ``[mechanism]`` that name the model file, one of them."""
 
 CLOSURE_KEYS = {"frames", "type", "axis", "axis_b", "name", "stiffness"}
 """Keys a ``[[closure]]`` table may have."""
-
-
-@dataclass(frozen=True)
-class MechanismSpec:
-    """What the side-file says.
-
-    Attributes:
-        model: Path of the model file (resolved against the side-file's folder).
-        model_format: ``"urdf"``, ``"mjcf"`` or ``"sdf"``.
-        closures: The cut joints.
-        actuated: Actuated joint names.
-        independent: Independent joint names.
-        gravity: Gravity [m/s²], world frame, (3,), or None (the model's).
-        stiffness: Closure label → per-row stiffness (indeterminate-force split).
-    """
-
-    model: Path
-    model_format: str
-    closures: tuple[Closure, ...]
-    actuated: tuple[str, ...]
-    independent: tuple[str, ...]
-    gravity: np.ndarray | None = None
-    stiffness: dict[str, tuple[float, ...]] = field(default_factory=dict)
 
 
 def _names(table: dict, key: str, where: str) -> tuple[str, ...]:
@@ -88,8 +56,8 @@ def _axis(entry: dict, key: str, where: str) -> tuple[float, ...] | None:
     return tuple(float(x) for x in check_finite(f"{where} {key}", value))
 
 
-def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpec:
-    """Read and check a closure side-file.
+def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
+    """Read and check a TOML closure side-file (module docstring).
 
     Args:
         path: The TOML side-file.
@@ -99,9 +67,6 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
         InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
             closure type.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"closure file not found: {path}")
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
@@ -119,7 +84,7 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
-        model_path, model_format = Path(model), _format_of(Path(model))
+        model_path, model_format = Path(model), format_of(Path(model))
     else:
         given = [key for key in MODEL_KEYS if key in mechanism]
         if len(given) != 1 or not isinstance(mechanism[given[0]], str):
@@ -169,43 +134,3 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
         gravity=gravity,
         stiffness=stiffness,
     )
-
-
-def _format_of(path: Path) -> str:
-    suffix = path.suffix.lower()
-    formats = {".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf", ".sdf": "sdf"}
-    if suffix not in formats:
-        raise InputError(f"model file {path}: unknown format {suffix!r} (.urdf, .xml/.mjcf, .sdf)")
-    return formats[suffix]
-
-
-def load_mechanism(spec: MechanismSpec) -> ClosedChain:
-    """The closed chain the side-file describes (model read strictly, closures attached).
-
-    An MJCF's ``<equality><connect>`` and ``<weld>`` constraints become point and weld closures
-    (Pinocchio's MJCF parser reads them; frames ``mjcf_constraint_<i>_a|b`` are added at their
-    anchors), before the side-file's closures. As in MuJoCo, an anchor is given in its first
-    body's frame and sits on the second body where it is at ``qpos0``: build the model assembled
-    at qpos0. Pinocchio's parser reads only the first body under ``<worldbody>``: put the whole
-    mechanism under one (jointless) body.
-
-    Raises:
-        UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
-        InertiaError: A non-physical body.
-        ClosureFrameError, InputError: Bad closures.
-    """
-    closures = list(spec.closures)
-    if spec.model_format == "urdf":
-        model = build_model(read_urdf(spec.model), str(spec.model))
-    elif spec.model_format == "sdf":
-        from .sdf import read_sdf
-
-        xml, cuts = read_sdf(spec.model)
-        model = build_model(xml, str(spec.model))
-        closures = cuts + closures
-    else:
-        model, extra = read_mjcf(spec.model)
-        closures = extra + closures
-    if spec.gravity is not None:
-        model.gravity = pin.Motion(spec.gravity, np.zeros(3))
-    return ClosedChain(model, closures)

@@ -22,7 +22,7 @@ from lxml import etree
 
 from ...exceptions import InertiaError, UrdfError
 from ..model.closure import ClosedChain, Closure
-from .inertia import check_inertia
+from .inertia import check_bodies, check_inertia
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
 _AXIS_JOINT_TYPES = {"revolute", "continuous", "prismatic", "planar"}
@@ -184,9 +184,11 @@ def build_model(xml: str, source: str = "<string>") -> pin.Model:
     """
     check_urdf(xml, source)
     try:
-        return pin.buildModelFromXML(xml)
+        model = pin.buildModelFromXML(xml)
     except (ValueError, RuntimeError) as exc:
         raise UrdfError(f"{source}: Pinocchio cannot build the model: {exc}") from exc
+    check_bodies(model, source)
+    return model
 
 
 def load_closed_chain(

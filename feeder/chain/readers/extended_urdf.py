@@ -1,0 +1,107 @@
+"""The Extended-URDF side-file (YAML) of CAD exports: loop frames, their type, the motors and
+joint-type overrides, beside a ``robot.urdf``::
+
+    closed_loop: [['closedloop1_A', 'closedloop1_B']]   # frame pairs that coincide, assembled
+    type: ['6d']                   # '6d' weld (placements coincide), '3d' ball (origins
+                                   # coincide), 'revolute' hinge about the frames' z (default 6d)
+    name_mot: ['mot1', 'mot2']     # the actuated joints, and the independent ones
+    joint_name: ['ankle_1']        # optional: joints whose URDF type is replaced by
+    joint_type: ['UJOINT_ZY']      # these types (:mod:`~feeder.chain.readers.joint_types`)
+
+The model is the URDF given beside it (``feeder analyze robot.urdf --closures robot.yaml``), or
+else the ``.urdf`` of the same name in the side-file's folder. Keys this reader does not use are
+reported by a :class:`~feeder.exceptions.FeederWarning` and ignored. Read with PyYAML's safe
+loader (no object construction from the file).
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import yaml
+
+from ...exceptions import FeederWarning, InputError
+from ..model.closure import Closure
+from .joint_types import joint_model
+from .side_file import MechanismSpec
+
+CUT_TYPES = {"3d": "point", "6d": "weld", "revolute": "revolute"}
+"""The side-file's closure types (any case) and the closure kinds they are."""
+
+KEYS = {"closed_loop", "type", "name_mot", "joint_name", "joint_type"}
+
+
+def _names(value: object, key: str, where: str, pairs: bool = False) -> list:
+    ok = isinstance(value, list) and all(
+        (isinstance(item, list) and len(item) == 2 and all(isinstance(x, str) and x for x in item))
+        if pairs
+        else (isinstance(item, str) and item)
+        for item in value
+    )
+    if not ok:
+        shape = "pairs of frame names" if pairs else "names"
+        raise InputError(f"{where}: '{key}' must be a list of {shape}, got {value!r}")
+    return value
+
+
+def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
+    """Read and check an Extended-URDF side-file (module docstring).
+
+    Raises:
+        InputError: Unreadable YAML, a missing or mistyped key (named), lists of different
+            lengths, an unknown closure or joint type, no model file.
+    """
+    try:
+        document = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{path}: not a readable YAML file: {exc}") from exc
+    if not isinstance(document, dict):
+        raise InputError(f"{path}: expected a mapping with closed_loop, type, name_mot")
+    unknown = sorted(set(map(str, document)) - KEYS)
+    if unknown:
+        warnings.warn(f"{path}: keys {unknown} are not used", FeederWarning, stacklevel=3)
+    where = str(path)
+    loops = _names(document.get("closed_loop", []), "closed_loop", where, pairs=True)
+    types = document.get("type", ["6d"] * len(loops))
+    if not isinstance(types, list) or len(types) != len(loops):
+        raise InputError(f"{where}: 'type' must give one type per closed_loop pair, got {types!r}")
+    closures = []
+    for (frame_a, frame_b), kind in zip(loops, types, strict=True):
+        if str(kind).lower() not in CUT_TYPES:
+            raise InputError(
+                f"{where}: closure type {kind!r} of ({frame_a}, {frame_b}) is not one of "
+                f"{sorted(CUT_TYPES)}"
+            )
+        closures.append(Closure(frame_a, frame_b, CUT_TYPES[str(kind).lower()]))
+    if "name_mot" not in document:
+        raise InputError(f"{where}: 'name_mot' (the motors) is required")
+    motors = _names(document["name_mot"], "name_mot", where)
+    if not motors or len(set(motors)) != len(motors):
+        raise InputError(f"{where}: 'name_mot' must name distinct joints, got {motors!r}")
+    joint_names = _names(document.get("joint_name", []) or [], "joint_name", where)
+    joint_kinds = _names(document.get("joint_type", []) or [], "joint_type", where)
+    if len(joint_names) != len(joint_kinds) or len(set(joint_names)) != len(joint_names):
+        raise InputError(
+            f"{where}: 'joint_name' and 'joint_type' must be lists of one length, names distinct"
+        )
+    for kind in joint_kinds:
+        try:
+            joint_model(kind)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+    if model is None:
+        model = path.with_suffix(".urdf")
+        if not model.is_file():
+            raise InputError(
+                f"{where}: give the model file (the side-file names none, and {model} does not "
+                "exist)"
+            )
+    return MechanismSpec(
+        model=Path(model),
+        model_format="urdf",
+        closures=tuple(closures),
+        actuated=tuple(motors),
+        independent=tuple(motors),
+        joint_types=dict(zip(joint_names, joint_kinds, strict=True)),
+    )

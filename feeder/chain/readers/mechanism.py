@@ -1,0 +1,74 @@
+"""A user's mechanism from its files: the side-file (TOML or Extended-URDF YAML, by its suffix)
+and the model it names (URDF, MJCF or SDF), read strictly into a
+:class:`~feeder.chain.model.closure.ClosedChain`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ...exceptions import InputError
+from ..model.closure import ClosedChain
+from .extended_urdf import read_extended_urdf
+from .joint_types import replace_joints
+from .mjcf import read_mjcf
+from .side_file import read_toml
+from .spec import MechanismSpec
+from .urdf import build_model, read_urdf
+
+
+def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpec:
+    """Read and check a closure side-file: TOML (``.toml``, :mod:`.side_file`) or Extended-URDF
+    YAML (``.yaml``/``.yml``, :mod:`.extended_urdf`).
+
+    Args:
+        path: The side-file.
+        model: The model file, overriding the side-file's (e.g. given on the command line).
+
+    Raises:
+        InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
+            closure or joint type.
+    """
+    if not isinstance(path, str | Path):
+        raise InputError(f"the closure file must be a path, got {path!r}")
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"closure file not found: {path}")
+    if path.suffix.lower() in (".yaml", ".yml"):
+        return read_extended_urdf(path, None if model is None else Path(model))
+    return read_toml(path, model)
+
+
+def load_mechanism(spec: MechanismSpec) -> ClosedChain:
+    """The closed chain the side-file describes (model read strictly, closures attached).
+
+    An MJCF's ``<equality><connect>`` and ``<weld>`` constraints become point and weld closures
+    (Pinocchio's MJCF parser reads them; frames ``mjcf_constraint_<i>_a|b`` are added at their
+    anchors), before the side-file's closures. As in MuJoCo, an anchor is given in its first
+    body's frame and sits on the second body where it is at ``qpos0``: build the model assembled
+    at qpos0. Pinocchio's parser reads only the first body under ``<worldbody>``: put the whole
+    mechanism under one (jointless) body.
+
+    Raises:
+        UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
+        InertiaError: A non-physical body.
+        ClosureFrameError, InputError: Bad closures.
+    """
+    closures = list(spec.closures)
+    if spec.model_format == "urdf":
+        model = build_model(read_urdf(spec.model), str(spec.model))
+        model = replace_joints(model, spec.joint_types, str(spec.model))
+    elif spec.model_format == "sdf":
+        from .sdf import read_sdf
+
+        xml, cuts = read_sdf(spec.model)
+        model = build_model(xml, str(spec.model))
+        closures = cuts + closures
+    else:
+        model, extra = read_mjcf(spec.model)
+        closures = extra + closures
+    if spec.gravity is not None:
+        model.gravity = pin.Motion(spec.gravity, np.zeros(3))
+    return ClosedChain(model, closures)
