@@ -1,9 +1,13 @@
 """Time the generic closed-chain inverse dynamics (feeder.chain) per sample, in units of one bare
 ``constraintDynamics`` call on the same model (measured in the same run, so the ratio survives a
-noisy machine). Goal (issue 10): ≤ 3 calls per sample with every joint's reaction.
+noisy machine). Goals: issue 10, ≤ 3 calls per sample for the loads with every joint's reaction;
+issue 15, ≤ 10 calls per sample for the whole analysis: ``Partition.track`` (continuation) plus
+``inverse_dynamics`` (loads, idle accelerations, every reaction).
 
-Mechanisms: the example four-bar (revolute cut, 3 joints) and the feeding device's open tree
-with its pin (point cut, 4 joints, run through the generic layer).
+Mechanisms: the example four-bar (revolute cut, 3 joints), the feeding device's open tree with its
+pin (point cut, 4 joints, run through the generic layer), and two CAD exports read from their
+Extended-URDF side-files: the Cassie-like leg (2 welds, 19 joints, two idle rod spins) and the
+biped ``battobot_6d`` (6 welds, 12 motors, ball and universal joints, 48 velocities).
 
 Run: ``.venv/bin/python benchmarks/bench_chain.py [--samples N] [--json FILE]``.
 """
@@ -19,13 +23,23 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from feeder.chain import ChainDynamics, ClosedChain, Closure, Partition, load_closed_chain
+from feeder.chain import (
+    ChainDynamics,
+    ClosedChain,
+    Closure,
+    Partition,
+    inverse_dynamics,
+    load_closed_chain,
+    load_mechanism,
+    read_spec,
+)
 from feeder.chain.dynamics.inverse import check_motion, solve_loads
 from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
 from feeder.device import CLOSURE, load_feeder
 
 REPEATS = 5
 GOAL = 3.0
+ANALYSIS_GOAL = 10.0
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -65,6 +79,73 @@ def device(samples: int):
         ["piston_joint", "forearm_joint"],
         *(to_pin(x[pick]) for x in (cycle.q, cycle.v, cycle.a)),
     )
+
+
+def cad(name: str, samples: int):
+    """A CAD export mounted from its open pose, its motors on ±0.1 rad sinusoids over 1 s."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        spec = read_spec(EXAMPLES / "cad" / name / "robot.yaml")
+        chain = load_mechanism(spec)
+    partition = Partition(chain, spec.independent)
+    q0 = partition.mount(pin.neutral(chain.model))
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    ones = np.ones(len(spec.independent))
+    w = 2.0 * math.pi
+    model = chain.model
+    index = [model.joints[model.getJointId(j)].idx_q for j in spec.independent]
+    low, high = model.lowerPositionLimit[index], model.upperPositionLimit[index]
+    x0 = partition.independent_values(q0)
+    centre = np.where((low == 0.0) & (high == 0.0), x0, np.clip(x0, low + 0.1, high - 0.1))
+    x = centre + 0.1 * np.sin(w * t) * ones
+    dx, ddx = 0.1 * w * np.cos(w * t) * ones, -0.1 * w**2 * np.sin(w * t) * ones
+    return chain, list(spec.actuated), partition, q0, (x, dx, ddx)
+
+
+def measure_analysis(name: str, chain, actuated, partition, q0, motion) -> dict:
+    """Track + loads + every reaction per sample, in bare constraintDynamics calls."""
+    q, v, a, _ = partition.track(q0, *motion)
+    dyn = ChainDynamics(chain, actuated)
+    loads = inverse_dynamics(dyn, q, v, a)
+    model, data = chain.model, chain.model.createData()
+    pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
+    settings = pin.ProximalSettings(1e-12, 1e-8, 20)
+    n = q.shape[0]
+    tau = np.zeros((n, model.nv))
+    tau[:, dyn.columns] = np.column_stack([loads.actuators[j] for j in actuated])
+
+    def bare() -> None:
+        for k in range(n):
+            pin.constraintDynamics(
+                model,
+                data,
+                q[k],
+                v[k],
+                tau[k],
+                chain.constraint_models,
+                chain.constraint_datas,
+                settings,
+            )
+
+    call = best_time(bare) / n
+    per_track = best_time(lambda: partition.track(q0, *motion), repeats=2) / n
+    per_loads = best_time(lambda: inverse_dynamics(dyn, q, v, a), repeats=3) / n
+    ratio = (per_track + per_loads) / call
+    print(f"{name}: {n} samples, bare constraintDynamics {call * 1e6:.2f} µs")
+    print(
+        f"  Partition.track             {per_track * 1e6:8.2f} µs/sample = {per_track / call:6.2f}"
+    )
+    print(
+        f"  inverse_dynamics (all)      {per_loads * 1e6:8.2f} µs/sample = {per_loads / call:6.2f}"
+    )
+    print(
+        f"  track + loads + reactions   {(per_track + per_loads) * 1e6:8.2f} µs/sample = "
+        f"{ratio:6.2f} calls (goal ≤ {ANALYSIS_GOAL:g}): "
+        f"{'PASS' if ratio <= ANALYSIS_GOAL else 'MISS'}"
+    )
+    return {"call_us": call * 1e6, "track_calls": per_track / call, "analysis_calls": ratio}
 
 
 def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
@@ -127,6 +208,23 @@ def main(argv: list[str] | None = None) -> None:
         "four_bar": measure("four-bar (revolute cut)", *four_bar(args.samples)),
         "device": measure("feeding device (point cut)", *device(args.samples)),
     }
+    chain = load_closed_chain(
+        EXAMPLES / "four_bar" / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
+    )
+    partition = Partition(chain, ["crank_joint"])
+    q0 = partition.mount(np.zeros(3))
+    t = np.linspace(0.0, 1.0, args.samples)[:, None]
+    x = partition.independent_values(q0) + 2.0 * math.pi * t
+    figures["four_bar_analysis"] = measure_analysis(
+        "four-bar, whole analysis",
+        chain,
+        ["crank_joint"],
+        partition,
+        q0,
+        (x, np.full_like(x, 2.0 * math.pi), np.zeros_like(x)),
+    )
+    for name in ("cassie_like", "battobot_6d"):
+        figures[name] = measure_analysis(f"{name}, whole analysis", *cad(name, args.samples))
     if args.json:
         Path(args.json).write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
 

@@ -216,18 +216,21 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     from .study.analyze import analyze, check_mechanism
 
     if args.check:
-        print(check_mechanism(args.closures, args.model))
+        print(check_mechanism(args.closures, args.model, args.pose))
         return 0
     if args.motion is None or args.out is None:
         raise InputError("give --motion FILE and --out DIR (or --check for the mobility report)")
     from .outputs import OutputFolder, write_analysis_outputs
 
     folder = OutputFolder(args.out)
-    analysis = analyze(args.closures, args.motion, args.model)
+    analysis = analyze(args.closures, args.motion, args.model, args.pose)
     with folder:
         paths = write_analysis_outputs(analysis, folder, _command(args))
     print(analysis.summary())
-    print(f"wrote {paths[0]}, {paths[1].name} and {len(paths) - 2} figures in {folder.path}")
+    print(
+        f"wrote {paths[0]}, {paths[1].name}, {paths[2].name} and {len(paths) - 3} figures in "
+        f"{folder.path}"
+    )
     return 0
 
 
@@ -471,8 +474,16 @@ def _parser() -> argparse.ArgumentParser:
         type=_path,
         required=True,
         metavar="FILE",
-        help="closure file (TOML: cut frames and types, actuated and independent joints), "
-        "required; see docs/MECHANISMS.md",
+        help="closure file, required: TOML (cut frames and types, actuated and independent "
+        "joints) or a CAD export's Extended-URDF YAML (robot.yaml); see docs/MECHANISMS.md",
+    )
+    analyze.add_argument(
+        "--pose",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch: the "
+        "closed pose nearest to it (default: the model's zero pose)",
     )
     analyze.add_argument(
         "--motion",
@@ -494,7 +505,7 @@ def _parser() -> argparse.ArgumentParser:
         analyze,
         "--check",
         "check",
-        "print the mobility report at the model's reference pose instead (default: off)",
+        "print the mobility report and the assembled pose instead (default: off)",
     )
     return parser
 

@@ -268,14 +268,16 @@ def write_analysis_outputs(
     analysis: Analysis, directory: str | Path | OutputFolder, command: str | None = None
 ) -> list[Path]:
     """Write a mechanism's analysis (``feeder analyze``): ``loads.csv``
-    (:meth:`~feeder.study.analyze.Analysis.columns`), ``summary.txt`` (the mobility report and
-    the peaks), its figures (:func:`~feeder.viz.analysis.analysis_figures`) and the manifest;
+    (:meth:`~feeder.study.analyze.Analysis.columns`), ``summary.txt`` (the mobility report, the
+    assembled pose and the peaks), ``assembled_pose.csv``, its figures
+    (:func:`~feeder.viz.analysis.analysis_figures`) and the manifest;
     returns the paths, the table first."""
     from .viz.analysis import analysis_figures
 
     outputs: dict[str, Writer] = {
         "loads.csv": lambda path: write_csv(path, analysis.columns()),
         "summary.txt": lambda path: write_text(path, analysis.summary() + "\n"),
+        "assembled_pose.csv": lambda path: write_text(path, _pose_csv(analysis)),
     }
     outputs |= _figure_writers(analysis_figures(analysis))
     record = {
@@ -287,6 +289,15 @@ def write_analysis_outputs(
         "samples": int(analysis.motion.t.size),
     }
     return _write(directory, outputs, record)
+
+
+def _pose_csv(analysis: Analysis) -> str:
+    """The assembled pose as CSV: joint, coordinate, value (SI units; the coordinates of
+    :func:`~feeder.study.analyze.joint_columns`)."""
+    from .study.analyze import pose_rows
+
+    rows = pose_rows(analysis.chain.model, analysis.assembled)
+    return "joint,coordinate,value\n" + "".join(f"{j},{c},{x:.17g}\n" for j, c, x in rows)
 
 
 def _figure_writers(figures: Mapping[str, Figure]) -> dict[str, Writer]:

@@ -9,7 +9,14 @@ the admissible choices of independent joints, and the distance to a singular pos
   along them are statically indeterminate in a rigid model.
 * An independent-joint choice is admissible when the remaining (dependent) columns of the
   Jacobian determine the dependent velocities and let the chosen ones move freely
-  (:class:`~feeder.chain.assembly.partition.Partition`'s rank test).
+  (:class:`~feeder.chain.assembly.partition.Partition`'s rank test). Up to :data:`MAX_CHOICES`
+  combinations of one-coordinate joints are enumerated; beyond, one admissible set is found by
+  column-pivoted QR of the Jacobian (its pivots are the best-conditioned dependent columns) and
+  the report says that the list is partial.
+* Idle motions: the motions left with the chosen (actuated) joints locked that move no joint
+  origin, frame or centre of gravity (a rod spinning about its axis); the report names the joints
+  of each. The chosen joints are admissible *up to idle motions* when they determine everything
+  else.
 * Distance to a singular pose: the smallest singular value of the closure Jacobian's dependent
   columns relative to the largest of the whole Jacobian, and the velocity gain
   ‖J_dep⁺ J_ind‖₂ (:data:`~feeder.chain.assembly.partition.MAX_GAIN`).
@@ -22,8 +29,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
-from ..exceptions import InputError
+from ..exceptions import InputError, SingularPoseError
 from .assembly.partition import RANK_TOLERANCE, Partition
 from .model.closure import ClosedChain
 
@@ -37,6 +45,8 @@ class MobilityReport:
 
     Attributes:
         joints: Names of the tree's one-dof joints, in velocity order.
+        tree: Every joint, in velocity order, with its number of coordinates when it has
+            several (``"ankle (3)"``).
         dof: Degrees of freedom of the open tree (nv).
         constraints: Scalar closure constraints (nc).
         kutzbach: Grübler–Kutzbach mobility, dof − constraints.
@@ -47,14 +57,21 @@ class MobilityReport:
             redundancy has a statically indeterminate force
             (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.indeterminate` lists them all).
         admissible: Independent-joint choices (tuples of ``mobility`` names) that work here.
+        complete: Whether ``admissible`` lists every choice (False: one found by column-pivoted
+            QR, the enumeration being too long).
+        choices: Number of combinations the complete list would have to test.
         singular_values: Singular values of the closure Jacobian, descending.
         margin: For the choice ``independent``: smallest singular value of the dependent
             columns over the Jacobian's largest, σ_min/σ_max (0 at a singular pose), or None.
         gain: For that choice, the velocity gain (∞ at a singular pose), or None.
         independent: The choice the margin and gain refer to, or None.
+        idle: For that choice, its idle motions: the joints each one moves, or None.
+        determined: For that choice, None if it determines the mechanism up to its idle
+            motions, else the reason it does not.
     """
 
     joints: tuple[str, ...]
+    tree: tuple[str, ...]
     dof: int
     constraints: int
     kutzbach: int
@@ -62,15 +79,19 @@ class MobilityReport:
     mobility: int
     redundant_rows: tuple[str, ...]
     admissible: tuple[tuple[str, ...], ...]
+    complete: bool
+    choices: int
     singular_values: np.ndarray
     margin: float | None
     gain: float | None
     independent: tuple[str, ...] | None
+    idle: tuple[tuple[str, ...], ...] | None = None
+    determined: str | None = None
 
     def text(self) -> str:
         """The report as lines of text (what ``feeder analyze --check`` prints)."""
         lines = [
-            f"degrees of freedom of the open tree: {self.dof} ({', '.join(self.joints)})",
+            f"degrees of freedom of the open tree: {self.dof} ({', '.join(self.tree)})",
             f"closure constraints: {self.constraints}; Grübler–Kutzbach mobility "
             f"{self.dof} − {self.constraints} = {self.kutzbach}",
             f"closure Jacobian rank: {self.rank}; actual mobility {self.dof} − {self.rank} = "
@@ -85,12 +106,30 @@ class MobilityReport:
             lines.append("redundant closure rows: none")
         shown = ", ".join("[" + ", ".join(choice) + "]" for choice in self.admissible[:12])
         more = f" and {len(self.admissible) - 12} more" if len(self.admissible) > 12 else ""
-        lines.append(f"admissible independent joints here: {shown or 'none'}{more}")
-        if self.independent is not None:
+        if self.complete:
+            lines.append(f"admissible independent joints here: {shown or 'none'}{more}")
+        else:
             lines.append(
-                f"with independent {list(self.independent)}: distance to singularity "
-                f"σ_min/σ_max = {self.margin:.3g}, velocity gain {self.gain:.3g}"
+                f"admissible independent joints here (partial list: one set found by "
+                f"column-pivoted QR, of {self.choices} combinations not enumerated): "
+                f"{shown or 'none'}"
             )
+        if self.independent is not None:
+            if self.determined is None:
+                count = len(self.idle or ())
+                lines.append(
+                    f"with independent {list(self.independent)}: determined "
+                    + (f"up to {count} idle motion(s)" if count else "(no idle motion)")
+                    + f"; distance to singularity σ_min/σ_max = {self.margin:.3g}, velocity "
+                    f"gain {self.gain:.3g}"
+                )
+            else:
+                lines.append(f"with independent {list(self.independent)}: {self.determined}")
+            for k, joints in enumerate(self.idle or (), start=1):
+                lines.append(
+                    f"  idle motion {k} (free with them locked, moves no joint origin, frame or "
+                    f"centre of gravity): {', '.join(joints)}"
+                )
         return "\n".join(lines)
 
 
@@ -127,8 +166,9 @@ def mobility(
             redundant.append(label)
     dof = model.nv
     free = dof - rank
+    choices = math.comb(len(joints), free)
     admissible = []
-    if math.comb(len(joints), free) <= MAX_CHOICES:
+    if choices <= MAX_CHOICES:
         for choice in itertools.combinations(joints, free):
             chosen = [columns[name] for name in choice]
             others = [i for i in range(dof) if i not in chosen]
@@ -136,7 +176,9 @@ def mobility(
             rank_dep = np.linalg.matrix_rank(dependent, tol=tolerance) if dependent.size else 0
             if rank_dep == len(others) == rank:
                 admissible.append(choice)
-    margin = gain = None
+    else:
+        admissible = _pivoted_choice(jac, joints, columns, rank, tolerance)
+    margin = gain = idle = determined = None
     if independent is not None:
         independent = tuple(independent)
         if len(set(independent)) != len(independent):
@@ -145,10 +187,24 @@ def mobility(
         others = [i for i in range(dof) if i not in chosen]
         dependent = jac[:, others]
         values = np.linalg.svd(dependent, compute_uv=False) if dependent.size else np.zeros(0)
-        margin = float(values[len(others) - 1] / scale) if values.size >= len(others) > 0 else 0.0
-        gain = Partition(chain, independent).gain(q)
+        rank_dep = int(np.sum(values > tolerance))
+        margin = float(values[rank_dep - 1] / scale) if rank_dep > 0 else 0.0
+        partition = Partition(chain, independent)
+        try:
+            motions = partition.idle_motions(q)
+            partition._check_pose(q)
+        except SingularPoseError as exc:
+            determined = str(exc)
+            motions = np.zeros((0, dof))
+        idle = tuple(_moved_joints(model, motion) for motion in _localised(motions))
+        gain = partition.gain(q)
+    tree = tuple(
+        model.names[j] + (f" ({model.joints[j].nv})" if model.joints[j].nv != 1 else "")
+        for j in range(1, model.njoints)
+    )
     return MobilityReport(
         joints=joints,
+        tree=tree,
         dof=dof,
         constraints=chain.nc,
         kutzbach=dof - chain.nc,
@@ -156,8 +212,51 @@ def mobility(
         mobility=free,
         redundant_rows=tuple(redundant),
         admissible=tuple(admissible),
+        complete=choices <= MAX_CHOICES,
+        choices=choices,
         singular_values=singular,
         margin=margin,
         gain=gain,
         independent=independent,
+        idle=idle,
+        determined=determined,
+    )
+
+
+def _pivoted_choice(jac, joints, columns, rank, tolerance) -> list[tuple[str, ...]]:
+    """One admissible choice: the columns left out by the first ``rank`` pivots of the
+    column-pivoted QR of the one-coordinate joints' columns (the best-conditioned dependent
+    set), if they determine the rest."""
+    index = [columns[name] for name in joints]
+    _, _, pivots = scipy.linalg.qr(jac[:, index], pivoting=True, mode="economic")
+    dependent = set(pivots[:rank].tolist())
+    choice = tuple(name for k, name in enumerate(joints) if k not in dependent)
+    others = [i for i in range(jac.shape[1]) if i not in {columns[name] for name in choice}]
+    part = jac[:, others]
+    rank_dep = np.linalg.matrix_rank(part, tol=tolerance) if part.size else 0
+    return [choice] if rank_dep == len(others) == rank else []
+
+
+def _localised(motions: np.ndarray) -> np.ndarray:
+    """The same span as ``motions`` (k, nv), each row with a unit entry at its own pivot joint and
+    zeros at the others' (reduced row echelon form on column-pivoted QR pivots): each idle
+    motion then involves as few joints as the span allows."""
+    if motions.shape[0] == 0:
+        return motions
+    _, _, pivots = scipy.linalg.qr(motions, pivoting=True, mode="economic")
+    return np.linalg.solve(motions[:, pivots[: motions.shape[0]]], motions)
+
+
+def _moved_joints(model, motion: np.ndarray) -> tuple[str, ...]:
+    """Names of the joints an idle motion (nv,) moves, largest share first."""
+    shares = {
+        model.names[j]: float(
+            np.abs(
+                motion[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv]
+            ).max()
+        )
+        for j in range(1, model.njoints)
+    }
+    return tuple(
+        name for name, share in sorted(shares.items(), key=lambda x: -x[1]) if share > 1e-6
     )

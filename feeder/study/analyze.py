@@ -22,6 +22,7 @@ from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
+from ..chain.readers.pose import read_pose
 from ..chain.readers.spec import MechanismSpec
 
 
@@ -37,6 +38,9 @@ class Analysis:
         gain: Velocity gain at every sample, (N,) (distance to a singular pose).
         loads: Actuator loads, closure forces and every joint's reaction.
         report: Mobility at the first sample.
+        reference: The pose the mechanism was mounted from (nq,): the model's zero pose or the
+            user's pose file.
+        assembled: The closed pose nearest to it (nq,), where the motion starts from.
     """
 
     spec: MechanismSpec
@@ -48,26 +52,22 @@ class Analysis:
     gain: np.ndarray
     loads: ChainLoads
     report: MobilityReport
+    reference: np.ndarray
+    assembled: np.ndarray
 
     def columns(self) -> dict[str, np.ndarray]:
         """The loads table, each column (N,), SI units, world axes:
 
-        ``t``; ``q_<joint>``, ``v_<joint>``, ``a_<joint>`` of every joint (rad or m and rates);
+        ``t``; the coordinates, rates and accelerations of every joint (:func:`joint_columns`;
+        the accelerations include the idle motions', :attr:`ChainLoads.accelerations`);
         ``velocity_gain``; ``tau_<joint>`` of the actuated joints (N or N·m along the joint
         axis); ``<closure>_force_x|y|z`` and ``<closure>_moment_x|y|z`` (the cut's wrench on the
         body of its first frame, moment about that frame's origin); ``<joint>_force_x|y|z`` and
         ``<joint>_moment_x|y|z`` (the wrench the parent exerts on the child, about the joint's
         origin) and their magnitudes ``<joint>_force``, ``<joint>_moment``.
         """
-        model = self.chain.model
         cols: dict[str, np.ndarray] = {"t": self.motion.t}
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            if joint.nq == joint.nv == 1:
-                name = model.names[j]
-                cols[f"q_{name}"] = self.q[:, joint.idx_q]
-                cols[f"v_{name}"] = self.v[:, joint.idx_v]
-                cols[f"a_{name}"] = self.a[:, joint.idx_v]
+        cols |= joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations)
         cols["velocity_gain"] = self.gain
         for name, values in self.loads.actuators.items():
             cols[f"tau_{name}"] = values
@@ -85,7 +85,13 @@ class Analysis:
     def summary(self) -> str:
         """The mobility report, peaks of the loads and the indeterminacy convention, as text."""
         t = self.motion.t
-        lines = [self.report.text(), f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s"]
+        lines = [self.report.text(), *self.pose_lines()]
+        lines.append(f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s")
+        if self.loads.idle_motions:
+            lines.append(
+                f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
+                "kinematics, their accelerations solved with the loads (no lock, no extra load)"
+            )
         if self.motion.differentiated:
             lines.append(
                 "  rates differentiated from positions for: "
@@ -112,26 +118,114 @@ class Analysis:
             )
         return "\n".join(lines)
 
+    def pose_lines(self) -> list[str]:
+        """The assembled pose as text: each joint's coordinates (``pose_rows``)."""
+        rows = pose_rows(self.chain.model, self.assembled)
+        distance = float(
+            np.linalg.norm(pin.difference(self.chain.model, self.reference, self.assembled))
+        )
+        return [
+            f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
+            *(f"  {name} {coordinate} = {value:.9g}" for name, coordinate, value in rows),
+        ]
+
     def _prismatic(self, joint: str) -> bool:
         model = self.chain.model
         return model.joints[model.getJointId(joint)].shortname().startswith("JointModelP")
 
 
-def check_mechanism(spec_path: str | Path, model: str | Path | None = None) -> str:
-    """The mobility report of a mechanism at its model's reference pose (``feeder analyze
-    --check``), assembled with the side-file's independent joints from the neutral pose."""
+def joint_columns(
+    model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> dict[str, np.ndarray]:
+    """Every joint's coordinates, rates and accelerations as table columns (N,), SI units:
+
+    * revolute, prismatic: ``q_<j>``, ``v_<j>``, ``a_<j>`` (rad or m, and rates);
+    * continuous: the same, ``q_<j>`` the angle atan2(sin, cos) in (−π, π];
+    * ball (quaternion): ``q_<j>_rx|ry|rz``, its rotation vector [rad] (axis × angle, child
+      relative to parent, parent axes), and ``q_<j>_qx|qy|qz|qw`` the unit quaternion;
+      ``v_<j>_x|y|z``, ``a_<j>_x|y|z`` the angular velocity and acceleration in the child's axes;
+    * universal, ball (ZYX), planar, free-flyer, translation: ``q_<j>_<k>``, ``v_<j>_<k>``,
+      ``a_<j>_<k>`` for each of Pinocchio's coordinates and velocities k = 1, 2, … (planar:
+      x, y, cos θ, sin θ and v_x, v_y, ω; free-flyer: position, quaternion and linear, angular
+      velocity in the child's axes).
+    """
+    cols: dict[str, np.ndarray] = {}
+    for j in range(1, model.njoints):
+        cols |= _joint_columns(model, j, q, v, a)
+    return cols
+
+
+def _joint_columns(
+    model: pin.Model, j: int, q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> dict[str, np.ndarray]:
+    """The columns of :func:`joint_columns` for joint ``j``."""
+    cols: dict[str, np.ndarray] = {}
+    joint, name = model.joints[j], model.names[j]
+    qj = q[:, joint.idx_q : joint.idx_q + joint.nq]
+    vj, aj = (x[:, joint.idx_v : joint.idx_v + joint.nv] for x in (v, a))
+    if joint.nv == 1:
+        angle = np.arctan2(qj[:, 1], qj[:, 0]) if joint.nq == 2 else qj[:, 0]
+        cols |= {f"q_{name}": angle, f"v_{name}": vj[:, 0], f"a_{name}": aj[:, 0]}
+    elif joint.shortname() == "JointModelSpherical":
+        rotation = np.array([pin.log3(pin.Quaternion(x).matrix()) for x in qj])
+        for k, axis in enumerate("xyz"):
+            cols[f"q_{name}_r{axis}"] = rotation[:, k]
+        for k, part in enumerate(("qx", "qy", "qz", "qw")):
+            cols[f"q_{name}_{part}"] = qj[:, k]
+        for k, axis in enumerate("xyz"):
+            cols[f"v_{name}_{axis}"] = vj[:, k]
+            cols[f"a_{name}_{axis}"] = aj[:, k]
+    else:
+        for k in range(joint.nq):
+            cols[f"q_{name}_{k + 1}"] = qj[:, k]
+        for k in range(joint.nv):
+            cols[f"v_{name}_{k + 1}"] = vj[:, k]
+            cols[f"a_{name}_{k + 1}"] = aj[:, k]
+    return cols
+
+
+def pose_rows(model: pin.Model, q: np.ndarray) -> list[tuple[str, str, float]]:
+    """A pose (nq,) as (joint, coordinate, value) rows, the coordinates of
+    :func:`joint_columns`."""
+    zero = np.zeros((1, model.nv))
+    rows = []
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        for key, value in _joint_columns(model, j, q[None, :], zero, zero).items():
+            if key.startswith("q_"):
+                coordinate = key[len(name) + 2 :].lstrip("_") or "q"
+                rows.append((name, coordinate, float(value[0])))
+    return rows
+
+
+def check_mechanism(
+    spec_path: str | Path, model: str | Path | None = None, pose: str | Path | None = None
+) -> str:
+    """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
+    the closed pose nearest to the reference (the model's zero pose, or the pose file), which the
+    report prints."""
     spec = read_spec(spec_path, model)
     chain = load_mechanism(spec)
     partition = Partition(chain, spec.independent)
-    q = partition.assemble(pin.neutral(chain.model))
-    return mobility(chain, q, spec.independent).text()
+    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
+    q = partition.mount(reference)
+    distance = float(np.linalg.norm(pin.difference(chain.model, reference, q)))
+    lines = [
+        mobility(chain, q, spec.independent).text(),
+        f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
+        *(
+            f"  {name} {coordinate} = {value:.9g}"
+            for name, coordinate, value in pose_rows(chain.model, q)
+        ),
+    ]
+    return "\n".join(lines)
 
 
 def analyze(
     spec_path: str | Path,
     motion_path: str | Path,
     model: str | Path | None = None,
-    q_guess: np.ndarray | None = None,
+    pose: str | Path | None = None,
 ) -> Analysis:
     """Follow the motion table on one branch and compute every load and reaction.
 
@@ -139,7 +233,9 @@ def analyze(
         spec_path: The closure side-file (TOML, :mod:`feeder.chain.readers.side_file`).
         motion_path: The motion table (CSV).
         model: The model file, overriding the side-file's.
-        q_guess: A configuration that picks the assembly branch (default: the model's neutral).
+        pose: A pose file (:mod:`feeder.chain.readers.pose`) that picks the assembly branch
+            (default: the model's zero pose); the mechanism is mounted onto the closed pose
+            nearest to it, then its independent joints follow the table.
 
     Raises:
         FeederError: Bad files, an unreachable or singular pose, a motion the actuated joints
@@ -149,9 +245,10 @@ def analyze(
     chain = load_mechanism(spec)
     table = read_motion(motion_path, spec.independent)
     partition = Partition(chain, spec.independent)
-    guess = pin.neutral(chain.model) if q_guess is None else chain.check_q(q_guess)
-    q, v, a, gain = partition.track(guess, table.x, table.dx, table.ddx)
+    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
+    assembled = partition.mount(reference)
+    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness)
     loads = inverse_dynamics(dyn, q, v, a)
     report = mobility(chain, q[0], spec.independent)
-    return Analysis(spec, chain, table, q, v, a, gain, loads, report)
+    return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)

@@ -78,7 +78,7 @@ def test_the_inverse_dynamics_torque_drives_its_motion(four_bar):
         run, q = _driven_run(chain, partition, q0)
     finally:
         chain.model.gravity = gravity
-    assert run.tracking(q[::2]).max() <= TRACKING
+    assert run.tracking(chain.model, q[::2]).max() <= TRACKING
     assert run.energy_error() <= WORK  # the motor's work is the change of energy
 
 

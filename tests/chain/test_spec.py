@@ -159,3 +159,46 @@ def test_motion_table_errors(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(InputError, match=message):
         read_motion(path, ("crank_joint",))
+
+
+TWO_ROOTS = MJCF_FOUR_BAR.replace(
+    """      <body name="rocker" pos="0.1 0 0">
+        <joint name="rocker_joint" type="hinge" axis="0 0 1"/>
+        <geom type="capsule" fromto="0 0 0 0.08 0 0" size="0.005" mass="0.15"/>
+      </body>
+    </body>""",
+    """    </body>
+    <body name="rocker" pos="0.1 0 0">
+      <joint name="rocker_joint" type="hinge" axis="0 0 1"/>
+      <geom type="capsule" fromto="0 0 0 0.08 0 0" size="0.005" mass="0.15"/>
+    </body>""",
+)
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        (TWO_ROOTS, "holds 2 bodies .ground, rocker."),  # Pinocchio kept only `ground`
+        (MJCF_FOUR_BAR.replace("<worldbody>", '<include file="x.xml"/><worldbody>'), "<include>"),
+        (
+            MJCF_FOUR_BAR.replace("</equality>", '<joint joint1="crank_joint"/></equality>'),
+            "<equality><joint>",
+        ),
+        (MJCF_FOUR_BAR.replace('mass="0.2"', 'mass="-0.2"'), "mass='-0.2'"),
+        (MJCF_FOUR_BAR.replace('mass="0.2"', 'mass="nan"'), "mass='nan'"),
+        (MJCF_FOUR_BAR.replace('mass="0.2"', 'mass="&m;"'), "malformed"),
+        ('<!DOCTYPE m [<!ENTITY m "0.2">]>' + MJCF_FOUR_BAR, "document type"),
+    ],
+)
+def test_mjcf_that_pinocchio_would_misread_is_refused(tmp_path, text, match):
+    """Each of these was misread without a word (a negative geom mass gave a crank torque of
+    2.6e116 N·m, exit 0; two root bodies once crashed the process)."""
+    path = tmp_path / "four_bar.xml"
+    path.write_text(text)
+    side = tmp_path / "closures.toml"
+    side.write_text(
+        '[mechanism]\nmjcf = "four_bar.xml"\nactuated = ["crank_joint"]\n'
+        'independent = ["crank_joint"]\n'
+    )
+    with pytest.raises(UrdfError, match=match):
+        load_mechanism(read_spec(side))

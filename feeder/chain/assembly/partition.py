@@ -6,9 +6,10 @@ pose the user gives) onto the nearest closed pose over every coordinate
 requested values by continuation, so the branch is the one nearest the reference — never one that
 the joint limits or a random guess select. Along a trajectory the branch is kept by continuation
 (:meth:`Partition.track`): a tangent predictor and damped minimum-norm Newton corrections over the
-dependent coordinates. Revolute angles are wrapped into their joint's range (or (−π, π] where it
-is not set), never wound. Velocity and acceleration level: the linear systems J q̇ = 0 and
-J q̈ + J̇ q̇ = 0 solved for the dependent components by truncated least squares (minimum norm).
+dependent coordinates. Dependent revolute angles are wrapped into (−π, π] (or into their joint's
+limits where those exclude it), never wound. Velocity and acceleration level: the linear systems
+J q̇ = 0 and J q̈ + J̇ q̇ = 0 solved for the dependent components by truncated least squares
+(minimum norm).
 
 *Idle motions*: the motions of the dependent joints with every independent one locked that move no
 joint's origin, no frame and no centre of gravity — a rod with a ball at each end spinning about
@@ -127,6 +128,9 @@ class Partition:
             and model.joints[j].nq == 1
             and model.joints[j].idx_v in self.dependent
         ]
+        self._idle_count = 0
+        """Idle motions verified at a pose (their number is structural: a pose with as many
+        dependent-rank deficiencies needs no new check, one with more is examined again)."""
         self._inputs = []  # (idx_q, continuous) of each independent joint, in the given order
         for name in self.independent_joints:
             joint = model.joints[model.getJointId(name)]
@@ -264,8 +268,9 @@ class Partition:
                 f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
                 f"{rank_dep} (too many independent joints, or a singular pose)"
             )
-        if rank_dep < self.dependent.size:
-            self._idle(q, jac)
+        deficiency = self.dependent.size - rank_dep
+        if deficiency and deficiency != self._idle_count:
+            self._idle_count = self._idle(q, jac).shape[0]  # raises unless all are idle
         gain = self._gain(q, jac)
         if gain > self.max_gain:
             raise SingularPoseError(
@@ -279,20 +284,20 @@ class Partition:
 
     def wrap(self, q: np.ndarray) -> np.ndarray:
         """``q`` with its dependent revolute angles moved by the multiple of 2π that brings them
-        into their joint's range (a range of [0, 0] or unbounded means "not set": (−π, π])."""
+        into (−π, π] — or, where that value is outside the joint's limits, into the limits if
+        some turn of the angle is: never wound, and the same whatever generous limits are set (a
+        range of [0, 0] means "not set")."""
         model = self.chain.model
         q = q.copy()
         for i in self._angles:
             low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
-            if low == high == 0.0 or not (np.isfinite(low) and np.isfinite(high)):
-                q[i] = np.pi - np.mod(np.pi - q[i], 2.0 * np.pi)
-            elif not low <= q[i] <= high:
-                middle = 0.5 * (low + high)
-                shifted = q[i] - 2.0 * np.pi * np.round((q[i] - middle) / (2.0 * np.pi))
-                if low - 1e-12 <= shifted <= high + 1e-12:
-                    q[i] = shifted
-                else:
-                    q[i] = np.pi - np.mod(np.pi - q[i], 2.0 * np.pi)
+            principal = np.pi - np.mod(np.pi - q[i], 2.0 * np.pi)
+            unset = low == high == 0.0
+            if unset or low - 1e-12 <= principal <= high + 1e-12:
+                q[i] = principal
+            else:
+                shifted = principal + 2.0 * np.pi * np.ceil((low - principal) / (2.0 * np.pi))
+                q[i] = shifted if shifted <= high + 1e-12 else principal
         return q
 
     def _check_limits(self, q: np.ndarray) -> None:
@@ -566,7 +571,7 @@ class Partition:
             q, failure = previous, None
             for k in range(pieces):
                 start = x_previous + (x - x_previous) * (k / pieces)
-                end = x_previous + (x - x_previous) * ((k + 1) / pieces)
+                end = x if k + 1 == pieces else x_previous + (x - x_previous) * ((k + 1) / pieces)
                 q, failure = self._step(q, start, end)
                 if failure is not None:
                     break

@@ -75,12 +75,24 @@ class ForwardRun:
         (no friction; the trapezoidal work is exact to O(h²))."""
         return float(np.abs(self.energy - self.energy[0] - self.work).max())
 
-    def tracking(self, q_reference: np.ndarray) -> np.ndarray:
-        """Largest |q − q_reference| of every coordinate over the run, (nq,)."""
+    def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
+        """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,): the
+        difference on the model's Lie groups (a revolute angle wrapped by a turn, a quaternion
+        of opposite sign, count as equal)."""
         reference = check_finite("q_reference", q_reference)
         if reference.shape != self.q.shape:
             raise InputError(f"q_reference must have shape {self.q.shape}, got {reference.shape}")
-        return np.abs(self.q - reference).max(axis=0)
+        gaps = np.array(
+            [pin.difference(model, r, q) for r, q in zip(reference, self.q, strict=True)]
+        )
+        angles = [
+            model.joints[j].idx_v
+            for j in range(1, model.njoints)
+            if model.joints[j].shortname().startswith(("JointModelR", "JointModelRevolute"))
+            and model.joints[j].nq == 1
+        ]
+        gaps[:, angles] = np.pi - np.mod(np.pi - gaps[:, angles], 2.0 * np.pi)
+        return np.abs(gaps).max(axis=0)
 
 
 def accelerations(

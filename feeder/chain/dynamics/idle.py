@@ -36,7 +36,9 @@ def idle_basis(rows: ClosureKinematics, columns: list[int], count: int) -> np.nd
     stacked[:, : rows.jacobian.shape[1]] = rows.jacobian
     stacked[:, rows.jacobian.shape[1] :][:, np.arange(len(columns)), columns] = 1.0
     _, _, vt = np.linalg.svd(stacked, full_matrices=True)
-    return np.swapaxes(vt[:, nv - count :, :], 1, 2)
+    basis = np.swapaxes(vt[:, nv - count :, :], 1, 2)
+    basis[:, columns, :] = 0.0  # zero by construction (S N = 0): no round-off on the motors
+    return basis
 
 
 def idle_accelerations(

@@ -22,7 +22,8 @@ from lxml import etree
 
 from ...exceptions import InertiaError, UrdfError
 from ..model.closure import ClosedChain, Closure
-from .inertia import check_bodies, check_inertia
+from .bodies import check_bodies
+from .inertia import check_inertia
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
 _AXIS_JOINT_TYPES = {"revolute", "continuous", "prismatic", "planar"}

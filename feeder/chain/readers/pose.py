@@ -1,0 +1,61 @@
+"""A pose given by the user: a CSV table ``joint,value`` (header row, then one row per joint,
+SI units: rad for revolute and continuous joints, m for prismatic ones). The joints not listed
+keep their reference value (0, or the identity rotation). It picks the assembly branch: the
+mechanism is mounted onto the closed pose nearest to it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ...exceptions import InputError
+
+
+def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
+    """The configuration (nq,) the pose file gives (module docstring).
+
+    Raises:
+        InputError: Missing or malformed file, an unknown or multi-coordinate joint, a value
+            that is not a finite number, a joint given twice.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"pose file not found: {path}")
+    try:
+        lines = [line.strip() for line in path.read_text(encoding="utf-8").splitlines()]
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the pose file {path}: {exc}") from exc
+    rows = [line.split(",") for line in lines if line]
+    if not rows or [x.strip() for x in rows[0]] != ["joint", "value"]:
+        raise InputError(f"{path}: the header row must be 'joint,value'")
+    q = pin.neutral(model)
+    seen = set()
+    for number, row in enumerate(rows[1:], start=2):
+        if len(row) != 2:
+            raise InputError(f"{path}, row {number}: expected 'joint,value', got {row!r}")
+        name, text = row[0].strip(), row[1].strip()
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not np.isfinite(value):
+            raise InputError(f"{path}, row {number}: {text!r} is not a finite number")
+        if not model.existJointName(name) or name in seen:
+            raise InputError(
+                f"{path}, row {number}: {name!r} is not a joint of the model, or given twice; "
+                f"joints: {list(model.names)[1:]}"
+            )
+        seen.add(name)
+        joint = model.joints[model.getJointId(name)]
+        if joint.nv != 1:
+            raise InputError(
+                f"{path}, row {number}: joint {name!r} has {joint.nv} coordinates; a pose file "
+                "gives revolute, continuous and prismatic joints"
+            )
+        if joint.nq == 2:
+            q[joint.idx_q : joint.idx_q + 2] = np.cos(value), np.sin(value)
+        else:
+            q[joint.idx_q] = value
+    return q
