@@ -27,10 +27,10 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
-    from .chain import ClosedChain, Partition, load_closed_chain
+    from .chain import ClosedChain, Partition, load_closed_chain, load_mechanism, read_spec
     from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
     from .device.loop import required_stroke, transmission_angle
-    from .exceptions import FeederError
+    from .exceptions import FeederError, FeederWarning
     from .motion import CycleSpec, feeding_cycle, workspace
     from .outputs import write_cycle_outputs
     from .study import (
@@ -53,15 +53,18 @@ __all__ = [
     "Feeder",
     "FeederError",
     "FeederParameters",
+    "FeederWarning",
     "LinkInertia",
     "Partition",
     "elevation_sweep",
     "feeding_cycle",
     "load_closed_chain",
     "load_feeder",
+    "load_mechanism",
     "loop_state",
     "paper_errata",
     "read_csv",
+    "read_spec",
     "required_stroke",
     "retrofit",
     "run_cycle_study",
@@ -75,6 +78,8 @@ _SOURCES = {
     "ClosedChain": ".chain",
     "Partition": ".chain",
     "load_closed_chain": ".chain",
+    "load_mechanism": ".chain",
+    "read_spec": ".chain",
     "DEVICES": ".device",
     "Feeder": ".device",
     "FeederParameters": ".device",
@@ -84,6 +89,7 @@ _SOURCES = {
     "required_stroke": ".device.loop",
     "transmission_angle": ".device.loop",
     "FeederError": ".exceptions",
+    "FeederWarning": ".exceptions",
     "CycleSpec": ".motion",
     "feeding_cycle": ".motion",
     "workspace": ".motion",

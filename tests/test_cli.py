@@ -459,6 +459,25 @@ def test_analyze_check_prints_the_mobility_report(capsys):
     assert "actual mobility 3 − 2 = 1" in out and "admissible independent joints" in out
 
 
+def test_analyze_reads_a_cad_export_as_shipped(tmp_path, capsys):
+    """The Cassie-like leg from its Extended-URDF side-file: mobility with its two idle rod spins
+    and the assembled pose (--check), then its motion's loads and the pose written."""
+    cad = REPO / "examples" / "cad"
+    arguments = [str(cad / "cassie_like" / "robot.urdf")]
+    arguments += ["--closures", str(cad / "cassie_like" / "robot.yaml")]
+    assert main(["analyze", *arguments, "--check"]) == 0
+    out = capsys.readouterr().out
+    assert "determined up to 2 idle motion(s)" in out and "assembled pose" in out
+    folder = tmp_path / "cassie"
+    extra = ["--motion", str(cad / "cassie_like_motion.csv"), "--out", str(folder)]
+    assert main(["analyze", *arguments, *extra]) == 0
+    table = read_csv(folder / "loads.csv")
+    assert "tau_motor_ankle" in table and "q_tarsus_half_hachil_rode_rev2" in table
+    pose = (folder / "assembled_pose.csv").read_text(encoding="utf-8").splitlines()
+    assert pose[0] == "joint,coordinate,value" and len(pose) == 1 + 19
+    assert "2 idle motion(s)" in (folder / "summary.txt").read_text(encoding="utf-8")
+
+
 def test_analyze_writes_the_loads_table_and_figures(tmp_path, capsys):
     out = tmp_path / "four_bar"
     arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]

@@ -27,8 +27,9 @@ from .model.closure import ClosedChain, Closure
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
 from .readers.motion_table import MotionTable, read_motion
+from .readers.pose import read_pose
 from .readers.spec import MechanismSpec
-from .readers.urdf import build_model, check_urdf, load_closed_chain, read_urdf
+from .readers.urdf import build_model, check_urdf, load_closed_chain, mesh_path, read_urdf
 
 __all__ = [
     "MAX_GAIN",
@@ -51,8 +52,10 @@ __all__ = [
     "load_closed_chain",
     "load_mechanism",
     "mass_matrix_derivative",
+    "mesh_path",
     "mobility",
     "read_motion",
+    "read_pose",
     "read_spec",
     "read_urdf",
     "simulate",

@@ -209,3 +209,29 @@ def load_closed_chain(
             body.
     """
     return ClosedChain(build_model(read_urdf(urdf), str(urdf)), closures)
+
+
+def mesh_path(uri: str, urdf: str | Path) -> Path:
+    """The file a URDF mesh ``filename`` names, resolved beside the URDF: ``package:///NAME``
+    (Onshape exports), ``package://PKG/NAME`` (looked up beside the URDF as ``NAME``, then as
+    ``PKG/NAME``), ``file:///abs/path``, or a path relative to the URDF's folder.
+
+    Raises:
+        UrdfError: The file does not exist (the message names the URI and where it looked).
+    """
+    folder = Path(urdf).parent
+    if uri.startswith("package://"):
+        rest = uri[len("package://") :].lstrip("/")
+        candidates = [folder / rest]
+        if "/" in rest:
+            candidates.insert(0, folder / rest.split("/", 1)[1])
+    elif uri.startswith("file://"):
+        candidates = [Path(uri[len("file://") :])]
+    else:
+        candidates = [folder / uri]
+    for candidate in candidates:
+        if candidate.is_file():
+            return candidate
+    raise UrdfError(
+        f"mesh {uri!r} of {urdf} not found (looked for {', '.join(map(str, candidates))})"
+    )
