@@ -12,7 +12,7 @@ from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import ClosureFrameError, InputError, UnreachablePoseError
 
-from ..conftest import FOURBAR_COUPLER, FOURBAR_CRANK, FOURBAR_GROUND, FOURBAR_ROCKER, REPO
+from ...conftest import FOURBAR_COUPLER, FOURBAR_CRANK, FOURBAR_GROUND, FOURBAR_ROCKER, REPO
 
 FD_STEP = 1e-6
 """Central-difference step [rad or m]: truncation O(h²) ~ 1e-12, round-off ~ 1e-16/h ~ 1e-10."""

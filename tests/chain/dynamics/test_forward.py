@@ -15,7 +15,7 @@ from feeder.chain.dynamics.forward import simulate
 from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
 from feeder.exceptions import InputError
 
-from ..conftest import REPO
+from ...conftest import REPO
 
 STEP = 1e-3  # [s]
 ENERGY = 1e-6

@@ -13,7 +13,7 @@ from feeder.chain.readers.mechanism import load_mechanism, read_spec
 from feeder.chain.readers.motion_table import read_motion
 from feeder.exceptions import InputError, UrdfError
 
-from ..conftest import REPO
+from ...conftest import REPO
 
 EXAMPLE = REPO / "examples" / "four_bar"
 

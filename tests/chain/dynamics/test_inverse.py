@@ -21,7 +21,7 @@ from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
-from ..conftest import REPO
+from ...conftest import REPO
 
 FOUR_BAR = REPO / "examples" / "four_bar" / "four_bar.urdf"
 C = 0.080  # rocker length [m]

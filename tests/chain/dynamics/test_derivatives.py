@@ -12,7 +12,7 @@ from feeder.chain import load_closed_chain
 from feeder.chain.dynamics.derivatives import mass_matrix_derivative
 from feeder.exceptions import InputError
 
-from ..conftest import robots_dir
+from ...conftest import robots_dir
 
 FD_STEP = 1e-6
 FD_RTOL = 1e-7

@@ -21,7 +21,7 @@ from feeder.chain.kinematics.tree import (
 from feeder.device import load_feeder
 from feeder.exceptions import InputError
 
-from ..conftest import REPO
+from ...conftest import REPO
 
 ROUND_OFF = 1e-11
 """Both sides add the same ~10 terms of size ≤ 1e3 (forces [N], with random rates of order 1):

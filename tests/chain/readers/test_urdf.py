@@ -12,7 +12,7 @@ from feeder.device.builtin import PROJECTILE_FEEDER
 from feeder.device.urdf_writer import urdf_string
 from feeder.exceptions import ClosureFrameError, InertiaError, UrdfError
 
-from ..conftest import REPO
+from ...conftest import REPO
 
 ROUND_OFF = 1e-12
 """Relative: the same rotation by 0.3 rad about z built twice, once from a normalised axis."""

@@ -18,7 +18,7 @@ from feeder.chain.mobility import mobility
 from feeder.chain.readers.sdf import branch_links, load_sdf, read_sdf
 from feeder.exceptions import InputError, SingularPoseError, UrdfError
 
-from ..conftest import (
+from ...conftest import (
     FOURBAR_COUPLER,
     FOURBAR_CRANK,
     FOURBAR_GROUND,
