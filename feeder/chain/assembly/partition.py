@@ -37,14 +37,8 @@ import pinocchio as pin
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_number, check_samples, check_vector
 from ..model.closure import ClosedChain
-from .newton import (
-    MAX_ITERATIONS,
-    POSITION_TOLERANCE,
-    RANK_TOLERANCE,
-    loop_gaps,
-    mount,
-    newton,
-)
+from .newton import MAX_ITERATIONS, POSITION_TOLERANCE, RANK_TOLERANCE, loop_gaps, mount, newton
+from .rank import IDLE_TOLERANCE, least_squares, point_rows, velocity_gain
 
 MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
@@ -67,11 +61,6 @@ MAX_SPLIT = 64
 RESTARTS = 50
 """Random restarts (seeded) that :meth:`Partition.assemble` tries when Newton from the guess
 stops at a local minimum of the residual, or its solution misses the requested branch."""
-
-IDLE_TOLERANCE = 1e-9
-"""An idle direction (unit vector of joint rates) may move a joint origin, frame or centre of
-gravity by at most this [m per unit] times the mechanism's size: round-off of the Jacobians
-(1e-16) is far below, any real lever arm (≥ 1e-3 of the size) far above."""
 
 
 class Partition:
@@ -210,7 +199,7 @@ class Partition:
             return np.zeros((0, nv))
         motions = np.zeros((free.shape[0], nv))
         motions[:, self.dependent] = free
-        points = self._point_rows()  # (3 p, nv): joint origins, frames, centres of gravity
+        points = point_rows(self.chain)  # (3 p, nv): joint origins, frames, centres of gravity
         moved = np.abs(points @ motions.T).max(axis=0)
         size = self.length_scale(q)
         self.chain.jacobian(q)  # the chain's data back at q for the caller
@@ -233,24 +222,6 @@ class Partition:
             f"(up to {moved.max():.3g} m per unit rate: not an idle motion; too few independent "
             "joints, or a singular pose)"
         )
-
-    def _point_rows(self) -> np.ndarray:
-        """World velocity rows (3 p, nv) of every joint origin, frame origin and centre of
-        gravity of a body with mass, from the Jacobians in the chain's data (after
-        :meth:`ClosedChain.jacobian`)."""
-        model, data = self.chain.model, self.chain.data
-        world = pin.LOCAL_WORLD_ALIGNED
-        rows = []
-        for j in range(1, model.njoints):
-            jac = pin.getJointJacobian(model, data, j, world)
-            rows.append(jac[:3])
-            if model.inertias[j].mass > 0.0:
-                lever = data.oMi[j].rotation @ model.inertias[j].lever
-                rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
-        for f in range(1, len(model.frames)):
-            if model.frames[f].parentJoint > 0:
-                rows.append(pin.getFrameJacobian(model, data, f, world)[:3])
-        return np.vstack(rows)
 
     def _check_pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Closure Jacobian (nc, nv) and its dependent columns, after the rank, idle-motion and
@@ -440,7 +411,7 @@ class Partition:
     def _velocity(self, jac: np.ndarray, jac_dep: np.ndarray, v_independent: np.ndarray):
         v = np.zeros(self.chain.model.nv)
         v[self.independent] = v_independent
-        v[self.dependent] = -_least_squares(jac_dep, jac @ v)
+        v[self.dependent] = -least_squares(jac_dep, jac @ v)
         return v
 
     def acceleration(self, q: np.ndarray, v: np.ndarray, a_independent: np.ndarray) -> np.ndarray:
@@ -468,7 +439,7 @@ class Partition:
         a = np.zeros(self.chain.model.nv)
         a[self.independent] = a_independent
         rhs = jac @ a + self.chain.bias(q, v)
-        a[self.dependent] = -_least_squares(jac_dep, rhs)
+        a[self.dependent] = -least_squares(jac_dep, rhs)
         return a
 
     # -- trajectories -----------------------------------------------------------------------
@@ -614,26 +585,5 @@ class Partition:
         jac_dep, jac_ind = self._split(jac)
         delta = np.zeros(self.chain.model.nv)
         delta[self.independent] = step
-        delta[self.dependent] = -_least_squares(jac_dep, jac_ind @ step)
+        delta[self.dependent] = -least_squares(jac_dep, jac_ind @ step)
         return pin.integrate(self.chain.model, q, delta)
-
-
-def _least_squares(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Minimum-norm least-squares solution, singular values below :data:`RANK_TOLERANCE` of the
-    largest dropped (idle motions get no share)."""
-    if matrix.size == 0:
-        return np.zeros(matrix.shape[1])
-    return np.linalg.lstsq(matrix, rhs, rcond=RANK_TOLERANCE)[0]
-
-
-def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
-    """‖J_dep⁺ J_ind‖₂ with J_dep⁺ truncated at :data:`RANK_TOLERANCE` (idle motions, whose
-    singular values are round-off, do not count; a pose approaching a toggle has a small but
-    resolved singular value and a large gain)."""
-    if jac_dep.shape[1] == 0 or jac_ind.size == 0:
-        return 0.0
-    u, s, vt = np.linalg.svd(jac_dep, full_matrices=False)
-    scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
-    keep = s > RANK_TOLERANCE * scale
-    pinv = (vt[keep].T / s[keep]) @ u[:, keep].T
-    return float(np.linalg.norm(pinv @ jac_ind, 2))

@@ -1,0 +1,56 @@
+"""The linear algebra of the rank tests: which points a locked-input motion moves (idle motions
+move none), minimum-norm least squares that give idle motions no share, and the velocity gain.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..model.closure import ClosedChain
+from .newton import RANK_TOLERANCE
+
+IDLE_TOLERANCE = 1e-9
+"""An idle direction (unit vector of joint rates) may move a joint origin, frame or centre of
+gravity by at most this [m per unit] times the mechanism's size: round-off of the Jacobians
+(1e-16) is far below, any real lever arm (≥ 1e-3 of the size) far above."""
+
+
+def point_rows(chain: ClosedChain) -> np.ndarray:
+    """World velocity rows (3 p, nv) of every joint origin, frame origin and centre of
+    gravity of a body with mass, from the Jacobians in the chain's data (after
+    :meth:`ClosedChain.jacobian`)."""
+    model, data = chain.model, chain.data
+    world = pin.LOCAL_WORLD_ALIGNED
+    rows = []
+    for j in range(1, model.njoints):
+        jac = pin.getJointJacobian(model, data, j, world)
+        rows.append(jac[:3])
+        if model.inertias[j].mass > 0.0:
+            lever = data.oMi[j].rotation @ model.inertias[j].lever
+            rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
+    for f in range(1, len(model.frames)):
+        if model.frames[f].parentJoint > 0:
+            rows.append(pin.getFrameJacobian(model, data, f, world)[:3])
+    return np.vstack(rows)
+
+
+def least_squares(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Minimum-norm least-squares solution, singular values below :data:`RANK_TOLERANCE` of the
+    largest dropped (idle motions get no share)."""
+    if matrix.size == 0:
+        return np.zeros(matrix.shape[1])
+    return np.linalg.lstsq(matrix, rhs, rcond=RANK_TOLERANCE)[0]
+
+
+def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
+    """‖J_dep⁺ J_ind‖₂ with J_dep⁺ truncated at :data:`RANK_TOLERANCE` (idle motions, whose
+    singular values are round-off, do not count; a pose approaching a toggle has a small but
+    resolved singular value and a large gain)."""
+    if jac_dep.shape[1] == 0 or jac_ind.size == 0:
+        return 0.0
+    u, s, vt = np.linalg.svd(jac_dep, full_matrices=False)
+    scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
+    keep = s > RANK_TOLERANCE * scale
+    pinv = (vt[keep].T / s[keep]) @ u[:, keep].T
+    return float(np.linalg.norm(pinv @ jac_ind, 2))
