@@ -38,7 +38,7 @@ from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_number, check_samples, check_vector
 from ..model.closure import ClosedChain
 from .newton import MAX_ITERATIONS, POSITION_TOLERANCE, RANK_TOLERANCE, loop_gaps, mount, newton
-from .rank import IDLE_TOLERANCE, least_squares, point_rows, velocity_gain
+from .rank import IDLE_TOLERANCE, point_rows, truncated_inverse, velocity_gain
 
 MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
@@ -117,6 +117,7 @@ class Partition:
             and model.joints[j].nq == 1
             and model.joints[j].idx_v in self.dependent
         ]
+        self._last: tuple[bytes, tuple[np.ndarray, np.ndarray, float]] | None = None
         self._idle_count = 0
         """Idle motions verified at a pose (their number is structural: a pose with as many
         dependent-rank deficiencies needs no new check, one with more is examined again)."""
@@ -223,16 +224,19 @@ class Partition:
             "joints, or a singular pose)"
         )
 
-    def _check_pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Closure Jacobian (nc, nv) and its dependent columns, after the rank, idle-motion and
-        gain tests of the module docstring."""
+    def _check_pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """The closure Jacobian (nc, nv), the truncated pseudo-inverse of its dependent columns
+        (n_dep, nc) and the velocity gain at ``q``, after the rank, idle-motion and gain tests of
+        the module docstring. Remembered for the last pose (a trajectory asks for it when it
+        checks a sample, when it gives its rates and when it predicts the next one)."""
+        key = q.tobytes()
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
         jac = self.chain.jacobian(q)
-        jac_dep, _ = self._split(jac)
+        jac_dep, jac_ind = self._split(jac)
         scale = float(np.abs(jac).max(initial=0.0)) or 1.0
         rank_full = np.linalg.matrix_rank(jac, tol=RANK_TOLERANCE * scale) if jac.size else 0
-        rank_dep = (
-            np.linalg.matrix_rank(jac_dep, tol=RANK_TOLERANCE * scale) if jac_dep.size else 0
-        )
+        pinv, rank_dep = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
         if rank_dep < rank_full:
             raise SingularPoseError(
                 f"the dependent coordinates cannot follow the independent ones at "
@@ -242,14 +246,18 @@ class Partition:
         deficiency = self.dependent.size - rank_dep
         if deficiency and deficiency != self._idle_count:
             self._idle_count = self._idle(q, jac).shape[0]  # raises unless all are idle
-        gain = self._gain(q, jac)
+        if self._prismatic.size:
+            gain = self._gain(q, jac)
+        else:
+            gain = float(np.linalg.norm(pinv @ jac_ind, 2)) if jac_ind.size else 0.0
         if gain > self.max_gain:
             raise SingularPoseError(
                 f"q = {np.round(q, 6)} is near a singular pose (toggle, dead centre): a unit "
                 f"speed of {list(self.independent_joints)} needs dependent speeds up to "
                 f"{gain:.3g} (limit {self.max_gain:g}); the loads grow without bound there"
             )
-        return jac, jac_dep
+        self._last = (key, (jac, pinv, gain))
+        return jac, pinv, gain
 
     # -- position level ---------------------------------------------------------------------
 
@@ -406,12 +414,13 @@ class Partition:
         """
         q = self.check_closed(q)
         v_independent = self._check_independent("v_independent", v_independent)
-        return self._velocity(*self._check_pose(q), v_independent)
+        jac, pinv, _ = self._check_pose(q)
+        return self._velocity(jac, pinv, v_independent)
 
-    def _velocity(self, jac: np.ndarray, jac_dep: np.ndarray, v_independent: np.ndarray):
+    def _velocity(self, jac: np.ndarray, pinv: np.ndarray, v_independent: np.ndarray):
         v = np.zeros(self.chain.model.nv)
         v[self.independent] = v_independent
-        v[self.dependent] = -least_squares(jac_dep, jac @ v)
+        v[self.dependent] = -pinv @ (jac @ v)
         return v
 
     def acceleration(self, q: np.ndarray, v: np.ndarray, a_independent: np.ndarray) -> np.ndarray:
@@ -426,20 +435,19 @@ class Partition:
         q = self.check_closed(q)
         v = self.chain.check_v("v", v)
         a_independent = self._check_independent("a_independent", a_independent)
-        jac, jac_dep = self._check_pose(q)
+        jac, pinv, _ = self._check_pose(q)
         gap_rate = float(np.abs(jac @ v).max(initial=0.0))
         if gap_rate > 1e-9 * max(1.0, float(np.abs(v).max())):
             raise InputError(
                 f"v opens the loops at {gap_rate:.3e} per second: it is not a closed-chain "
                 "velocity (use Partition.velocity)"
             )
-        return self._acceleration(q, v, jac, jac_dep, a_independent)
+        return self._acceleration(q, v, jac, pinv, a_independent)
 
-    def _acceleration(self, q, v, jac, jac_dep, a_independent) -> np.ndarray:
+    def _acceleration(self, q, v, jac, pinv, a_independent) -> np.ndarray:
         a = np.zeros(self.chain.model.nv)
         a[self.independent] = a_independent
-        rhs = jac @ a + self.chain.bias(q, v)
-        a[self.dependent] = -least_squares(jac_dep, rhs)
+        a[self.dependent] = -pinv @ (jac @ a + self.chain.bias(q, v))
         return a
 
     # -- trajectories -----------------------------------------------------------------------
@@ -506,12 +514,10 @@ class Partition:
                 q = self._first(q_start, x[0], branch)
             else:
                 q = self._continue(qs[i - 1], x[i - 1], x[i], i)
-            jac = self.chain.jacobian(q)
-            jac_dep = jac[:, self.dependent]
+            jac, pinv, gains[i] = self._check_pose(q)
             qs[i] = q
-            vs[i] = self._velocity(jac, jac_dep, dx[i])
-            accs[i] = self._acceleration(q, vs[i], jac, jac_dep, ddx[i])
-            gains[i] = self._gain(q, jac)
+            vs[i] = self._velocity(jac, pinv, dx[i])
+            accs[i] = self._acceleration(q, vs[i], jac, pinv, ddx[i])
         return qs, vs, accs, gains
 
     def _first(self, q_start, x0, branch) -> np.ndarray:
@@ -581,9 +587,8 @@ class Partition:
     def _predict(self, q: np.ndarray, step: np.ndarray) -> np.ndarray:
         """``q`` moved by ``step`` of the independent coordinates along the closure's tangent
         (minimum norm in the idle motions)."""
-        jac = self.chain.jacobian(q)
-        jac_dep, jac_ind = self._split(jac)
+        jac, pinv, _ = self._check_pose(q)
         delta = np.zeros(self.chain.model.nv)
         delta[self.independent] = step
-        delta[self.dependent] = -least_squares(jac_dep, jac_ind @ step)
+        delta[self.dependent] = -pinv @ (jac[:, self.independent] @ step)
         return pin.integrate(self.chain.model, q, delta)

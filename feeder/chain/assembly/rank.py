@@ -1,5 +1,5 @@
 """The linear algebra of the rank tests: which points a locked-input motion moves (idle motions
-move none), minimum-norm least squares that give idle motions no share, and the velocity gain.
+move none), truncated pseudo-inverses that give idle motions no share, and the velocity gain.
 """
 
 from __future__ import annotations
@@ -35,12 +35,14 @@ def point_rows(chain: ClosedChain) -> np.ndarray:
     return np.vstack(rows)
 
 
-def least_squares(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Minimum-norm least-squares solution, singular values below :data:`RANK_TOLERANCE` of the
-    largest dropped (idle motions get no share)."""
+def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray, int]:
+    """The pseudo-inverse of ``matrix`` with its singular values at or below ``tolerance``
+    dropped (idle motions get no share: minimum-norm solutions), and its rank."""
     if matrix.size == 0:
-        return np.zeros(matrix.shape[1])
-    return np.linalg.lstsq(matrix, rhs, rcond=RANK_TOLERANCE)[0]
+        return np.zeros((matrix.shape[1], matrix.shape[0])), 0
+    u, s, vt = np.linalg.svd(matrix, full_matrices=False)
+    keep = s > tolerance
+    return (vt[keep].T / s[keep]) @ u[:, keep].T, int(keep.sum())
 
 
 def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
@@ -49,8 +51,6 @@ def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
     resolved singular value and a large gain)."""
     if jac_dep.shape[1] == 0 or jac_ind.size == 0:
         return 0.0
-    u, s, vt = np.linalg.svd(jac_dep, full_matrices=False)
     scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
-    keep = s > RANK_TOLERANCE * scale
-    pinv = (vt[keep].T / s[keep]) @ u[:, keep].T
+    pinv, _ = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
     return float(np.linalg.norm(pinv @ jac_ind, 2))

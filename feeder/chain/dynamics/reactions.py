@@ -115,6 +115,10 @@ def _along(columns: np.ndarray, vector: np.ndarray) -> np.ndarray:
     if not active.any():
         return np.zeros_like(vector)
     basis = columns[:, :, active]
+    if basis.shape[2] == 1:  # one axis (revolute, prismatic): (e · x) e / (e · e)
+        axis = basis[:, :, 0]
+        along = np.einsum("ni,ni->n", axis, vector) / np.einsum("ni,ni->n", axis, axis)
+        return along[:, None] * axis
     gram = np.swapaxes(basis, 1, 2) @ basis
     weights = np.linalg.solve(gram, np.einsum("nik,ni->nk", basis, vector)[..., None])
     return (basis @ weights)[..., 0]
