@@ -25,13 +25,14 @@ import argparse
 import math
 import shlex
 import sys
+import warnings
 from collections.abc import Sequence
 from contextlib import suppress
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .device.builtin import DEVICES
-from .exceptions import FeederError, InputError
+from .exceptions import FeederError, FeederWarning, InputError
 from .validation import check_elevation, check_number, check_path
 
 if TYPE_CHECKING:
@@ -510,13 +511,24 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line for the terminal: ``feeder: warning: …`` (the package's own), or
+    Python's usual form for a library's."""
+    if issubclass(category, FeederWarning):
+        print(f"feeder: warning: {message}", file=sys.stderr)
+    else:
+        print(warnings.formatwarning(message, category, filename, lineno, line), file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        args = _parser().parse_args(argv)
-        args.argv = argv
-        return args.run(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            args = _parser().parse_args(argv)
+            args.argv = argv
+            return args.run(args)
     except FeederError as exc:
         print(f"feeder: error: {exc}", file=sys.stderr)
         return 2

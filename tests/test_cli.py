@@ -478,6 +478,17 @@ def test_analyze_reads_a_cad_export_as_shipped(tmp_path, capsys):
     assert "2 idle motion(s)" in (folder / "summary.txt").read_text(encoding="utf-8")
 
 
+def test_an_implausible_body_is_a_one_line_warning(capsys):
+    """The 5-bar export's 654-tonne sphere: the run goes on, the terminal gets one line naming
+    the link (not Python's warning with a source line)."""
+    cad = REPO / "examples" / "cad" / "5bar_linkage"
+    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml"), "--check"]
+    assert main(["analyze", *arguments]) == 0
+    err = capsys.readouterr().err
+    assert "feeder: warning:" in err and "(links sphere) weighs 654498 kg" in err
+    assert "build_model(" not in err
+
+
 def test_analyze_writes_the_loads_table_and_figures(tmp_path, capsys):
     out = tmp_path / "four_bar"
     arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]

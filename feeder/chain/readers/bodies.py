@@ -34,12 +34,16 @@ def check_bodies(model: pin.Model, source: str) -> None:
     for frame in model.frames:
         if frame.parentJoint > 0:
             reach[frame.parentJoint].append(frame.placement.translation)
+    links: dict[int, list[str]] = {j: [] for j in range(model.njoints)}
+    for frame in model.frames:
+        if frame.type == pin.FrameType.BODY:
+            links[frame.parentJoint].append(frame.name)
     for j in range(1, model.njoints):
         body = model.inertias[j]
-        name = model.names[j]
+        name = f"{model.names[j]}' (links {', '.join(links[j])})"
         if positive.size > 2 and body.mass > HEAVY * median:
             warnings.warn(
-                f"{source}: the body of joint {name!r} weighs {body.mass:.6g} kg, "
+                f"{source}: the body of joint '{name} weighs {body.mass:.6g} kg, "
                 f"{body.mass / median:.3g} times the median body ({median:.3g} kg): check its "
                 "mass (a CAD material or unit slip?)",
                 FeederWarning,
@@ -52,7 +56,7 @@ def check_bodies(model: pin.Model, source: str) -> None:
         largest = float(np.linalg.eigvalsh(body.inertia)[-1])
         if body.mass > 0.0 and largest > body.mass * (2.0 * radius) ** 2:
             warnings.warn(
-                f"{source}: the body of joint {name!r} has a principal moment of {largest:.6g} "
+                f"{source}: the body of joint '{name} has a principal moment of {largest:.6g} "
                 f"kg·m², more than a body of {body.mass:.6g} kg reaching {radius:.3g} m from its "
                 f"centre of gravity can have ({body.mass * (2.0 * radius) ** 2:.3g} kg·m²): "
                 "check its inertia (units?)",
