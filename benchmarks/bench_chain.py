@@ -81,6 +81,28 @@ def device(samples: int):
     )
 
 
+def bare_call(chain: ClosedChain, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> float:
+    """Best time [s] of one bare ``constraintDynamics`` call, over every sample."""
+    model, data = chain.model, chain.model.createData()
+    pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
+    settings = pin.ProximalSettings(1e-12, 1e-8, 20)
+
+    def bare() -> None:
+        for k in range(q.shape[0]):
+            pin.constraintDynamics(
+                model,
+                data,
+                q[k],
+                v[k],
+                tau[k],
+                chain.constraint_models,
+                chain.constraint_datas,
+                settings,
+            )
+
+    return best_time(bare) / q.shape[0]
+
+
 def cad(name: str, samples: int):
     """A CAD export mounted from its open pose, its motors on ±0.1 rad sinusoids over 1 s."""
     import warnings
@@ -109,27 +131,10 @@ def measure_analysis(name: str, chain, actuated, partition, q0, motion) -> dict:
     q, v, a, _ = partition.track(q0, *motion)
     dyn = ChainDynamics(chain, actuated)
     loads = inverse_dynamics(dyn, q, v, a)
-    model, data = chain.model, chain.model.createData()
-    pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
-    settings = pin.ProximalSettings(1e-12, 1e-8, 20)
     n = q.shape[0]
-    tau = np.zeros((n, model.nv))
+    tau = np.zeros((n, chain.model.nv))
     tau[:, dyn.columns] = np.column_stack([loads.actuators[j] for j in actuated])
-
-    def bare() -> None:
-        for k in range(n):
-            pin.constraintDynamics(
-                model,
-                data,
-                q[k],
-                v[k],
-                tau[k],
-                chain.constraint_models,
-                chain.constraint_datas,
-                settings,
-            )
-
-    call = best_time(bare) / n
+    call = bare_call(chain, q, v, tau)
     per_track = best_time(lambda: partition.track(q0, *motion), repeats=2) / n
     per_loads = best_time(lambda: inverse_dynamics(dyn, q, v, a), repeats=3) / n
     ratio = (per_track + per_loads) / call
@@ -150,27 +155,11 @@ def measure_analysis(name: str, chain, actuated, partition, q0, motion) -> dict:
 
 def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
     dyn = ChainDynamics(chain, actuated)
-    model, data = chain.model, chain.model.createData()
-    pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
-    settings = pin.ProximalSettings(1e-12, 1e-8, 20)
     n = q.shape[0]
-    tau = np.zeros((n, model.nv))
+    tau = np.zeros((n, chain.model.nv))
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     loads, _, _ = solve_loads(dyn, motion, rows)
     tau[:, dyn.columns] = loads
-
-    def bare() -> None:
-        for k in range(n):
-            pin.constraintDynamics(
-                model,
-                data,
-                q[k],
-                v[k],
-                tau[k],
-                chain.constraint_models,
-                chain.constraint_datas,
-                settings,
-            )
 
     def loads_only() -> None:
         _, _, _, motion, rows = check_motion(dyn, q, v, a)
@@ -182,7 +171,7 @@ def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
         _, terms = closure_wrenches(chain, rows, lam)
         joint_reactions(dyn.chain, motion, terms)
 
-    call = best_time(bare) / n
+    call = bare_call(chain, q, v, tau)
     per_loads = best_time(loads_only) / n
     per_all = best_time(everything) / n
     ratio = per_all / call

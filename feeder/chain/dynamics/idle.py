@@ -53,9 +53,8 @@ def idle_accelerations(
     forces = generalized_forces(model, motion, *joint_wrenches(model, motion, external))
     n, nv, count = basis.shape
     zero = np.zeros((n, nv))
-    rest = generalized_forces(
-        model, still := tree_motion(model, q, zero, zero), *joint_wrenches(model, still)
-    )
+    still = tree_motion(model, q, zero, zero)
+    rest = generalized_forces(model, still, *joint_wrenches(model, still))  # gravity alone
     inertia_columns = np.empty((n, nv, count))  # M N, from M n = f(q, 0, n) − f(q, 0, 0)
     for k in range(count):
         moving = tree_motion(model, q, zero, basis[:, :, k])

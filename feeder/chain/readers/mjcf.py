@@ -20,7 +20,7 @@ from lxml import etree
 from ...exceptions import UrdfError
 from ..model.closure import Closure
 from .inertia import check_inertia
-from .urdf import parse_xml
+from .urdf import parse_xml_file
 
 UNSUPPORTED = ("include", "replicate", "attach", "frame", "composite", "flexcomp")
 """MJCF elements Pinocchio's reader skips or misreads: refused."""
@@ -38,13 +38,7 @@ def check_mjcf(path: Path) -> etree._Element:
     Raises:
         UrdfError: Missing or malformed file, or one of the above, named.
     """
-    if not path.is_file():
-        raise UrdfError(f"MJCF file not found: {path}")
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise UrdfError(f"cannot read MJCF file {path}: {exc}") from exc
-    root = parse_xml(data, str(path), "mujoco")
+    root = parse_xml_file(path, "MJCF", "mujoco")
     for element in root.iter(*UNSUPPORTED):
         raise UrdfError(
             f"{path}: <{element.tag}> (line {element.sourceline}) is not supported by the MJCF "

@@ -70,7 +70,7 @@ from lxml import etree
 
 from ...exceptions import InputError, UrdfError
 from ..model.closure import ClosedChain, Closure
-from .urdf import AXIS_MIN_NORM, build_model, check_urdf, parse_xml
+from .urdf import AXIS_MIN_NORM, build_model, check_urdf, parse_xml_file
 
 SDF_VERSIONS = ("1.4", "1.5", "1.6", "1.7")
 """SDF versions read (their pose and axis conventions are the module docstring's)."""
@@ -148,13 +148,7 @@ def _read_tree(path: str | Path) -> tuple[etree._Element, str]:
         raise InputError(f"path must be a file name, got {path!r}")
     path = Path(path)
     source = str(path)
-    if not path.is_file():
-        raise UrdfError(f"SDF file not found: {source}")
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise UrdfError(f"cannot read SDF file {source}: {exc}") from exc
-    root = parse_xml(data, source, "sdf")
+    root = parse_xml_file(path, "SDF", "sdf")
     version = (root.get("version") or "").strip()
     if version not in SDF_VERSIONS:
         raise UrdfError(

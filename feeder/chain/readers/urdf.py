@@ -61,6 +61,22 @@ def parse_xml(data: bytes, source: str, root_tag: str) -> etree._Element:
     return root
 
 
+def parse_xml_file(path: Path, kind: str, root_tag: str) -> etree._Element:
+    """The root element of the robot description file at ``path`` (``kind`` names the format in
+    the messages), read and parsed strictly (:func:`parse_xml`).
+
+    Raises:
+        UrdfError: The file does not exist, cannot be read, or does not parse strictly.
+    """
+    if not path.is_file():
+        raise UrdfError(f"{kind} file not found: {path}")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise UrdfError(f"cannot read {kind} file {path}: {exc}") from exc
+    return parse_xml(data, str(path), root_tag)
+
+
 def read_urdf(path: str | Path) -> str:
     """Return the text of the URDF file at ``path``.
 
