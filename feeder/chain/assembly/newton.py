@@ -32,6 +32,12 @@ mechanism's lever arms."""
 MAX_ITERATIONS = 100
 """Newton iterations before a solve gives up."""
 
+CONTINUATION_STEP = 0.5
+"""Largest accepted Newton correction after the predictor of a continuation step, as a fraction
+of the step of the independent coordinates: a first-order predictor errs by O(step²), so a
+correction this large means a step too coarse for the curvature, where the next solution may lie
+on another branch."""
+
 MOUNT_ITERATIONS = 400
 """Iterations of the mount from the open pose (its loops may start metres and half turns apart,
 and its last iterations only walk along the closed set towards the reference)."""

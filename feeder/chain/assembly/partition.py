@@ -29,6 +29,7 @@ velocities grow without bound for a bounded independent motion; the *velocity ga
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -37,18 +38,22 @@ import pinocchio as pin
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_number, check_samples, check_vector
 from ..model.closure import ClosedChain
-from .newton import MAX_ITERATIONS, POSITION_TOLERANCE, RANK_TOLERANCE, loop_gaps, mount, newton
+from .batch import MIN_SAMPLES, BatchFallback, batch_track
+from .newton import (
+    CONTINUATION_STEP,
+    MAX_ITERATIONS,
+    POSITION_TOLERANCE,
+    RANK_TOLERANCE,
+    loop_gaps,
+    mount,
+    newton,
+)
 from .rank import IDLE_TOLERANCE, point_rows, truncated_inverse, velocity_gain
 
 MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
 SI units): a coordinate that must move a thousand times faster than the driving ones is at a
 toggle for every practical purpose (the device's 5° transmission limit is a gain of ~3)."""
-
-CONTINUATION_STEP = 0.5
-"""Largest accepted Newton correction after the tangent predictor, as a fraction of the step of
-the independent coordinates: a first-order predictor errs by O(step²), so a correction this large
-means a step too coarse for the curvature, where the next solution may lie on another branch."""
 
 MOUNT_STEP = 0.05
 """Largest step [rad, m] of the independent coordinates when they are moved from the mounted
@@ -262,25 +267,28 @@ class Partition:
     # -- position level ---------------------------------------------------------------------
 
     def wrap(self, q: np.ndarray) -> np.ndarray:
-        """``q`` with its dependent revolute angles moved by the multiple of 2π that brings them
-        into (−π, π] — or, where that value is outside the joint's limits, into the limits if
-        some turn of the angle is: never wound, and the same whatever generous limits are set (a
-        range of [0, 0] means "not set")."""
+        """``q`` (nq,) or (N, nq) with its dependent revolute angles moved by the multiple of 2π
+        that brings them into (−π, π] — or, where that value is outside the joint's limits, into
+        the limits if some turn of the angle is: never wound, and the same whatever generous
+        limits are set (a range of [0, 0] means "not set")."""
         model = self.chain.model
         q = q.copy()
         for i in self._angles:
             low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
-            principal = np.pi - np.mod(np.pi - q[i], 2.0 * np.pi)
-            unset = low == high == 0.0
-            if unset or low - 1e-12 <= principal <= high + 1e-12:
-                q[i] = principal
-            else:
-                shifted = principal + 2.0 * np.pi * np.ceil((low - principal) / (2.0 * np.pi))
-                q[i] = shifted if shifted <= high + 1e-12 else principal
+            principal = np.pi - np.mod(np.pi - q[..., i], 2.0 * np.pi)
+            if low == high == 0.0:
+                q[..., i] = principal
+                continue
+            shifted = principal + 2.0 * np.pi * np.ceil((low - principal) / (2.0 * np.pi))
+            inside = (low - 1e-12 <= principal) & (principal <= high + 1e-12)
+            q[..., i] = np.where(inside | (shifted > high + 1e-12), principal, shifted)
         return q
 
     def _check_limits(self, q: np.ndarray) -> None:
+        """Raise :class:`UnreachablePoseError` for the first joint of ``q`` (nq,) or (N, nq)
+        outside its limits (one-coordinate joints with a range set)."""
         model = self.chain.model
+        q = np.atleast_2d(q)
         for j in range(1, model.njoints):
             joint = model.joints[j]
             if joint.nq != 1:
@@ -289,10 +297,12 @@ class Partition:
             low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
             if low == high == 0.0:
                 continue  # "not set"
-            if q[i] < low - 1e-12 or q[i] > high + 1e-12:
+            outside = (q[:, i] < low - 1e-12) | (q[:, i] > high + 1e-12)
+            if outside.any():
+                value = q[int(np.argmax(outside)), i]
                 role = "prescribed" if joint.idx_v in self.independent else "dependent"
                 raise UnreachablePoseError(
-                    f"the {role} joint {model.names[j]} = {q[i]:.6g} is outside its limits "
+                    f"the {role} joint {model.names[j]} = {value:.6g} is outside its limits "
                     f"[{low:.6g}, {high:.6g}]"
                     + ("" if role == "prescribed" else " where the loops close")
                 )
@@ -506,14 +516,14 @@ class Partition:
             )
         model = self.chain.model
         n = x.shape[0]
+        first = self._first(self.chain.check_q(q_start), x[0], branch)
+        if n >= MIN_SAMPLES:
+            with contextlib.suppress(BatchFallback):  # then the sequential way, below
+                return batch_track(self, first, x, dx, ddx)
         qs, vs, accs = np.empty((n, model.nq)), np.empty((n, model.nv)), np.empty((n, model.nv))
         gains = np.empty(n)
-        q_start = self.chain.check_q(q_start)
         for i in range(n):
-            if i == 0:
-                q = self._first(q_start, x[0], branch)
-            else:
-                q = self._continue(qs[i - 1], x[i - 1], x[i], i)
+            q = first if i == 0 else self._continue(qs[i - 1], x[i - 1], x[i], i)
             jac, pinv, gains[i] = self._check_pose(q)
             qs[i] = q
             vs[i] = self._velocity(jac, pinv, dx[i])

@@ -32,6 +32,7 @@ import pinocchio as pin
 from ...exceptions import InputError, UnreachablePoseError
 from ...validation import check_finite, check_number, check_vector
 from ..assembly.partition import Partition
+from ..kinematics.joints import angle_columns, angular_difference
 from .inverse import ChainDynamics
 
 BAUMGARTE_RATE = 20.0
@@ -82,16 +83,13 @@ class ForwardRun:
         reference = check_finite("q_reference", q_reference)
         if reference.shape != self.q.shape:
             raise InputError(f"q_reference must have shape {self.q.shape}, got {reference.shape}")
+        angles = angle_columns(model)
         gaps = np.array(
-            [pin.difference(model, r, q) for r, q in zip(reference, self.q, strict=True)]
+            [
+                angular_difference(model, r, q, angles)
+                for r, q in zip(reference, self.q, strict=True)
+            ]
         )
-        angles = [
-            model.joints[j].idx_v
-            for j in range(1, model.njoints)
-            if model.joints[j].shortname().startswith(("JointModelR", "JointModelRevolute"))
-            and model.joints[j].nq == 1
-        ]
-        gaps[:, angles] = np.pi - np.mod(np.pi - gaps[:, angles], 2.0 * np.pi)
         return np.abs(gaps).max(axis=0)
 
 

@@ -219,3 +219,23 @@ def relative_motion(
         (angular @ a[:, :, None])[..., 0],
         (linear @ a[:, :, None])[..., 0] + _cross(omega, velocity),
     )
+
+
+def angle_columns(model: pin.Model) -> list[int]:
+    """Velocity indices of the one-coordinate revolute joints: angles, 2π-periodic (a
+    continuous joint's (cos, sin) and a quaternion are periodic by construction)."""
+    return [
+        model.joints[j].idx_v
+        for j in range(1, model.njoints)
+        if kind_of(model.joints[j]) == "revolute"
+    ]
+
+
+def angular_difference(
+    model: pin.Model, q_from: np.ndarray, q_to: np.ndarray, angles: list[int]
+) -> np.ndarray:
+    """q_to ⊖ q_from (nv,) on the model's Lie groups, revolute angles (``angles``, from
+    :func:`angle_columns`) taken the short way round, into (−π, π]."""
+    step = pin.difference(model, q_from, q_to)
+    step[angles] = np.pi - np.mod(np.pi - step[angles], 2.0 * np.pi)
+    return step

@@ -1,0 +1,75 @@
+"""Batched continuation (feeder.chain.assembly.batch) against the sequential one, sample by
+sample: the same poses, rates, accelerations and gains, on a planar four-bar turning twice
+(redundant rows, wrapped angles) and on the CAD biped (ball and universal joints, 6 welds)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import feeder.chain.assembly.partition as partition_module
+from feeder.chain import Closure, Partition, load_closed_chain, load_mechanism, read_spec
+from feeder.chain.assembly.batch import MIN_SAMPLES, batch_track
+from feeder.exceptions import FeederWarning
+
+from ...conftest import REPO
+
+AGREEMENT = 1e-10
+"""[rad, rad/s, rad/s²] Both paths solve the same closure to 1e-13 from different starts: the
+poses agree to the Newton tolerance times the velocity gain; rates and accelerations, computed
+from the same Jacobians, to round-off times the gain (measured ≤ 9e-12)."""
+
+
+def four_bar():
+    chain = load_closed_chain(
+        REPO / "examples" / "four_bar" / "four_bar.urdf",
+        [Closure("coupler_tip", "rocker_tip", "revolute")],
+    )
+    partition = Partition(chain, ["crank_joint"])
+    q0 = partition.mount(np.zeros(3))
+    t = np.linspace(0.0, 1.0, 300)[:, None]
+    x = partition.independent_values(q0) + 3.0 * np.pi * t  # 1.5 turns, inside its ±4π
+    return chain, ["crank_joint"], q0, (x, np.full_like(x, 3.0 * np.pi), np.zeros_like(x))
+
+
+def biped():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FeederWarning)
+        spec = read_spec(REPO / "examples" / "cad" / "battobot_6d" / "robot.yaml")
+        chain = load_mechanism(spec)
+    partition = Partition(chain, spec.independent)
+    q0 = partition.mount(pin.neutral(chain.model))
+    model = chain.model
+    index = [model.joints[model.getJointId(name)].idx_q for name in spec.independent]
+    low, high = model.lowerPositionLimit[index], model.upperPositionLimit[index]
+    centre = np.clip(partition.independent_values(q0), low + 0.1, high - 0.1)
+    t = np.linspace(0.0, 1.0, 200)[:, None]
+    w, ones = 2.0 * np.pi, np.ones(len(spec.independent))
+    x = centre + 0.05 * np.sin(w * t) * ones
+    return chain, list(spec.independent), q0, (x, 0.05 * w * np.cos(w * t) * ones, None)
+
+
+@pytest.mark.parametrize("case", [four_bar, biped], ids=["four_bar", "biped"])
+def test_batched_and_sequential_continuation_agree(case, monkeypatch):
+    chain, independent, q0, (x, dx, ddx) = case()
+    assert x.shape[0] >= MIN_SAMPLES
+    finished = []
+
+    def spy(*args):
+        finished.append(batch_track(*args))
+        return finished[-1]
+
+    monkeypatch.setattr(partition_module, "batch_track", spy)
+    batched = Partition(chain, independent).track(q0, x, dx, ddx)
+    assert finished, "the batched path fell back"
+    monkeypatch.setattr(partition_module, "MIN_SAMPLES", x.shape[0] + 1)
+    sequential = Partition(chain, independent).track(q0, x, dx, ddx)
+    gaps = [
+        pin.difference(chain.model, a, b) for a, b in zip(batched[0], sequential[0], strict=True)
+    ]
+    assert np.abs(gaps).max() <= AGREEMENT
+    for mine, theirs in zip(batched[1:], sequential[1:], strict=True):
+        assert np.abs(mine - theirs).max() <= AGREEMENT * max(1.0, np.abs(theirs).max())
