@@ -31,8 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ..exceptions import InputError, SingularPoseError
+from ..exceptions import SingularPoseError
 from .assembly.partition import RANK_TOLERANCE, Partition
+from .assembly.rank import moved_joints
 from .model.closure import ClosedChain
 
 MAX_CHOICES = 20_000
@@ -181,9 +182,7 @@ def mobility(
     margin = gain = idle = determined = None
     if independent is not None:
         independent = tuple(independent)
-        if len(set(independent)) != len(independent):
-            raise InputError(f"independent joints must be distinct, got {list(independent)}")
-        chosen = [chain.joint_slice(name).start for name in independent]
+        chosen = chain.coordinate_columns(independent, "independent").tolist()
         others = [i for i in range(dof) if i not in chosen]
         dependent = jac[:, others]
         values = np.linalg.svd(dependent, compute_uv=False) if dependent.size else np.zeros(0)
@@ -196,7 +195,7 @@ def mobility(
         except SingularPoseError as exc:
             determined = str(exc)
             motions = np.zeros((0, dof))
-        idle = tuple(_moved_joints(model, motion) for motion in _localised(motions))
+        idle = tuple(moved_joints(model, motion) for motion in _localised(motions))
         gain = partition.gain(q)
     tree = tuple(
         model.names[j] + (f" ({model.joints[j].nv})" if model.joints[j].nv != 1 else "")
@@ -245,18 +244,3 @@ def _localised(motions: np.ndarray) -> np.ndarray:
         return motions
     _, _, pivots = scipy.linalg.qr(motions, pivoting=True, mode="economic")
     return np.linalg.solve(motions[:, pivots[: motions.shape[0]]], motions)
-
-
-def _moved_joints(model, motion: np.ndarray) -> tuple[str, ...]:
-    """Names of the joints an idle motion (nv,) moves, largest share first."""
-    shares = {
-        model.names[j]: float(
-            np.abs(
-                motion[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv]
-            ).max()
-        )
-        for j in range(1, model.njoints)
-    }
-    return tuple(
-        name for name, share in sorted(shares.items(), key=lambda x: -x[1]) if share > 1e-6
-    )

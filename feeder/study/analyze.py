@@ -18,6 +18,7 @@ import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.kinematics.joints import kind_of
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
@@ -119,19 +120,12 @@ class Analysis:
         return "\n".join(lines)
 
     def pose_lines(self) -> list[str]:
-        """The assembled pose as text: each joint's coordinates (``pose_rows``)."""
-        rows = pose_rows(self.chain.model, self.assembled)
-        distance = float(
-            np.linalg.norm(pin.difference(self.chain.model, self.reference, self.assembled))
-        )
-        return [
-            f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
-            *(f"  {name} {coordinate} = {value:.9g}" for name, coordinate, value in rows),
-        ]
+        """The assembled pose as text (:func:`pose_lines`)."""
+        return pose_lines(self.chain.model, self.reference, self.assembled)
 
     def _prismatic(self, joint: str) -> bool:
         model = self.chain.model
-        return model.joints[model.getJointId(joint)].shortname().startswith("JointModelP")
+        return kind_of(model.joints[model.getJointId(joint)]) == "prismatic"
 
 
 def joint_columns(
@@ -198,27 +192,35 @@ def pose_rows(model: pin.Model, q: np.ndarray) -> list[tuple[str, str, float]]:
     return rows
 
 
+def pose_lines(model: pin.Model, reference: np.ndarray, assembled: np.ndarray) -> list[str]:
+    """The assembled pose as text: its distance from the reference and each joint's coordinates
+    (:func:`pose_rows`)."""
+    distance = float(np.linalg.norm(pin.difference(model, reference, assembled)))
+    return [
+        f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
+        *(f"  {name} {part} = {value:.9g}" for name, part, value in pose_rows(model, assembled)),
+    ]
+
+
+def _mounted(spec_path, model, pose):
+    """The side-file, its chain, the partition of its independent joints, the reference pose
+    (the model's zero pose or the pose file) and the closed pose nearest to it."""
+    spec = read_spec(spec_path, model)
+    chain = load_mechanism(spec)
+    partition = Partition(chain, spec.independent)
+    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
+    return spec, chain, partition, reference, partition.mount(reference)
+
+
 def check_mechanism(
     spec_path: str | Path, model: str | Path | None = None, pose: str | Path | None = None
 ) -> str:
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
     the closed pose nearest to the reference (the model's zero pose, or the pose file), which the
     report prints."""
-    spec = read_spec(spec_path, model)
-    chain = load_mechanism(spec)
-    partition = Partition(chain, spec.independent)
-    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
-    q = partition.mount(reference)
-    distance = float(np.linalg.norm(pin.difference(chain.model, reference, q)))
-    lines = [
-        mobility(chain, q, spec.independent).text(),
-        f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
-        *(
-            f"  {name} {coordinate} = {value:.9g}"
-            for name, coordinate, value in pose_rows(chain.model, q)
-        ),
-    ]
-    return "\n".join(lines)
+    spec, chain, _, reference, assembled = _mounted(spec_path, model, pose)
+    report = mobility(chain, assembled, spec.independent).text()
+    return "\n".join([report, *pose_lines(chain.model, reference, assembled)])
 
 
 def analyze(
@@ -241,12 +243,8 @@ def analyze(
         FeederError: Bad files, an unreachable or singular pose, a motion the actuated joints
             cannot produce (each with its own message).
     """
-    spec = read_spec(spec_path, model)
-    chain = load_mechanism(spec)
+    spec, chain, partition, reference, assembled = _mounted(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    partition = Partition(chain, spec.independent)
-    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
-    assembled = partition.mount(reference)
     q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness)
     loads = inverse_dynamics(dyn, q, v, a)

@@ -168,8 +168,11 @@ def _newton(
     failed = np.linalg.norm(rows.residual, axis=1) > POSITION_TOLERANCE
     for alignment in rows.hinge_alignment.values():
         failed |= alignment < 0.0
-    pairs = zip(start, q, strict=True)
-    correction = np.array([np.abs(pin.difference(model, a, b)).max() for a, b in pairs])
+    if flat:
+        correction = np.abs(q - start).max(axis=1)
+    else:
+        pairs = zip(start, q, strict=True)
+        correction = np.array([np.abs(pin.difference(model, a, b)).max() for a, b in pairs])
     failed |= (correction > CONTINUATION_STEP * np.maximum(scale, 1e-12)) & (correction > 1e-9)
     q = partition.wrap(q)
     partition._check_limits(q[~failed])

@@ -37,6 +37,7 @@ import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_number, check_samples, check_vector
+from ..kinematics.joints import kind_of
 from ..model.closure import ClosedChain
 from .batch import MIN_SAMPLES, BatchFallback, batch_track
 from .newton import (
@@ -48,7 +49,7 @@ from .newton import (
     mount,
     newton,
 )
-from .rank import IDLE_TOLERANCE, point_rows, truncated_inverse, velocity_gain
+from .rank import IDLE_TOLERANCE, moved_joints, point_rows, truncated_inverse, velocity_gain
 
 MAX_GAIN = 1e3
 """Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
@@ -87,41 +88,33 @@ class Partition:
     """
 
     def __init__(self, chain: ClosedChain, independent: Sequence[str], max_gain: float = MAX_GAIN):
-        if isinstance(independent, str) or not isinstance(independent, Sequence):
-            raise InputError(f"independent joints must be a list of names, got {independent!r}")
-        if len(set(independent)) != len(independent):
-            raise InputError(f"independent joints must be distinct, got {list(independent)}")
+        self.independent = chain.coordinate_columns(independent, "independent")
         self.chain = chain
         self.independent_joints = tuple(independent)
         self.max_gain = check_number("max_gain", max_gain)
         if not self.max_gain > 1.0:
             raise InputError(f"max_gain must be a number above 1, got {max_gain!r}")
         model = chain.model
-        columns = []
-        for name in self.independent_joints:
-            span = chain.joint_slice(name)
-            if span.stop - span.start != 1:
-                raise InputError(
-                    f"independent joint {name!r} has {span.stop - span.start} coordinates: "
-                    "independent joints are revolute, continuous or prismatic"
-                )
-            columns.append(span.start)
-        self.independent = np.array(columns, dtype=int)
         mask = np.ones(model.nv, dtype=bool)
         mask[self.independent] = False
         self.dependent = np.flatnonzero(mask)
-        kinds = {j: model.joints[j].shortname() for j in range(1, model.njoints)}
+        kinds = {j: kind_of(model.joints[j]) for j in range(1, model.njoints)}
         self._prismatic = np.array(
-            [model.joints[j].idx_v for j, kind in kinds.items() if kind.startswith("JointModelP")],
-            dtype=int,
+            [model.joints[j].idx_v for j, kind in kinds.items() if kind == "prismatic"], dtype=int
         )
         self._angles = [
             model.joints[j].idx_q
             for j, kind in kinds.items()
-            if kind.startswith(("JointModelR", "JointModelRevolute"))
-            and model.joints[j].nq == 1
-            and model.joints[j].idx_v in self.dependent
+            if kind == "revolute" and model.joints[j].idx_v in self.dependent
         ]
+        self._limited = [
+            (model.names[j], model.joints[j].idx_q, model.joints[j].idx_v)
+            for j in range(1, model.njoints)
+            if model.joints[j].nq == 1
+            and not model.lowerPositionLimit[model.joints[j].idx_q]
+            == model.upperPositionLimit[model.joints[j].idx_q]
+            == 0.0
+        ]  # one-coordinate joints with a range set ([0, 0] means "not set")
         self._last: tuple[bytes, tuple[np.ndarray, np.ndarray, float]] | None = None
         self._idle_count = 0
         """Idle motions verified at a pose (their number is structural: a pose with as many
@@ -162,8 +155,12 @@ class Partition:
     def length_scale(self, q: np.ndarray) -> float:
         """The mechanism's size [m] at ``q``: the largest distance of a joint from the base
         (≥ 1 mm). Prismatic speeds divided by it compare with angular ones."""
+        pin.forwardKinematics(self.chain.model, self.chain.data, q)
+        return self._reach()
+
+    def _reach(self) -> float:
+        """:meth:`length_scale` at the placements already in the chain's data."""
         model, data = self.chain.model, self.chain.data
-        pin.forwardKinematics(model, data, q)
         reach = max(
             (np.linalg.norm(data.oMi[j].translation) for j in range(1, model.njoints)), default=0.0
         )
@@ -207,20 +204,10 @@ class Partition:
         motions[:, self.dependent] = free
         points = point_rows(self.chain)  # (3 p, nv): joint origins, frames, centres of gravity
         moved = np.abs(points @ motions.T).max(axis=0)
-        size = self.length_scale(q)
-        self.chain.jacobian(q)  # the chain's data back at q for the caller
-        if np.all(moved <= IDLE_TOLERANCE * size):
+        if np.all(moved <= IDLE_TOLERANCE * self._reach()):
             return motions
         # The locked-input motions that move points: name the joints of the worst one.
-        worst = motions[int(np.argmax(moved))]
-        names = [
-            model.names[j]
-            for j in range(1, model.njoints)
-            if np.abs(
-                worst[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv]
-            ).max(initial=0.0)
-            > 1e-6
-        ]
+        names = moved_joints(model, motions[int(np.argmax(moved))])
         raise SingularPoseError(
             f"the closure does not determine the {self.dependent.size} dependent coordinates "
             f"at q = {np.round(q, 6)}: dependent Jacobian rank {rank}; with "
@@ -289,20 +276,14 @@ class Partition:
         outside its limits (one-coordinate joints with a range set)."""
         model = self.chain.model
         q = np.atleast_2d(q)
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            if joint.nq != 1:
-                continue  # quaternions, cos/sin pairs, multi-axis joints: no range to check
-            i = joint.idx_q
+        for name, i, v in self._limited:
             low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
-            if low == high == 0.0:
-                continue  # "not set"
             outside = (q[:, i] < low - 1e-12) | (q[:, i] > high + 1e-12)
             if outside.any():
                 value = q[int(np.argmax(outside)), i]
-                role = "prescribed" if joint.idx_v in self.independent else "dependent"
+                role = "prescribed" if v in self.independent else "dependent"
                 raise UnreachablePoseError(
-                    f"the {role} joint {model.names[j]} = {value:.6g} is outside its limits "
+                    f"the {role} joint {name} = {value:.6g} is outside its limits "
                     f"[{low:.6g}, {high:.6g}]"
                     + ("" if role == "prescribed" else " where the loops close")
                 )

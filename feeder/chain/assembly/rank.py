@@ -54,3 +54,18 @@ def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
     scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
     pinv, _ = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
     return float(np.linalg.norm(pinv @ jac_ind, 2))
+
+
+def moved_joints(model: pin.Model, motion: np.ndarray) -> tuple[str, ...]:
+    """Names of the joints an idle motion (nv,) moves, largest share first."""
+    shares = {
+        model.names[j]: float(
+            np.abs(
+                motion[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv]
+            ).max()
+        )
+        for j in range(1, model.njoints)
+    }
+    return tuple(
+        name for name, share in sorted(shares.items(), key=lambda x: -x[1]) if share > 1e-6
+    )

@@ -134,19 +134,9 @@ class ChainDynamics:
     ):
         for j in range(1, chain.model.njoints):
             kind_of(chain.model.joints[j])
-        if isinstance(actuated, str) or not isinstance(actuated, Sequence):
-            raise InputError(f"actuated joints must be a list of names, got {actuated!r}")
-        if len(set(actuated)) != len(actuated):
-            raise InputError(f"actuated joints must be distinct, got {list(actuated)}")
+        self.columns = chain.coordinate_columns(actuated, "actuated").tolist()
         self.chain = chain
         self.actuated = tuple(actuated)
-        self.columns = [chain.joint_slice(name).start for name in self.actuated]
-        for name in self.actuated:
-            if chain.joint_slice(name).stop - chain.joint_slice(name).start != 1:
-                raise InputError(
-                    f"actuated joint {name!r} has several coordinates: actuate revolute, "
-                    "continuous or prismatic joints"
-                )
         weights = np.ones(chain.nc)
         labels = [closure.label for closure in chain.closures]
         for label, values in (stiffness or {}).items():

@@ -75,20 +75,25 @@ def kind_of(joint: pin.JointModel) -> str:
     return kinds[name]
 
 
-def axes_of(joint: pin.JointModel, kind: str) -> np.ndarray:
-    """The unit axes (k, 3) of an axis chain or prismatic joint in its own axes, in the order of
-    its velocity ((0, 3) for the other kinds): the columns of its motion subspace at q = 0, read
-    off a one-joint Pinocchio model (the generic ``JointModel`` of ``model.joints`` does not
-    expose the axes of every type)."""
-    if kind not in ("revolute", "continuous", "universal", "spherical_zyx", "prismatic"):
-        return np.zeros((0, 3))
-    model = pin.Model()
-    model.addJoint(0, joint, pin.SE3.Identity(), "probe")
+def joint_axes(model: pin.Model) -> list[np.ndarray]:
+    """Per joint id, the unit axes (k, 3) of an axis chain or prismatic joint in its own axes, in
+    the order of its velocity ((0, 3) for the other kinds and the world): the columns of its
+    motion subspace at q = 0, read off one Jacobian pass at the neutral pose (the generic
+    ``JointModel`` of ``model.joints`` does not expose the axes of every type; a joint's own
+    columns in its own frame do not depend on the other joints' coordinates)."""
     data = model.createData()
     pin.computeJointJacobians(model, data, pin.neutral(model))
-    subspace = np.reshape(pin.getJointJacobian(model, data, 1, pin.LOCAL), (6, joint.nv))
-    columns = subspace[:3] if kind == "prismatic" else subspace[3:]
-    return (columns / np.linalg.norm(columns, axis=0)).T
+    axes = [np.zeros((0, 3))]
+    for j in range(1, model.njoints):
+        joint, kind = model.joints[j], kind_of(model.joints[j])
+        if kind not in ("revolute", "continuous", "universal", "spherical_zyx", "prismatic"):
+            axes.append(np.zeros((0, 3)))
+            continue
+        local = pin.getJointJacobian(model, data, j, pin.LOCAL)
+        subspace = local[:, joint.idx_v : joint.idx_v + joint.nv]
+        columns = subspace[:3] if kind == "prismatic" else subspace[3:]
+        axes.append((columns / np.linalg.norm(columns, axis=0)).T)
+    return axes
 
 
 @dataclass(frozen=True)

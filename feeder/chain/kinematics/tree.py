@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .joints import axes_of, kind_of, relative_motion
+from .joints import joint_axes, kind_of, relative_motion
 
 
 @dataclass(frozen=True)
@@ -90,12 +90,13 @@ def tree_motion(
     rotation = [np.broadcast_to(np.eye(3), (n, 3, 3))]
     origin, w, dw, vel, acc = ([zero] for _ in range(5))
     linear, angular = [np.zeros((n, 3, 0))], [np.zeros((n, 3, 0))]
+    axes = joint_axes(model)
     for j in range(1, count):
         joint, p, placement = model.joints[j], model.parents[j], model.jointPlacements[j]
         kind = kind_of(joint)
         rel = relative_motion(
             kind,
-            axes_of(joint, kind),
+            axes[j],
             q[:, joint.idx_q : joint.idx_q + joint.nq],
             v[:, joint.idx_v : joint.idx_v + joint.nv],
             a[:, joint.idx_v : joint.idx_v + joint.nv],

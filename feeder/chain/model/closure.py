@@ -354,6 +354,33 @@ class ClosedChain:
                 out.append(rates @ relative + np.cross(normals, u_b) @ spin)
         return np.concatenate(out) if out else np.zeros(0)
 
+    def coordinate_columns(self, names: Sequence[str], role: str) -> np.ndarray:
+        """Velocity indices (k,) of the one-coordinate joints ``names`` (revolute, continuous,
+        prismatic: those a motion table prescribes and an actuator drives), in the order given.
+
+        Args:
+            names: Joint names.
+            role: What they are, for the messages (``"independent"``, ``"actuated"``).
+
+        Raises:
+            InputError: Not a list of names, a name given twice, an unknown joint, a joint with
+                several coordinates.
+        """
+        if isinstance(names, str) or not isinstance(names, Sequence):
+            raise InputError(f"{role} joints must be a list of names, got {names!r}")
+        if len(set(names)) != len(names):
+            raise InputError(f"{role} joints must be distinct, got {list(names)}")
+        columns = []
+        for name in names:
+            span = self.joint_slice(name)
+            if span.stop - span.start != 1:
+                raise InputError(
+                    f"{role} joint {name!r} has {span.stop - span.start} coordinates: {role} "
+                    "joints are revolute, continuous or prismatic"
+                )
+            columns.append(span.start)
+        return np.array(columns, dtype=int)
+
     def joint_slice(self, joint: str) -> slice:
         """Index range of ``joint`` in the velocity vector.
 

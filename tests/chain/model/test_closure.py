@@ -242,3 +242,29 @@ def test_a_hinge_assembled_upside_down_is_not_closed():
         inverse_dynamics(
             ChainDynamics(chain, ["crank_joint"]), q[None], np.zeros((1, 3)), np.zeros((1, 3))
         )
+
+
+@pytest.mark.parametrize(
+    "names, match",
+    [
+        ("mot1", "must be a list of names"),
+        (["mot1", "mot1"], "must be distinct"),
+        (["no_such_joint"], "no joint 'no_such_joint'"),
+        (["right_spherical_foot_1"], "has 3 coordinates"),  # a ball joint (YAML override)
+        (["left_spherical_ankle_1"], "has 2 coordinates"),  # a universal joint
+    ],
+)
+def test_prescribed_and_actuated_joints_have_one_coordinate(names, match):
+    """One check for the partition's independent joints and the dynamics' actuated ones."""
+    import warnings
+
+    from feeder.chain import ChainDynamics, Partition, load_mechanism, read_spec
+    from feeder.exceptions import FeederWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FeederWarning)
+        chain = load_mechanism(read_spec(REPO / "examples" / "cad" / "battobot_6d" / "robot.yaml"))
+    with pytest.raises(InputError, match=match):
+        Partition(chain, names)
+    with pytest.raises(InputError, match=match):
+        ChainDynamics(chain, names)
