@@ -102,11 +102,13 @@ class Partition:
         self._prismatic = np.array(
             [model.joints[j].idx_v for j, kind in kinds.items() if kind == "prismatic"], dtype=int
         )
-        self._angles = [
-            model.joints[j].idx_q
+        angles = [
+            model.joints[j]
             for j, kind in kinds.items()
             if kind == "revolute" and model.joints[j].idx_v in self.dependent
         ]
+        self._angles = [joint.idx_q for joint in angles]  # the angles wrap() brings into range
+        self._angle_columns = np.array([joint.idx_v for joint in angles], dtype=int)
         self._limited = [
             (model.names[j], model.joints[j].idx_q, model.joints[j].idx_v)
             for j in range(1, model.njoints)
@@ -226,14 +228,21 @@ class Partition:
             return self._last[1]
         jac = self.chain.jacobian(q)
         jac_dep, jac_ind = self._split(jac)
-        scale = float(np.abs(jac).max(initial=0.0)) or 1.0
-        rank_full = np.linalg.matrix_rank(jac, tol=RANK_TOLERANCE * scale) if jac.size else 0
-        pinv, rank_dep = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
-        if rank_dep < rank_full:
+        tolerance = RANK_TOLERANCE * (float(np.abs(jac).max(initial=0.0)) or 1.0)
+        pinv, rank_dep, range_dep = truncated_inverse(jac_dep, tolerance)
+        # The whole Jacobian has a larger rank than its dependent part iff some independent
+        # column reaches outside the range of the dependent ones (J_ind's part off that range).
+        outside = jac_ind - range_dep @ (range_dep.T @ jac_ind)
+        reach = np.linalg.norm(outside, axis=0)
+        if np.any(reach > tolerance):
+            rank_full = rank_dep + np.linalg.matrix_rank(outside, tol=tolerance)
+            pairs = zip(self.independent_joints, reach, strict=True)
+            names = [name for name, size in pairs if size > tolerance]
             raise SingularPoseError(
                 f"the dependent coordinates cannot follow the independent ones at "
                 f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
-                f"{rank_dep} (too many independent joints, or a singular pose)"
+                f"{rank_dep}; moving {', '.join(names)} opens the loops whatever the dependent "
+                "joints do (too many independent joints, or a singular pose)"
             )
         deficiency = self.dependent.size - rank_dep
         if deficiency and deficiency != self._idle_count:

@@ -35,14 +35,15 @@ def point_rows(chain: ClosedChain) -> np.ndarray:
     return np.vstack(rows)
 
 
-def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray, int]:
-    """The pseudo-inverse of ``matrix`` with its singular values at or below ``tolerance``
-    dropped (idle motions get no share: minimum-norm solutions), and its rank."""
+def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray, int, np.ndarray]:
+    """The pseudo-inverse of ``matrix`` (m, n) with its singular values at or below
+    ``tolerance`` dropped (idle motions get no share: minimum-norm solutions), its rank r, and an
+    orthonormal basis (m, r) of its range."""
     if matrix.size == 0:
-        return np.zeros((matrix.shape[1], matrix.shape[0])), 0
+        return np.zeros((matrix.shape[1], matrix.shape[0])), 0, np.zeros((matrix.shape[0], 0))
     u, s, vt = np.linalg.svd(matrix, full_matrices=False)
     keep = s > tolerance
-    return (vt[keep].T / s[keep]) @ u[:, keep].T, int(keep.sum())
+    return (vt[keep].T / s[keep]) @ u[:, keep].T, int(keep.sum()), u[:, keep]
 
 
 def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
@@ -52,7 +53,7 @@ def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
     if jac_dep.shape[1] == 0 or jac_ind.size == 0:
         return 0.0
     scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
-    pinv, _ = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
+    pinv, _, _ = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
     return float(np.linalg.norm(pinv @ jac_ind, 2))
 
 

@@ -308,12 +308,19 @@ def _solve(
     of the equations), go through the singular value decomposition."""
     n = system.shape[0]
     gram = system @ np.swapaxes(system, 1, 2)  # (n, nv, nv)
-    eigenvalues = np.linalg.eigvalsh(gram)  # ascending
-    fast = eigenvalues[:, 0] > (eigenvalues[:, -1] / NORMAL_EQUATIONS**2)
+    try:
+        inverse = np.linalg.inv(gram)
+    except np.linalg.LinAlgError:  # a sample's equations are exactly singular: no shortcut
+        inverse = np.full_like(gram, np.inf)
+    # cond(G) ≤ tr(G) tr(G⁻¹) (each trace sums the eigenvalues, of G and of G⁻¹): a sample takes
+    # the normal equations only when it is certainly well-conditioned, a doubtful one the SVD.
+    with np.errstate(invalid="ignore", over="ignore"):
+        bound = np.trace(gram, axis1=1, axis2=2) * np.trace(inverse, axis1=1, axis2=2)
+    fast = np.isfinite(bound) & (bound > 0.0) & (bound < NORMAL_EQUATIONS**2)
     solution = np.empty((n, system.shape[2]))
     if np.any(fast):
-        lagrange = np.linalg.solve(gram[fast], rhs[fast][..., None])
-        solution[fast] = (np.swapaxes(system[fast], 1, 2) @ lagrange)[..., 0]
+        lagrange = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
+        solution[fast] = np.einsum("nji,nj->ni", system[fast], lagrange)
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True

@@ -68,10 +68,14 @@ def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray
     return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
 
 
-def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) -> ClosureKinematics:
-    """Every closure row's Jacobian, error, rate and acceleration along a batched motion."""
+def closure_kinematics(
+    chain: ClosedChain, motion: TreeMotion, v: np.ndarray | None = None
+) -> ClosureKinematics:
+    """Every closure row's Jacobian, error, rate and acceleration along a batched motion with
+    velocities v (N, nv); without v, at rest (a position-level pass: rates and accelerations
+    zero, not computed)."""
     model = chain.model
-    n = v.shape[0]
+    n = motion.origin[0].shape[0]
     jacobian = np.zeros((n, chain.nc, model.nv))
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
@@ -85,9 +89,10 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
         start = rows.start
         jacobian[:, start : start + 3] = jac_a[:, :3] - jac_b[:, :3]
         residual[:, start : start + 3] = p_a - p_b
-        acceleration[:, start : start + 3] = _frame_acceleration(
-            model, motion, a, p_a
-        ) - _frame_acceleration(model, motion, b, p_b)
+        if v is not None:
+            acceleration[:, start : start + 3] = _frame_acceleration(
+                model, motion, a, p_a
+            ) - _frame_acceleration(model, motion, b, p_b)
         ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
         relative = motion.omega[ja] - motion.omega[jb]
         spin = motion.alpha[ja] - motion.alpha[jb]
@@ -104,6 +109,10 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
             alignment[closure.label] = np.einsum("ni,ni->n", rot_a @ np.array(closure.axis), u_b)
             jacobian[:, start + 3 : rows.stop] = direction @ (jac_a[:, 3:] - jac_b[:, 3:])
             residual[:, start + 3 : rows.stop] = np.einsum("nki,ni->nk", normals, u_b)
+            if v is None:
+                directions.append(direction)
+                rotations.append(rot_a)
+                continue
             w_a, w_b = motion.omega[ja], motion.omega[jb]
             rates = np.cross(np.cross(w_a[:, None, :], normals), u_b[:, None, :]) + np.cross(
                 normals, np.cross(w_b, u_b)[:, None, :]
@@ -113,7 +122,7 @@ def closure_kinematics(chain: ClosedChain, motion: TreeMotion, v: np.ndarray) ->
             ) + np.einsum("nki,ni->nk", direction, spin)
         directions.append(direction)
         rotations.append(rot_a)
-    rate = np.einsum("ncv,nv->nc", jacobian, v)
+    rate = np.zeros((n, chain.nc)) if v is None else np.einsum("ncv,nv->nc", jacobian, v)
     return ClosureKinematics(
         jacobian, residual, rate, acceleration, directions, rotations, alignment
     )

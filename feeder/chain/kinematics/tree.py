@@ -81,9 +81,11 @@ def tree_motion(
     model: pin.Model, q: np.ndarray, v: np.ndarray | None = None, a: np.ndarray | None = None
 ) -> TreeMotion:
     """The forward recursion of the module docstring for configurations q (N, nq) and, if given,
-    velocities v and accelerations a (N, nv) (zero otherwise). q, v, a are trusted (checked by
+    velocities v and accelerations a (N, nv) (zero otherwise; with neither, the velocity and
+    acceleration recursions are skipped: a position-level pass). q, v, a are trusted (checked by
     the caller); a joint type that is not handled raises :class:`~feeder.exceptions.InputError`."""
     n, count = q.shape[0], model.njoints
+    moving = v is not None or a is not None
     v = np.zeros((n, model.nv)) if v is None else v
     a = np.zeros((n, model.nv)) if a is None else a
     zero = np.zeros((n, 3))
@@ -108,6 +110,11 @@ def tree_motion(
         rotation.append(before @ rel.rotation)
         linear.append(before @ rel.linear)
         angular.append(before @ rel.angular)
+        origin.append(here)
+        if not moving:
+            for rates in (w, dw, vel, acc):
+                rates.append(zero)
+            continue
         turn, slide = _turn(before, rel.omega), _turn(before, rel.velocity)
         w.append(w[p] + turn)
         dw.append(dw[p] + _turn(before, rel.alpha) + cross(w[p], turn))
@@ -121,7 +128,6 @@ def tree_motion(
             + 2.0 * cross(w[p], slide)
             + _turn(before, rel.acceleration)
         )
-        origin.append(here)
     return TreeMotion(rotation, origin, linear, angular, w, dw, vel, acc)
 
 

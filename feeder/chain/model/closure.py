@@ -324,7 +324,7 @@ class ClosedChain:
         at the placements in :attr:`data`."""
         axis_b = self.data.oMf[frame_b].rotation @ np.array(closure.axis_b)
         normals = (self.data.oMf[frame_a].rotation @ perpendicular.T).T
-        return np.cross(normals, axis_b)
+        return normals @ pin.skew(axis_b)  # rows n_k × u_b (n × u = −[u]× n = ([n]× ... )ᵀ)
 
     def bias(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """J̇ q̇: the rows' second time derivative at zero q̈, world axes, shape (nc,)."""
