@@ -303,24 +303,14 @@ def _solve(
     docstring; returns x (n, nx) and the labels of indeterminate closure rows.
 
     Where a sample's system has full row rank and a small condition number (every sample of a
-    well-actuated motion), x = Aᵀ (A Aᵀ)⁻¹ b is its minimum-norm solution, from one small
-    symmetric solve; the other samples, and a subsample for the structural checks (the null space
-    of the equations), go through the singular value decomposition."""
+    well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
+    (:func:`_shortcut`); the other samples, and a subsample for the structural checks (the null
+    space of the equations), go through the singular value decomposition."""
     n = system.shape[0]
-    gram = system @ np.swapaxes(system, 1, 2)  # (n, nv, nv)
-    try:
-        inverse = np.linalg.inv(gram)
-    except np.linalg.LinAlgError:  # a sample's equations are exactly singular: no shortcut
-        inverse = np.full_like(gram, np.inf)
-    # cond(G) ≤ tr(G) tr(G⁻¹) (each trace sums the eigenvalues, of G and of G⁻¹): a sample takes
-    # the normal equations only when it is certainly well-conditioned, a doubtful one the SVD.
-    with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.trace(gram, axis1=1, axis2=2) * np.trace(inverse, axis1=1, axis2=2)
-    fast = np.isfinite(bound) & (bound > 0.0) & (bound < NORMAL_EQUATIONS**2)
+    fast, inverse = _shortcut(system)
     solution = np.empty((n, system.shape[2]))
     if np.any(fast):
-        lagrange = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
-        solution[fast] = np.einsum("nji,nj->ni", system[fast], lagrange)
+        solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True
@@ -332,6 +322,35 @@ def _solve(
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
     indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
     return solution, indeterminate
+
+
+def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Which samples of system (n, nv, nx) are certainly well-conditioned (bool (n,)), and for
+    them the right inverse A⁺ (n, nx, nv): A⁻¹ when square (round-off cond(A) ε), else
+    Aᵀ (A Aᵀ)⁻¹ (the normal equations square the condition number). The test needs no
+    decomposition: cond(B) ≤ ‖B‖_F ‖B⁻¹‖_F for B = A, or B = A Aᵀ whose condition number is
+    cond(A)². A near-singular B gives a computed inverse of huge norm (backward stability: it
+    is the inverse of a matrix within round-off of B), so the bound cannot pass by accident; a
+    doubtful sample takes the singular value decomposition, which also refuses a singular one."""
+    square = system.shape[1] == system.shape[2]
+    matrix = system if square else system @ np.swapaxes(system, 1, 2)
+    try:
+        inverse = np.linalg.inv(matrix)
+    except np.linalg.LinAlgError:  # some sample is exactly singular: the others one by one
+        inverse = np.array([_inverse_or_nan(m) for m in matrix])
+    with np.errstate(invalid="ignore", over="ignore"):
+        bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
+    fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
+    if not square:
+        inverse = np.swapaxes(system, 1, 2) @ inverse
+    return fast, inverse
+
+
+def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
+    try:
+        return np.linalg.inv(matrix)
+    except np.linalg.LinAlgError:
+        return np.full_like(matrix, np.nan)
 
 
 def _solve_svd(

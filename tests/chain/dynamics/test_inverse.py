@@ -17,7 +17,7 @@ import pytest
 
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
-from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.inverse import ChainDynamics, _shortcut, inverse_dynamics
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
@@ -241,3 +241,21 @@ def test_near_a_dead_centre_the_loads_are_refused(four_bar):
         q = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + inside]))
         with pytest.raises(SingularPoseError, match="singular pose"):
             inverse_dynamics(dyn, q[None], still, still)
+
+
+@pytest.mark.parametrize("columns", [6, 9])  # square (A⁻¹) and wide (Aᵀ (A Aᵀ)⁻¹)
+def test_the_shortcut_takes_only_well_conditioned_samples(columns):
+    """The decomposition-free shortcut of the load solve: a well-conditioned sample gets the
+    minimum-norm solution (SVD's, to round-off); a sample with two equal rows (where LU may
+    raise) or two rows equal to round-off (where inv returns garbage rather than raising)
+    never passes, and does not keep the good sample from passing."""
+    rng = np.random.default_rng(3)
+    good = rng.normal(size=(6, columns)) + 3.0 * np.eye(6, columns)
+    equal, near = good.copy(), good.copy()
+    equal[5] = equal[4]
+    near[5] = near[4] + 1e-15 * rng.normal(size=columns)
+    fast, inverse = _shortcut(np.stack([good, equal, near]))
+    assert fast.tolist() == [True, False, False]
+    rhs = rng.normal(size=6)
+    # cond(good) ~ 10: the shortcut's error is ~cond² ε at most (normal equations).
+    assert np.allclose(inverse[0] @ rhs, np.linalg.pinv(good) @ rhs, rtol=0.0, atol=1e-12)
