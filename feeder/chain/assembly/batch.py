@@ -254,7 +254,8 @@ def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarra
     a = np.zeros((n, model.nv))
     a[:, independent] = ddx
     zero = np.zeros((n, model.nv))
-    bias = closure_kinematics(chain, tree_motion(model, q, v, zero), v).acceleration[:, kept]
+    motion = tree_motion(model, q, v, zero)
+    bias = closure_kinematics(chain, motion, v, with_jacobian=False).acceleration[:, kept]
     rhs = np.einsum("nij,nj->ni", jac_ind, ddx) + bias
     a[:, dependent] = -np.einsum("nij,nj->ni", inverse, rhs)
     return v, a, gain

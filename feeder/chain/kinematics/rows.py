@@ -17,7 +17,8 @@ class ClosureKinematics:
     """The closure rows along a motion, N samples.
 
     Attributes:
-        jacobian: J, (N, nc, nv). residual: the rows' position error, (N, nc).
+        jacobian: J, (N, nc, nv) ((N, nc, 0) when skipped). residual: the rows' position
+            error, (N, nc).
         rate, acceleration: The rows' first and second time derivatives, (N, nc).
         directions: Per closure, the revolute rows' moment directions (N, 2, 3) (None otherwise).
         rotation_a: Per closure, frame a's world rotation (N, 3, 3).
@@ -69,14 +70,15 @@ def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray
 
 
 def closure_kinematics(
-    chain: ClosedChain, motion: TreeMotion, v: np.ndarray | None = None
+    chain: ClosedChain, motion: TreeMotion, v: np.ndarray | None = None, with_jacobian: bool = True
 ) -> ClosureKinematics:
     """Every closure row's Jacobian, error, rate and acceleration along a batched motion with
     velocities v (N, nv); without v, at rest (a position-level pass: rates and accelerations
-    zero, not computed)."""
+    zero, not computed). ``with_jacobian=False`` skips the Jacobian and the rates (zero)
+    where only the accelerations are wanted."""
     model = chain.model
     n = motion.origin[0].shape[0]
-    jacobian = np.zeros((n, chain.nc, model.nv))
+    jacobian = np.zeros((n, chain.nc, model.nv if with_jacobian else 0))
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
     directions, rotations, alignment = [], [], {}
@@ -85,7 +87,10 @@ def closure_kinematics(
     ):
         rot_a, p_a = frame_placements(model, motion, a)
         rot_b, p_b = frame_placements(model, motion, b)
-        jac_a, jac_b = point_jacobian(model, motion, a), point_jacobian(model, motion, b)
+        if with_jacobian:
+            jac_a, jac_b = point_jacobian(model, motion, a), point_jacobian(model, motion, b)
+        else:  # no columns
+            jac_a = jac_b = np.zeros((n, 6, 0))
         start = rows.start
         jacobian[:, start : start + 3] = jac_a[:, :3] - jac_b[:, :3]
         residual[:, start : start + 3] = p_a - p_b
@@ -122,7 +127,11 @@ def closure_kinematics(
             ) + np.einsum("nki,ni->nk", direction, spin)
         directions.append(direction)
         rotations.append(rot_a)
-    rate = np.zeros((n, chain.nc)) if v is None else np.einsum("ncv,nv->nc", jacobian, v)
+    rate = (
+        np.einsum("ncv,nv->nc", jacobian, v)
+        if v is not None and with_jacobian
+        else np.zeros((n, chain.nc))
+    )
     return ClosureKinematics(
         jacobian, residual, rate, acceleration, directions, rotations, alignment
     )
