@@ -188,7 +188,7 @@ def _newton(
         open_ = np.linalg.norm(rows.residual, axis=1) > POSITION_TOLERANCE
         if not open_.any() or iteration == NEWTON_STEPS:
             break
-        jac = rows.jacobian[:, kept][:, :, dependent]
+        jac = rows.jacobian[:, kept[:, None], dependent]
         step = np.zeros((q.shape[0], model.nv))
         step[:, dependent] = -_min_norm_solve(jac, rows.residual[:, kept])
         step[~open_] = 0.0
@@ -233,14 +233,14 @@ def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarra
     chain, model = partition.chain, partition.chain.model
     dependent, independent = partition.dependent, partition.independent
     n = q.shape[0]
-    jac = jacobian[:, kept]
-    jac_dep, jac_ind = jac[:, :, dependent], jac[:, :, independent]
+    jac_dep = jacobian[:, kept[:, None], dependent]
+    jac_ind = jacobian[:, kept[:, None], independent]
     inverse = _right_inverse(jac_dep)  # J_r,dep⁺ (n, n_dep, n_r)
     # Rank test without a decomposition: σ_max/σ_min ≤ ‖J‖_F ‖J⁺‖_F, so this passes only where
     # the singular values of J_r,dep stay above RANK_TOLERANCE of the largest (conservative: a
     # doubtful sample sends the trajectory the sequential way, which tests exactly).
-    bound = np.linalg.norm(jac_dep, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
-    if not np.all(bound < 1.0 / RANK_TOLERANCE):
+    squares = np.einsum("nij,nij->n", jac_dep, jac_dep) * np.einsum("nij,nij->n", inverse, inverse)
+    if not np.all(squares < RANK_TOLERANCE**-2):
         raise BatchFallback("a rank drop")
     gains_map = inverse @ jac_ind  # J_dep⁺ J_ind, (n, n_dep, n_ind)
     gain = np.sqrt(
