@@ -4,8 +4,9 @@ inverse dynamics with every joint's reaction, and forward simulation.
 This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions` and
 :mod:`feeder.validation` (tests/test_layers.py checks it). Its subpackages follow the data:
 
-* :mod:`~feeder.chain.model` — the tree and its loop closures (:class:`ClosedChain`,
-  :class:`Closure`);
+* :mod:`~feeder.chain.model` — the tree, its loop closures (:class:`ClosedChain`,
+  :class:`Closure`) and its force elements (:class:`Spring`, :class:`Cylinder`,
+  :class:`JointSpring`, :class:`Load`);
 * :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
 * :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once;
@@ -14,16 +15,18 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
 * :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
   motions, distance to a singular pose;
 * :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
-  reaction) and forward runs.
+  reaction) and forward runs with error control (:func:`simulate`).
 """
 
 from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
 from .dynamics.derivatives import mass_matrix_derivative
-from .dynamics.forward import ForwardRun, simulate
+from .dynamics.forward import ForwardRun, IntegrationError, simulate
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench
 from .mobility import MobilityReport, mobility
 from .model.closure import ClosedChain, Closure
+from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table, read_table
+from .readers.forces import read_force_file
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
 from .readers.motion_table import MotionTable, read_motion
@@ -39,12 +42,19 @@ __all__ = [
     "ClosedChain",
     "Closure",
     "ClosureWrench",
+    "Cylinder",
+    "ForceElement",
     "ForwardRun",
+    "IntegrationError",
+    "JointSpring",
     "JointWrench",
+    "Load",
     "MechanismSpec",
     "MobilityReport",
     "MotionTable",
     "Partition",
+    "Spring",
+    "Table",
     "build_model",
     "check_inertia",
     "check_urdf",
@@ -54,9 +64,11 @@ __all__ = [
     "mass_matrix_derivative",
     "mesh_path",
     "mobility",
+    "read_force_file",
     "read_motion",
     "read_pose",
     "read_spec",
+    "read_table",
     "read_urdf",
     "simulate",
 ]

@@ -224,17 +224,20 @@ def test_a_forward_run_with_ball_and_universal_joints_keeps_its_energy_balance()
     q0 = partition.mount(pin.neutral(chain.model))
     dyn = ChainDynamics(chain, spec.actuated)
     torque = np.linspace(-0.01, 0.01, len(spec.actuated))  # [N·m]: links of 17–300 g
-    run = simulate(dyn, lambda t, q, v: torque, np.linspace(0.0, 0.02, 21), q0, np.zeros(48))
+    run = simulate(dyn, np.linspace(0.0, 0.02, 21), q0, np.zeros(48), lambda t, q, v: torque)
     model = chain.model
     for j in range(1, model.njoints):
         if model.joints[j].shortname() == "JointModelSpherical":
             quaternions = run.q[:, model.joints[j].idx_q : model.joints[j].idx_q + 4]
             np.testing.assert_allclose(np.linalg.norm(quaternions, axis=1), 1.0, atol=1e-12)
-    # RK4 with 1 ms steps on a motion reaching 2.6 rad/s: drift and energy error measured
-    # 4.5e-10 m and 5.9e-9 J (2.8e-11 and 3.7e-10 at 0.25 ms: fourth order); the bounds leave
-    # a factor ~20 and are far below the motion's energy change (9e-5 J).
+    # DOP853 at the default tolerances (rtol 1e-8, atol 1e-10) on a motion reaching 2.6 rad/s:
+    # drift and energy error measured 1.9e-13 m and 1.2e-12 J; the bounds leave room and are far
+    # below the motion's energy change (9e-5 J).
     assert run.drift() <= 1e-8
-    assert run.energy_error() <= 1e-7
+    assert run.energy_error() <= 1e-8
+    # the motors' torques come back from the run's inverse dynamics
+    applied = np.array([run.loads.actuators[name] for name in spec.actuated]).T
+    np.testing.assert_allclose(applied, np.tile(torque, (21, 1)), atol=1e-9)
     assert abs(run.energy[-1] - run.energy[0]) > 1e-5
 
 

@@ -24,14 +24,14 @@ def point_rows(chain: ClosedChain) -> np.ndarray:
     world = pin.LOCAL_WORLD_ALIGNED
     rows = []
     for j in range(1, model.njoints):
-        jac = pin.getJointJacobian(model, data, j, world)
+        jac = pin.getJointJacobian(model, data, j, world).reshape(6, model.nv)  # (6,) if nv = 1
         rows.append(jac[:3])
         if model.inertias[j].mass > 0.0:
             lever = data.oMi[j].rotation @ model.inertias[j].lever
             rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
     for f in range(1, len(model.frames)):
         if model.frames[f].parentJoint > 0:
-            rows.append(pin.getFrameJacobian(model, data, f, world)[:3])
+            rows.append(pin.getFrameJacobian(model, data, f, world).reshape(6, model.nv)[:3])
     return np.vstack(rows)
 
 

@@ -1,203 +1,367 @@
-"""Forward simulation of any closed chain driven by actuator forces.
+"""Forward runs of any closed chain, with error control.
 
-The accelerations come from the closed chain's equations of motion with the closure rows of
-:class:`~feeder.chain.model.closure.ClosedChain` (any mix of point, weld and revolute cuts):
+The state (q, q̇) follows the index-1 equations of the closed chain
 
-    [M  Jᵀ] [ q̈]   [Sᵀ u(t, q, q̇) − b      ]
-    [J  0 ] [−λ] = [−J̇ q̇ − 2ω J q̇ − ω² r(q)]
+    [M  Jᵀ] [ q̈]   [τ − b          ]
+    [J  0 ] [−λ] = [−J̇ q̇ − K_d J q̇ − K_p r(q)]
 
-with M from CRBA, b = Coriolis, centrifugal and gravity terms (the model's gravity), u the
-actuator forces (a function of time and state given by the caller), and Baumgarte's corrector
-of rate ω (critically damped: the loop residual r decays like e^(−ω t)). The system is solved in
-the least-squares sense, so redundant closure rows (a planar loop) are harmless.
+with τ = Sᵀ u(t, q, q̇) (the actuated joints' drive, given by the caller) plus the force elements'
+generalized forces (:mod:`~feeder.chain.dynamics.elements`), b the Coriolis, centrifugal and
+gravity terms, and Baumgarte's corrector K_p = ω², K_d = 2ω on the loop residual r (critically
+damped: an error decays like e^(−ω t)). The accelerations come from Pinocchio's
+``constraintDynamics`` on the chain's own constraint models (its proximal solver takes the
+redundant rows of a planar loop); q̇ from q̇ (the rotations' and the unit circles' rates for the
+joints whose q is not a vector: :func:`~feeder.chain.kinematics.joints.configuration_rate`).
 
-The state is integrated with the classical fourth-order Runge–Kutta method on the caller's time
-grid. Drift control: Baumgarte's corrector always, and optionally a projection after every step
-(:class:`~feeder.chain.assembly.partition.Partition`: Newton back onto the closure at the step's
-independent coordinates, and the velocity onto J q̇ = 0).
+Integration: SciPy's adaptive Runge–Kutta or implicit methods (``DOP853`` by default, ``Radau``
+or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time with the user's
+``rtol`` / ``atol``; the results on the caller's time grid come from each step's dense output.
+Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
+constraints (minimum-norm Newton over every coordinate, then J q̇ = 0) whenever an accepted step
+leaves the loops open by more than ``drift_tolerance`` (the integrator then restarts from the
+projected state). The work of the non-conservative forces (drives, dampers, pushes, pressures,
+loads) is integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to
+the integrator's tolerance.
 
-Reports: the closure residual at every sample (drift), the mechanical energy (kinetic plus
-potential) against the work done by the actuators (the balance of a conservative chain), and the
-tracking error against a reference motion.
+Results: every output sample is projected onto the constraints (the drift before the projection
+is reported), its accelerations evaluated, and the inverse dynamics of the sampled motion give the
+closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
+every force element's force, like the tables of ``feeder analyze``.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+import scipy.integrate
 
-from ...exceptions import InputError, UnreachablePoseError
-from ...validation import check_finite, check_number, check_vector
-from ..assembly.partition import Partition
-from ..kinematics.joints import angle_columns, angular_difference
-from .inverse import ChainDynamics
+from ...exceptions import FeederError, InputError, SingularPoseError, UnreachablePoseError
+from ...validation import check_finite, check_number
+from ..assembly.newton import POSITION_TOLERANCE, newton
+from ..kinematics.joints import angle_columns, angular_difference, configuration_rate
+from .inverse import ChainDynamics, ChainLoads, inverse_dynamics
 
 BAUMGARTE_RATE = 20.0
-"""Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, slow enough for steps of
-a few milliseconds (hω ≪ 1) and fast compared with a mechanism's motion."""
+"""Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
+mechanism's motion and slow enough not to make the equations stiff."""
 
 START_TOLERANCE = 1e-9
 """Largest accepted closure residual [m, rad] of the initial state (and of its velocity rows,
 per second): assembly closes loops to ~1e-13; 1e-9 leaves room for rounded data."""
 
+RTOL, ATOL = 1e-8, 1e-10
+"""Default relative and absolute tolerances of the integrator (per step, on q [rad, m], q̇ and
+the work [J])."""
+
+DRIFT_TOLERANCE = 1e-10
+"""Default closure residual [m, rad] above which an accepted step is projected back onto the
+constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
+
+METHODS = ("DOP853", "RK45", "Radau", "BDF")
+"""SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
+the implicit Radau IIA (order 5) and BDF for stiff mechanisms."""
+
+MAX_STEPS = 1_000_000
+"""Accepted steps after which a run is stopped (a mechanism crawling through a singular pose)."""
+
+PROXIMAL = pin.ProximalSettings(1e-13, 1e-10, 100)
+"""Pinocchio's proximal solver: absolute accuracy 1e-13 of the constraint accelerations,
+regularisation μ = 1e-10 (positive: the redundant rows of a planar loop), at most 100 iterations
+(1–3 are used)."""
+
 Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
-"""u(t, q, q̇): the actuator forces [N or N·m] at time t [s], shape (n_actuated,)."""
+"""u(t, q, q̇): the actuated joints' generalized forces [N or N·m] at time t [s], (n_actuated,)."""
+
+
+class IntegrationError(FeederError):
+    """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
+    unbounded acceleration), or the forces became NaN."""
 
 
 @dataclass(frozen=True)
 class ForwardRun:
-    """A forward simulation's samples and reports.
+    """A forward run on the caller's time grid.
 
     Attributes:
         t: Times [s], (N,).
-        q: Configurations, (N, nq).
-        v: Velocities, (N, nv).
-        residual: Largest closure residual [m, rad] at each sample, (N,).
-        energy: Kinetic plus potential energy [J], (N,).
-        work: Work done by the actuators since t[0] [J], (N,) (trapezoidal rule).
+        q: Configurations, (N, nq) (projected onto the constraints).
+        v: Velocities, (N, nv). a: Accelerations, (N, nv).
+        loads: The inverse dynamics of the sampled motion: the drive loads (the applied ones),
+            closure forces, every joint's reaction, every force element's force.
+        residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
+        energy: Kinetic, gravitational and elastic energy [J], (N,).
+        work: Work of the non-conservative forces since t[0] [J], (N,).
+        steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
+        projections: Steps projected back onto the constraints.
     """
 
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
+    a: np.ndarray
+    loads: ChainLoads
     residual: np.ndarray
     energy: np.ndarray
     work: np.ndarray
+    steps: int
+    evaluations: int
+    projections: int
 
     def drift(self) -> float:
-        """Largest closure residual over the run [m, rad]."""
+        """Largest closure residual over the run before projection [m, rad]."""
         return float(self.residual.max())
 
     def energy_error(self) -> float:
-        """Largest |E(t) − E(0) − W(t)| [J]: zero for an exact run of a conservative chain
-        (no friction; the trapezoidal work is exact to O(h²))."""
+        """Largest |E(t) − E(t₀) − W(t)| [J]: zero for an exact run."""
         return float(np.abs(self.energy - self.energy[0] - self.work).max())
 
     def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
-        """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,): the
-        difference on the model's Lie groups (a revolute angle wrapped by a turn, a quaternion
-        of opposite sign, count as equal)."""
+        """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,) (a
+        revolute angle wrapped by a turn, a quaternion of opposite sign, count as equal)."""
         reference = check_finite("q_reference", q_reference)
         if reference.shape != self.q.shape:
             raise InputError(f"q_reference must have shape {self.q.shape}, got {reference.shape}")
         angles = angle_columns(model)
-        gaps = np.array(
-            [
-                angular_difference(model, r, q, angles)
-                for r, q in zip(reference, self.q, strict=True)
-            ]
+        pairs = zip(reference, self.q, strict=True)
+        gaps = [angular_difference(model, r, q, angles) for r, q in pairs]
+        return np.abs(np.array(gaps)).max(axis=0)
+
+
+class _Equations:
+    """The right-hand side of the run (module docstring) on one pinocchio.Data."""
+
+    def __init__(self, dyn: ChainDynamics, actuation: Actuation | None, rate: float):
+        chain, model = dyn.chain, dyn.chain.model
+        self.model, self.dyn, self.actuation = model, dyn, actuation
+        self.data = model.createData()
+        self.constraints = pin.StdVec_RigidConstraintModel()
+        for constraint in chain.constraint_models:
+            copy = pin.RigidConstraintModel(constraint)
+            copy.m_baumgarte_parameters.Kp = rate**2
+            copy.m_baumgarte_parameters.Kd = 2.0 * rate
+            self.constraints.append(copy)
+        self.datas = pin.StdVec_RigidConstraintData()
+        for constraint in self.constraints:
+            self.datas.append(constraint.createData())
+        pin.initConstraintDynamics(model, self.data, self.constraints, self.datas)
+        self.nq, self.nv = model.nq, model.nv
+        self.flat = model.nq == model.nv
+        self.columns = np.array(dyn.columns, dtype=int)
+        self.zero = np.zeros(model.nv)
+        self.count = 0
+
+    def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
+        """τ (nv,) and the power [W] of the non-conservative forces."""
+        if self.actuation is None and not self.dyn.elements:
+            return self.zero, 0.0
+        tau, power = np.zeros(self.model.nv), 0.0
+        if self.actuation is not None:
+            u = np.asarray(self.actuation(t, q, v), dtype=float)
+            if u.shape != self.columns.shape or not np.all(np.isfinite(u)):
+                raise InputError(
+                    f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
+                    f"[N or N·m], got {u!r}"
+                )
+            tau[self.columns] = u
+            power += float(u @ v[self.columns])
+        if self.dyn.elements:
+            generalized, element_power = self.dyn.elements.generalized(q, v, t)
+            tau += generalized
+            power += element_power
+        return tau, power
+
+    def accelerations(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
+        tau, power = self.forces(t, q, v)
+        a = pin.constraintDynamics(
+            self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
         )
-        return np.abs(gaps).max(axis=0)
+        return a, power
 
-
-def accelerations(
-    dyn: ChainDynamics, q: np.ndarray, v: np.ndarray, u: np.ndarray, rate: float = BAUMGARTE_RATE
-) -> tuple[np.ndarray, np.ndarray]:
-    """q̈ (nv,) and the closure forces λ (nc,) of the closed chain under actuator forces ``u``
-    (one state, checked by the caller; module docstring)."""
-    chain, model, data = dyn.chain, dyn.chain.model, dyn.data
-    mass = pin.crba(model, data, q)
-    mass = np.triu(mass) + np.triu(mass, 1).T  # CRBA fills the upper triangle
-    bias = pin.nonLinearEffects(model, data, q, v)
-    tau = np.zeros(model.nv)
-    tau[dyn.columns] = u
-    jac = chain.jacobian(q)
-    target = -chain.bias(q, v) - 2.0 * rate * (jac @ v) - rate**2 * chain.residual(q)
-    nc = jac.shape[0]
-    kkt = np.zeros((model.nv + nc, model.nv + nc))
-    kkt[: model.nv, : model.nv] = mass
-    kkt[: model.nv, model.nv :] = jac.T
-    kkt[model.nv :, : model.nv] = jac
-    solution = np.linalg.lstsq(kkt, np.concatenate([tau - bias, target]), rcond=None)[0]
-    return solution[: model.nv], -solution[model.nv :]
-
-
-def _energy(dyn: ChainDynamics, q: np.ndarray, v: np.ndarray) -> float:
-    model, data = dyn.chain.model, dyn.data
-    return float(
-        pin.computeKineticEnergy(model, data, q, v) + pin.computePotentialEnergy(model, data, q)
-    )
+    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
+        self.count += 1
+        nq, nv = self.nq, self.nv
+        q, v = y[:nq], y[nq : nq + nv]
+        tau, power = self.forces(t, q, v)
+        a = pin.constraintDynamics(
+            self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
+        )
+        if not math.isfinite(a @ a):  # NaN or inf (or beyond 1e154: as meaningless)
+            raise IntegrationError(
+                f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "
+                "that are not finite)"
+            )
+        out = np.empty(nq + nv + 1)
+        out[:nq] = v if self.flat else configuration_rate(self.model, q, v)
+        out[nq:-1] = a
+        out[-1] = power
+        return out
 
 
 def simulate(
     dyn: ChainDynamics,
-    actuation: Actuation,
     t: np.ndarray,
     q0: np.ndarray,
     v0: np.ndarray,
+    actuation: Actuation | None = None,
     *,
+    method: str = "DOP853",
+    rtol: float = RTOL,
+    atol: float = ATOL,
     rate: float = BAUMGARTE_RATE,
-    projection: Partition | None = None,
+    drift_tolerance: float = DRIFT_TOLERANCE,
+    max_step: float = np.inf,
 ) -> ForwardRun:
-    """Integrate the closed chain driven by ``actuation`` from (q0, v0) over the times ``t``.
+    """Run the closed chain forward from (q0, v0), results at the times ``t``.
 
     Args:
-        dyn: The chain's dynamics (its actuated joints receive ``actuation``'s forces).
-        actuation: u(t, q, q̇) → actuator forces (n_actuated,) [N or N·m].
-        t: Increasing sample times [s], (N,), N ≥ 2; the integration steps are their spacing.
-        q0, v0: Initial state, (nq,), (nv,) (assembled: e.g. Partition.assemble/velocity).
-        rate: Baumgarte rate ω [1/s] (0 turns the corrector off).
-        projection: A partition of the chain to project every step back onto the closure with,
-            or None for Baumgarte's corrector alone.
+        dyn: The chain's dynamics: its force elements act, its actuated joints receive
+            ``actuation``'s forces (none: they are free).
+        t: Increasing output times [s], (N,), N ≥ 2; the run starts at t[0].
+        q0, v0: Initial state (nq,), (nv,), closed (e.g. Partition.mount / velocity).
+        actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), or None.
+        method: One of :data:`METHODS`.
+        rtol, atol: The integrator's tolerances (> 0).
+        rate: Baumgarte rate ω [1/s] (≥ 0; 0 turns the corrector off).
+        drift_tolerance: Closure residual [m, rad] that triggers a projection (> 0).
+        max_step: Longest step [s] (> 0).
 
     Raises:
-        InputError: Bad times, state or rate, an initial velocity that opens the loops, or
-            actuation values that are not n_actuated finite numbers.
+        InputError: Bad times, state or settings, an initial velocity that opens the loops, a
+            force table that does not cover the run, actuation values that are not finite.
         UnreachablePoseError: An initial configuration that does not close the loops.
+        IntegrationError: The integrator failed (a singular pose, unbounded accelerations).
     """
-    chain, model = dyn.chain, dyn.chain.model
+    chain = dyn.chain
     t = check_finite("t", t)
     if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0.0):
-        raise InputError(f"t must be increasing sample times, at least two, got shape {t.shape}")
+        raise InputError(f"t must be increasing output times, at least two, got shape {t.shape}")
     q, v = chain.check_q(q0), chain.check_v("v0", v0)
-    rate = check_number("Baumgarte rate [1/s]", rate)
-    if not rate >= 0.0:
+    if method not in METHODS:
+        raise InputError(f"method must be one of {list(METHODS)}, got {method!r}")
+    for name, value in (("rtol", rtol), ("atol", atol), ("drift_tolerance", drift_tolerance)):
+        if not check_number(name, value) > 0.0:
+            raise InputError(f"{name} must be > 0, got {value!r}")
+    if not check_number("Baumgarte rate [1/s]", rate) >= 0.0:
         raise InputError(f"the Baumgarte rate must be ≥ 0 [1/s], got {rate!r}")
+    if not (isinstance(max_step, int | float) and max_step > 0.0):  # inf: no limit
+        raise InputError(f"max_step must be > 0 [s], got {max_step!r}")
     gap = float(np.abs(chain.residual(q)).max(initial=0.0))
     if gap > START_TOLERANCE:
         raise UnreachablePoseError(
-            f"q0 does not close the loops (residual {gap:.3e} > {START_TOLERANCE:g}): assemble "
-            "it first (Partition.assemble)"
+            f"q0 does not close the loops (residual {gap:.3e} > {START_TOLERANCE:g}): mount it "
+            "first (Partition.mount)"
         )
     opening = float(np.abs(chain.jacobian(q) @ v).max(initial=0.0))
     if opening > START_TOLERANCE * max(1.0, float(np.abs(v).max())):
-        raise InputError(
-            f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity for it"
+        raise InputError(f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity")
+    dyn.elements.check_covers(float(t[0]), float(t[-1]))
+    equations = _Equations(dyn, actuation, rate)
+    states, steps, projections = _integrate(
+        equations, t, np.concatenate([q, v, [0.0]]), method, rtol, atol, drift_tolerance, max_step
+    )
+    return _results(equations, t, states, steps, projections)
+
+
+def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
+    """The states (N, nq + nv + 1) at the times t, the accepted steps and the projections."""
+    chain = equations.dyn.chain
+    nq = equations.model.nq
+    solver_class = getattr(scipy.integrate, method)
+
+    def start(time: float, y: np.ndarray, first_step: float | None):
+        return solver_class(
+            equations, time, y, t[-1], rtol=rtol, atol=atol, max_step=max_step,
+            first_step=first_step,
+        )  # fmt: skip
+
+    states = np.empty((t.size, y0.size))
+    states[0] = y0
+    k, steps, projections = 1, 0, 0
+    solver = start(t[0], y0, None)
+    while k < t.size:
+        if steps >= MAX_STEPS:
+            raise IntegrationError(f"{MAX_STEPS} steps reached at t = {solver.t:.6g} s")
+        message = solver.step()
+        steps += 1
+        if solver.status == "failed":
+            raise IntegrationError(
+                f"the integrator ({solver_class.__name__}) stopped at t = {solver.t:.6g} s: "
+                f"{message} — the mechanism is at or near a singular pose (a toggle), or its "
+                "equations are stiff (try method='Radau')"
+            )
+        if t[k] <= solver.t:  # the step passed output times: its dense output gives them
+            dense = solver.dense_output()
+            while k < t.size and t[k] <= solver.t:
+                states[k] = dense(t[k])
+                k += 1
+        if k == t.size:
+            break
+        y = solver.y
+        residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
+        if residual > drift_tolerance:
+            y = _project(equations, y)
+            projections += 1
+            solver = start(solver.t, y, solver.step_size)
+    return states, steps, projections
+
+
+def _project(equations, y: np.ndarray) -> np.ndarray:
+    """The state y with (q, q̇) moved onto the position and velocity constraints: the nearest
+    closed q (minimum-norm Newton over every coordinate, unit quaternions restored), then the
+    minimum-norm change of q̇ that gives J q̇ = 0."""
+    chain, model = equations.dyn.chain, equations.model
+    nq, nv = model.nq, model.nv
+    q = pin.normalize(model, y[:nq].copy())
+    q, norm = newton(chain, q, np.arange(nv))
+    if norm > POSITION_TOLERANCE * 1e3:
+        raise IntegrationError(
+            f"the run left the constraints by {norm:.3e} and cannot be projected back: a "
+            "singular pose, or tolerances too loose"
         )
-    n_act = len(dyn.columns)
+    v = y[nq : nq + nv]
+    jac = chain.jacobian(q)
+    v = v - np.linalg.lstsq(jac, jac @ v, rcond=None)[0]
+    return np.concatenate([q, v, y[nq + nv :]])
 
-    def drive(time: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return check_vector(f"actuation at t = {time:.6g} s", actuation(time, q, v), n_act)
 
-    def rates(time: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        u = drive(time, q, v)
-        return v, accelerations(dyn, q, v, u, rate)[0]
-
-    n = t.size
-    qs, vs = np.empty((n, model.nq)), np.empty((n, model.nv))
-    power = np.empty(n)
-    qs[0], vs[0] = q, v
-    power[0] = drive(t[0], q, v) @ v[dyn.columns]
-    for k in range(n - 1):
-        h = t[k + 1] - t[k]
-        dq1, dv1 = rates(t[k], q, v)
-        q2, v2 = pin.integrate(model, q, 0.5 * h * dq1), v + 0.5 * h * dv1
-        dq2, dv2 = rates(t[k] + 0.5 * h, q2, v2)
-        q3, v3 = pin.integrate(model, q, 0.5 * h * dq2), v + 0.5 * h * dv2
-        dq3, dv3 = rates(t[k] + 0.5 * h, q3, v3)
-        q4, v4 = pin.integrate(model, q, h * dq3), v + h * dv3
-        dq4, dv4 = rates(t[k + 1], q4, v4)
-        q = pin.integrate(model, q, h / 6.0 * (dq1 + 2.0 * dq2 + 2.0 * dq3 + dq4))
-        v = v + h / 6.0 * (dv1 + 2.0 * dv2 + 2.0 * dv3 + dv4)
-        if projection is not None:
-            q = projection.assemble(q)
-            v = projection.velocity(q, v[projection.independent])
-        qs[k + 1], vs[k + 1] = q, v
-        power[k + 1] = drive(t[k + 1], q, v) @ v[dyn.columns]
-    residual = np.array([np.abs(chain.residual(x)).max(initial=0.0) for x in qs])
-    energy = np.array([_energy(dyn, x, y) for x, y in zip(qs, vs, strict=True)])
-    work = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t))])
-    return ForwardRun(t=t, q=qs, v=vs, residual=residual, energy=energy, work=work)
+def _results(equations, t, states, steps, projections) -> ForwardRun:
+    """The run's tables from the states at the output times (module docstring)."""
+    dyn, model = equations.dyn, equations.model
+    chain = dyn.chain
+    nq, nv = model.nq, model.nv
+    residual = np.array([np.abs(chain.residual(y[:nq])).max(initial=0.0) for y in states])
+    count = equations.count
+    projected = np.array([_project(equations, y) for y in states])
+    q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]
+    a = np.array([equations.accelerations(x, y, z)[0] for x, y, z in zip(t, q, v, strict=True)])
+    equations.count = count
+    try:
+        loads = inverse_dynamics(dyn, q, v, a, t=t)
+    except (InputError, SingularPoseError) as exc:
+        raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
+    data = equations.data
+    energy = np.array(
+        [
+            pin.computeKineticEnergy(model, data, x, y)
+            + pin.computePotentialEnergy(model, data, x)
+            + dyn.elements.energy(x)
+            for x, y in zip(q, v, strict=True)
+        ]
+    )
+    return ForwardRun(
+        t=t,
+        q=q,
+        v=v,
+        a=a,
+        loads=loads,
+        residual=residual,
+        energy=energy,
+        work=work,
+        steps=steps,
+        evaluations=count,
+        projections=projections,
+    )

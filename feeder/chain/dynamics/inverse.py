@@ -42,6 +42,8 @@ from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import TreeMotion, generalized_forces, joint_wrenches, tree_motion
 from ..model.closure import ClosedChain
+from ..model.forces import ForceElement
+from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
 from .reactions import ClosureWrench, JointWrench, closure_wrenches, joint_reactions
 
@@ -97,6 +99,8 @@ class ChainLoads:
             plus the idle motions' (:mod:`~feeder.chain.dynamics.idle`; equal to the prescribed
             ones when there is none).
         idle_motions: Number of idle motions (free with every actuated joint locked).
+        elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
+            (positive pulls its frames together), a joint spring's resistance [N·m or N].
     """
 
     actuators: dict[str, np.ndarray]
@@ -107,6 +111,7 @@ class ChainLoads:
     convention: str
     accelerations: np.ndarray
     idle_motions: int
+    elements: dict[str, np.ndarray]
 
 
 class ChainDynamics:
@@ -119,11 +124,12 @@ class ChainDynamics:
             prismatic).
         stiffness: Optional closure label → per-row stiffness (rows of that closure), for the
             split of statically indeterminate forces; default 1 everywhere.
+        elements: Force elements acting on the chain (:mod:`~feeder.chain.model.forces`).
 
     Raises:
         InputError: A joint type the dynamics do not handle (helical, ellipsoid, composite,
             mimic), an unknown or multi-coordinate actuated joint, a name given twice, a bad
-            stiffness.
+            stiffness, a force element on an unknown frame or joint.
     """
 
     def __init__(
@@ -131,6 +137,7 @@ class ChainDynamics:
         chain: ClosedChain,
         actuated: Sequence[str],
         stiffness: Mapping[str, Sequence[float]] | None = None,
+        elements: Sequence[ForceElement] = (),
     ):
         for j in range(1, chain.model.njoints):
             kind_of(chain.model.joints[j])
@@ -153,6 +160,7 @@ class ChainDynamics:
             weights[rows] = values
         self.row_scale = np.sqrt(weights)
         self.data = chain.model.createData()
+        self.elements = BoundElements(chain, elements)
 
     def idle_count(self, q: np.ndarray) -> int:
         """Number of idle motions at the closed pose ``q`` with the actuated joints locked
@@ -237,6 +245,7 @@ def inverse_dynamics(
     v: np.ndarray,
     a: np.ndarray,
     external: Mapping[str, np.ndarray] | None = None,
+    t: np.ndarray | None = None,
 ) -> ChainLoads:
     """Actuator loads, closure forces and every joint's reaction for a closed-chain motion.
 
@@ -246,6 +255,7 @@ def inverse_dynamics(
             motion (checked: :func:`check_motion`).
         external: Optional external wrenches by frame name: world [force (3) N, moment (3) N·m
             about the frame's origin], (N, 6) or (6,) (constant).
+        t: The samples' times [s], (N,): needed when a force element varies in time.
 
     Raises:
         InputError: Bad arrays, a motion that opens the loops, or one the actuated joints cannot
@@ -256,6 +266,11 @@ def inverse_dynamics(
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
+    forces = {}
+    if dyn.elements:
+        t = _times(dyn, t, q.shape[0])
+        element_terms, forces = dyn.elements.wrenches(motion, q, v, t)
+        terms = terms + element_terms
     count = dyn.idle_count(q[0])
     if count:
         basis = idle_basis(rows, dyn.columns, count)
@@ -273,7 +288,21 @@ def inverse_dynamics(
         convention=CONVENTION,
         accelerations=a,
         idle_motions=count,
+        elements=forces,
     )
+
+
+def _times(dyn: ChainDynamics, t: np.ndarray | None, n: int) -> np.ndarray:
+    """The samples' times (N,) [s], checked; zeros when no element varies in time."""
+    if t is None:
+        if dyn.elements.timed:
+            raise InputError("a force element varies in time: give the samples' times t [s]")
+        return np.zeros(n)
+    t = check_finite("t", t)
+    if t.shape != (n,):
+        raise InputError(f"t must have one time per sample, shape ({n},), got {t.shape}")
+    dyn.elements.check_covers(float(t.min()), float(t.max()))
+    return t
 
 
 def solve_loads(
@@ -307,6 +336,8 @@ def _solve(
     (:func:`_shortcut`); the other samples, and a subsample for the structural checks (the null
     space of the equations), go through the singular value decomposition."""
     n = system.shape[0]
+    if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
+        return np.zeros((n, 0)), ()
     fast, inverse = _shortcut(system)
     solution = np.empty((n, system.shape[2]))
     if np.any(fast):

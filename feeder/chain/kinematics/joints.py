@@ -89,7 +89,9 @@ def joint_axes(model: pin.Model) -> list[np.ndarray]:
         if kind not in ("revolute", "continuous", "universal", "spherical_zyx", "prismatic"):
             axes.append(np.zeros((0, 3)))
             continue
-        local = pin.getJointJacobian(model, data, j, pin.LOCAL)
+        local = pin.getJointJacobian(model, data, j, pin.LOCAL).reshape(
+            6, model.nv
+        )  # nv = 1: (6,)
         subspace = local[:, joint.idx_v : joint.idx_v + joint.nv]
         columns = subspace[:3] if kind == "prismatic" else subspace[3:]
         axes.append((columns / np.linalg.norm(columns, axis=0)).T)
@@ -244,3 +246,39 @@ def angular_difference(
     step = pin.difference(model, q_from, q_to)
     step[angles] = np.pi - np.mod(np.pi - step[angles], 2.0 * np.pi)
     return step
+
+
+def _quaternion_rate(quaternion: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """d/dt of the unit quaternion (x, y, z, w) turning at ``omega`` in its own axes:
+    ½ q ⊗ (ω, 0)."""
+    vector, scalar = quaternion[:3], quaternion[3]
+    return 0.5 * np.concatenate([scalar * omega + np.cross(vector, omega), [-(vector @ omega)]])
+
+
+def configuration_rate(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """q̇ (nq,) of the coefficients of q for the velocity v (nv,) (the table of the module
+    docstring; Pinocchio's ``integrate(q, v dt)`` differentiated at dt = 0): v itself for the
+    joints whose q is a vector, the rotation's and the unit circle's rates for the others."""
+    out = np.empty(model.nq)
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        iq, iv, kind = joint.idx_q, joint.idx_v, kind_of(joint)
+        qj, vj = q[iq : iq + joint.nq], v[iv : iv + joint.nv]
+        if joint.nq == joint.nv:
+            out[iq : iq + joint.nq] = vj
+        elif kind == "continuous":
+            out[iq : iq + 2] = vj[0] * np.array([-qj[1], qj[0]])
+        elif kind == "spherical":
+            out[iq : iq + 4] = _quaternion_rate(qj, vj)
+        elif kind == "planar":
+            c, s = qj[2], qj[3]
+            out[iq : iq + 4] = [
+                c * vj[0] - s * vj[1],
+                s * vj[0] + c * vj[1],
+                -s * vj[2],
+                c * vj[2],
+            ]
+        else:  # free flyer: position rate R v_linear, then the quaternion's
+            out[iq : iq + 3] = quaternion_matrix(qj[None, 3:])[0] @ vj[:3]
+            out[iq + 3 : iq + 7] = _quaternion_rate(qj[3:], vj[3:])
+    return out

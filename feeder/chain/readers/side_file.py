@@ -14,6 +14,12 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     type = "revolute"               # point | weld | revolute
     axis = [0.0, 0.0, 1.0]          # revolute: hinge axis in the frames' axes
     stiffness = [1, 1, 1, 1, 1]     # optional, per row: the split of indeterminate forces
+
+    [[force]]                       # optional: force elements (feeder.chain.readers.forces)
+    type = "spring"
+    frames = ["coupler_tip", "ground_pin"]
+    stiffness = 400.0               # [N/m]
+    rest_length = 0.1               # [m]
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from pathlib import Path
 from ...exceptions import InputError
 from ...validation import check_finite
 from ..model.closure import KINDS, Closure
+from .forces import read_forces
 from .spec import MechanismSpec, format_of
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
@@ -71,10 +78,11 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
-    unknown = set(document) - {"mechanism", "closure"}
+    unknown = set(document) - {"mechanism", "closure", "force"}
     if unknown:
         raise InputError(
-            f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]])"
+            f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]], "
+            "[[force]])"
         )
     mechanism = document.get("mechanism")
     if not isinstance(mechanism, dict):
@@ -133,4 +141,5 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         independent=_names(mechanism, "independent", where),
         gravity=gravity,
         stiffness=stiffness,
+        forces=read_forces(document.get("force", []), path.parent, str(path)),
     )

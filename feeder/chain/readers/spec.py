@@ -9,6 +9,7 @@ import numpy as np
 
 from ...exceptions import InputError
 from ..model.closure import Closure
+from ..model.forces import ForceElement
 
 
 @dataclass(frozen=True)
@@ -25,6 +26,7 @@ class MechanismSpec:
         stiffness: Closure label → per-row stiffness (indeterminate-force split).
         joint_types: Joint name → the type that replaces its URDF type
             (:mod:`~feeder.chain.readers.joint_types`).
+        forces: The force elements (:mod:`~feeder.chain.model.forces`).
     """
 
     model: Path
@@ -35,6 +37,7 @@ class MechanismSpec:
     gravity: np.ndarray | None = None
     stiffness: dict[str, tuple[float, ...]] = field(default_factory=dict)
     joint_types: dict[str, str] = field(default_factory=dict)
+    forces: tuple[ForceElement, ...] = ()
 
 
 def format_of(path: Path) -> str:

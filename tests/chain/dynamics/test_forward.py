@@ -1,5 +1,6 @@
-"""Forward simulation of any closed chain: energy balance, drift control, and the inverse
-dynamics' loads reproducing their motion."""
+"""Forward runs of any closed chain: the accelerations against an independent KKT solve, energy
+and work balances, drift control, an analytic oscillator, the inverse dynamics' loads
+reproducing their motion, and the refusals."""
 
 from __future__ import annotations
 
@@ -8,34 +9,30 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+import scipy.interpolate
 
 from feeder.chain import Closure, load_closed_chain
-from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
-from feeder.chain.dynamics.forward import simulate
+from feeder.chain.assembly.partition import Partition
+from feeder.chain.dynamics.forward import IntegrationError, _Equations, simulate
 from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.model.forces import JointSpring, Load, Spring, Table
 from feeder.exceptions import InputError
 
 from ...conftest import REPO
 
-STEP = 1e-3  # [s]
-ENERGY = 1e-6
-"""[J] Energy balance of a 1 s RK4 run at 1 ms of a ~0.4 kg four-bar whose energy swings by
-~0.1 J: RK4's error is O(h⁴) per unit time (~1e-8 J measured), Baumgarte's corrector does no
-work on a closed loop; 1e-6 J leaves room and still fails a first-order integrator (~1e-3 J)."""
+ACCELERATION = 1e-10
+"""Relative agreement of Pinocchio's constraintDynamics (proximal, accuracy 1e-13) with a
+least-squares solve of the KKT system: both are exact to round-off of a system whose condition
+number is ~1e3 (the four-bar's mass matrix spans 1e-5…1e-3 kg·m²)."""
 
-WORK = 1e-5
-"""[J] Energy balance of the driven run (~3 J of motor work): the trapezoidal rule's O(h²) error
-on the work, 2.6e-6 J measured at 1 ms, 1.0e-5 J at 2 ms, 6.5e-7 J at 0.5 ms."""
+ENERGY = 1e-7
+"""[J] Energy balance of a 1 s run (rtol 1e-8, atol 1e-10) of a ~0.4 kg four-bar whose energy
+swings by ~0.1 J: the integrator's global error (measured ~1e-9 J) with room; a first-order
+error (dropping a term of the equations) is ~1e-3 J."""
 
 DRIFT = 1e-8
-"""[m] Closure residual of a Baumgarte-stabilised run (~2e-9 m measured at ω = 20 /s)."""
-
-TRACKING = 5e-8
-"""[rad] A run driven by the inverse dynamics' torque, sampled exactly at RK4's nodes and
-midpoints, follows its motion over a turn to RK4's O(h⁴) error: 1.6e-8 rad measured at 1 ms,
-2.8e-7 at 2 ms, 1.0e-9 at 0.5 ms (a ratio of 16–17 per halving). Without gravity:
-under gravity the 40 mm crank's open-loop motion is unstable (deviations grow like e^(13 t),
-√(g/ℓ)), so a force-driven run can only be compared over a fraction of a second."""
+"""[m] Closure residual of the interpolated samples before projection: the dense output's error
+(~1e-10 m measured)."""
 
 
 @pytest.fixture(scope="module")
@@ -50,59 +47,208 @@ def four_bar():
     return chain, partition, q0
 
 
+def _kkt_accelerations(chain, q, v, tau, rate):
+    """q̈ from [M Jᵀ; J 0] solved by least squares (numpy), with the chain's own closure rows and
+    Baumgarte's terms: independent of Pinocchio's constraintDynamics."""
+    model, data = chain.model, chain.model.createData()
+    mass = pin.crba(model, data, q)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    bias = pin.nonLinearEffects(model, data, q, v)
+    jac = chain.jacobian(q)
+    target = -chain.bias(q, v) - 2.0 * rate * (jac @ v) - rate**2 * chain.residual(q)
+    nc = jac.shape[0]
+    kkt = np.block([[mass, jac.T], [jac, np.zeros((nc, nc))]])
+    return np.linalg.lstsq(kkt, np.concatenate([tau - bias, target]), rcond=None)[0][: model.nv]
+
+
+def test_the_accelerations_are_those_of_the_kkt_system(four_bar):
+    chain, partition, q0 = four_bar
+    spring = JointSpring("coupler_joint", stiffness=0.3, rest=0.1, damping=0.01, preload=0.02)
+    dyn = ChainDynamics(chain, ["crank_joint"], elements=[spring])
+    equations = _Equations(dyn, lambda t, q, v: np.array([0.05]), rate=20.0)
+    v = partition.velocity(q0, np.array([3.0]))
+    for q in (q0, pin.integrate(chain.model, q0, np.array([1e-6, -2e-6, 1e-6]))):  # off the loop
+        tau = np.zeros(3)
+        tau[0] = 0.05
+        tau[1] = -spring.resistance(q[1], v[1])
+        expected = _kkt_accelerations(chain, q, v, tau, 20.0)
+        a = equations(0.0, np.concatenate([q, v, [0.0]]))[3:6]
+        np.testing.assert_allclose(
+            a, expected, rtol=0.0, atol=ACCELERATION * np.abs(expected).max()
+        )
+
+
 def test_a_free_swing_keeps_its_energy_and_its_loop(four_bar):
     chain, _, q0 = four_bar
     dyn = ChainDynamics(chain, ["crank_joint"])
-    t = np.arange(0.0, 1.0 + STEP / 2, STEP)
-    run = simulate(dyn, lambda time, q, v: np.zeros(1), t, q0, np.zeros(chain.model.nv))
-    assert np.ptp(run.energy) > 0.0 and np.abs(run.work).max() == 0.0
-    assert np.ptp(run.q[:, 0]) > 0.5  # it does swing (about half a radian or more)
+    run = simulate(dyn, np.linspace(0.0, 1.0, 101), q0, np.zeros(3))
+    assert np.ptp(run.q[:, 0]) > 0.5  # it does swing
+    assert np.abs(run.work).max() == 0.0  # nothing does work but gravity
     assert run.energy_error() <= ENERGY
     assert run.drift() <= DRIFT
+    # No drive: the inverse dynamics of the run give a zero crank torque (to the loads' scale).
+    torque = run.loads.actuators["crank_joint"]
+    scale = np.abs(run.loads.closure_forces).max() * 0.04  # [N·m]: force × the 40 mm crank
+    assert np.abs(torque).max() <= 1e-8 * scale
 
 
-def test_projection_holds_the_loop_to_newton_accuracy(four_bar):
-    chain, partition, q0 = four_bar
+def test_outputs_far_apart_are_still_integrated_finely(four_bar):
+    """The step is the integrator's, never the output spacing: 1 s between outputs."""
+    chain, _, q0 = four_bar
     dyn = ChainDynamics(chain, ["crank_joint"])
-    t = np.arange(0.0, 0.2 + STEP / 2, STEP)
-    free = lambda time, q, v: np.zeros(1)  # noqa: E731
-    run = simulate(dyn, free, t, q0, np.zeros(chain.model.nv), rate=0.0, projection=partition)
-    assert run.drift() <= 10 * POSITION_TOLERANCE  # one residual norm, one max-abs row
+    run = simulate(dyn, np.array([0.0, 1.0, 2.0]), q0, np.zeros(3))
+    assert run.steps > 50 and run.energy_error() <= ENERGY
+
+
+def test_springs_and_dampers_balance_energy_and_work(four_bar):
+    """A point-to-point spring with a damper and a time-dependent push, a preloaded joint spring
+    with a damper and a tabulated load: E(t) − E(0) equals the work of the non-conservative
+    forces; without the dampers and the push, the energy is conserved."""
+    chain, _, q0 = four_bar
+    table = Table(np.array([0.0, 0.5, 1.0]), np.array([[0, 0, 0, 0, 0, 0.0], [0, 0, 0, 0, 0, 0.02],
+                                                        [0.1, 0, 0, 0, 0, 0.0]]))  # fmt: skip
+    lossy = [
+        Spring(
+            ("rocker_tip", "crank"),
+            stiffness=40.0,
+            rest_length=0.09,
+            damping=0.5,
+            force=lambda t: 0.2 * math.sin(5.0 * t),
+        ),  # fmt: skip
+        JointSpring("rocker_joint", stiffness=0.2, rest=1.0, damping=0.002, preload=0.01),
+        Load("coupler_tip", table=table),
+    ]
+    conservative = [
+        Spring(("rocker_tip", "crank"), stiffness=40.0, rest_length=0.09),
+        JointSpring("rocker_joint", stiffness=0.2, rest=1.0, preload=0.01),
+    ]
+    t = np.linspace(0.0, 1.0, 51)
+    lossless = simulate(ChainDynamics(chain, ["crank_joint"], elements=conservative), t, q0,
+                        np.zeros(3))  # fmt: skip
+    assert np.abs(lossless.work).max() == 0.0 and lossless.energy_error() <= ENERGY
+    run = simulate(ChainDynamics(chain, ["crank_joint"], elements=lossy), t, q0, np.zeros(3))
+    assert np.abs(run.work).max() > 1e-3  # the dampers and pushes do work
+    assert run.energy_error() <= ENERGY
+    assert set(run.loads.elements) == {"spring:rocker_tip-crank", "joint_spring:rocker_joint"}
+
+
+def test_the_element_forces_of_the_inverse_dynamics_drive_the_forward_run(four_bar):
+    """The forward run's samples, handed to the inverse dynamics with the same elements, need no
+    drive at the (undriven) crank: the elements' wrenches enter both the same way."""
+    chain, _, q0 = four_bar
+    elements = [
+        Spring(("rocker_tip", "crank"), stiffness=40.0, rest_length=0.09, damping=0.5),
+        JointSpring("coupler_joint", stiffness=0.1, rest=0.0, damping=0.001, preload=-0.01),
+        Load("coupler_tip", force=(0.0, -2.0, 0.0), moment=(0.0, 0.0, 0.01)),
+    ]
+    dyn = ChainDynamics(chain, ["crank_joint"], elements=elements)
+    run = simulate(dyn, np.linspace(0.0, 0.5, 26), q0, np.zeros(3))
+    loads = inverse_dynamics(dyn, run.q, run.v, run.a, t=run.t)
+    scale = np.abs(loads.closure_forces).max() * 0.04
+    assert np.abs(loads.actuators["crank_joint"]).max() <= 1e-7 * scale
+    # The spring's tension from the inverse dynamics is k (ℓ − ℓ0) + c ℓ̇ at the samples.
+    model, data = chain.model, chain.model.createData()
+    a, b = chain.frame_id("rocker_tip"), chain.frame_id("crank")
+    for k in (0, 10, 25):
+        pin.forwardKinematics(model, data, run.q[k], run.v[k])
+        gap = (
+            pin.updateFramePlacement(model, data, b).translation
+            - pin.updateFramePlacement(model, data, a).translation
+        )
+        rate = (
+            (
+                pin.getFrameVelocity(model, data, b, pin.LOCAL_WORLD_ALIGNED).linear
+                - pin.getFrameVelocity(model, data, a, pin.LOCAL_WORLD_ALIGNED).linear
+            )
+            @ gap
+            / np.linalg.norm(gap)
+        )
+        tension = 40.0 * (np.linalg.norm(gap) - 0.09) + 0.5 * rate
+        assert loads.elements["spring:rocker_tip-crank"][k] == pytest.approx(tension, rel=1e-12)
+
+
+def test_a_torsion_oscillator_has_its_analytic_period():
+    """One link on a hinge with a torsion spring, no loop and no gravity: θ(t) = θ0 cos(ω t),
+    ω = √(k / I_O)."""
+    model = pin.Model()
+    inertia = pin.Inertia(0.5, np.array([0.1, 0.0, 0.0]), np.diag([1e-4, 1e-3, 2e-3]))
+    joint = model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "hinge")
+    model.appendBodyToJoint(joint, inertia, pin.SE3.Identity())
+    model.addFrame(pin.Frame("tip", joint, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+    model.gravity = pin.Motion.Zero()
+    from feeder.chain import ClosedChain
+
+    chain = ClosedChain(model, [])
+    k = 0.8  # [N·m/rad]
+    moment = 2e-3 + 0.5 * 0.1**2  # I_O [kg·m²], parallel axes
+    dyn = ChainDynamics(chain, ["hinge"], elements=[JointSpring("hinge", stiffness=k)])
+    t = np.linspace(0.0, 0.5, 51)
+    run = simulate(dyn, t, np.array([0.3]), np.zeros(1), rtol=1e-10, atol=1e-12)
+    exact = 0.3 * np.cos(math.sqrt(k / moment) * t)
+    np.testing.assert_allclose(run.q[:, 0], exact, rtol=0.0, atol=1e-8)  # tolerance-limited
+    # its resistance, reported by the run, is k θ
+    np.testing.assert_allclose(
+        run.loads.elements["joint_spring:hinge"], k * run.q[:, 0], atol=1e-12
+    )
 
 
 def test_the_inverse_dynamics_torque_drives_its_motion(four_bar):
+    """The torque of a prescribed turn (no gravity: the open-loop run is then stable), fed back
+    through a forward run, follows the turn."""
     chain, partition, q0 = four_bar
     gravity = chain.model.gravity
     chain.model.gravity = pin.Motion.Zero()
     try:
-        run, q = _driven_run(chain, partition, q0)
+        dyn = ChainDynamics(chain, ["crank_joint"])
+        fine = np.linspace(0.0, 1.0, 2001)
+        x = (q0[0] + 2.0 * math.pi * fine + math.pi * fine**2)[:, None]
+        dx = (2.0 * math.pi + 2.0 * math.pi * fine)[:, None]
+        q, v, a, _ = partition.track(q0, x, dx, np.full_like(x, 2.0 * math.pi))
+        torque = inverse_dynamics(dyn, q, v, a).actuators["crank_joint"]
+        spline = scipy.interpolate.CubicSpline(fine, torque)
+        drive = lambda time, q, v: np.array([spline(time)])  # noqa: E731
+        run = simulate(dyn, fine[::20], q[0], v[0], drive, rtol=1e-10, atol=1e-12)
     finally:
         chain.model.gravity = gravity
-    assert run.tracking(chain.model, q[::2]).max() <= TRACKING
-    assert run.energy_error() <= WORK  # the motor's work is the change of energy
-
-
-def _driven_run(chain, partition, q0):
-    """The one-turn motion's inverse dynamics torque, fed back to a forward run."""
-    dyn = ChainDynamics(chain, ["crank_joint"])
-    fine = np.arange(0.0, 1.0 + STEP / 4, STEP / 2)  # the steps' nodes and midpoints
-    x = (q0[0] + 2.0 * math.pi * fine + math.pi * fine**2)[:, None]
-    dx = (2.0 * math.pi + 2.0 * math.pi * fine)[:, None]
-    q, v, a, _ = partition.track(q0, x, dx, np.full_like(x, 2.0 * math.pi))
-    torque = inverse_dynamics(dyn, q, v, a).actuators["crank_joint"]
-    drive = lambda time, q, v: np.array([np.interp(time, fine, torque)])  # noqa: E731
-    return simulate(dyn, drive, fine[::2], q[0], v[0]), q
+    # The torque is a cubic spline through samples 0.5 ms apart (error O(h⁴)): the motion it
+    # drives follows the prescribed one to 7e-9 rad (measured, at rtol 1e-8 and 1e-10 alike: the
+    # spline's and the tracked samples' error); the motor's work (0.037 J) is the change of
+    # energy to the integrator's tolerance (1.4e-11 J measured).
+    assert run.tracking(chain.model, q[::20]).max() <= 5e-8
+    assert run.energy_error() <= 1e-8 * np.abs(run.work).max()
+    np.testing.assert_allclose(run.loads.actuators["crank_joint"], torque[::20], atol=1e-9)
 
 
 def test_refusals(four_bar):
     chain, _, q0 = four_bar
     dyn = ChainDynamics(chain, ["crank_joint"])
-    free = lambda time, q, v: np.zeros(1)  # noqa: E731
+    t = np.array([0.0, 0.1])
     with pytest.raises(InputError, match="increasing"):
-        simulate(dyn, free, np.array([0.0, 0.0, 1.0]), q0, np.zeros(3))
+        simulate(dyn, np.array([0.0, 0.0, 1.0]), q0, np.zeros(3))
     with pytest.raises(InputError, match="actuation at t = 0 s"):
-        simulate(dyn, lambda time, q, v: np.array([np.nan]), np.array([0.0, 0.1]), q0, np.zeros(3))
-    with pytest.raises(InputError, match="shape"):
-        simulate(dyn, lambda time, q, v: np.zeros(2), np.array([0.0, 0.1]), q0, np.zeros(3))
+        simulate(dyn, t, q0, np.zeros(3), lambda time, q, v: np.array([np.nan]))
+    with pytest.raises(InputError, match="actuation"):
+        simulate(dyn, t, q0, np.zeros(3), lambda time, q, v: np.zeros(2))
     with pytest.raises(InputError, match="Baumgarte"):
-        simulate(dyn, free, np.array([0.0, 0.1]), q0, np.zeros(3), rate=-1.0)
+        simulate(dyn, t, q0, np.zeros(3), rate=-1.0)
+    with pytest.raises(InputError, match="method"):
+        simulate(dyn, t, q0, np.zeros(3), method="Euler")
+    with pytest.raises(InputError, match="rtol"):
+        simulate(dyn, t, q0, np.zeros(3), rtol=0.0)
+    short = Table(np.array([0.0, 0.05]), np.zeros((2, 6)), source="short.csv")
+    loaded = ChainDynamics(chain, ["crank_joint"], elements=[Load("coupler_tip", table=short)])
+    with pytest.raises(InputError, match="short.csv covers"):
+        simulate(loaded, t, q0, np.zeros(3))
+    with pytest.raises(InputError, match="no frame 'nowhere'"):
+        ChainDynamics(chain, ["crank_joint"], elements=[Spring(("nowhere", "crank"))])
+
+
+def test_forces_that_become_nan_stop_the_run_with_an_error(four_bar):
+    """A push that turns NaN mid-run: an IntegrationError naming the time, never NaN results."""
+    chain, _, q0 = four_bar
+    push = lambda t: 0.1 if t < 0.05 else math.nan  # noqa: E731
+    dyn = ChainDynamics(
+        chain, ["crank_joint"], elements=[Spring(("rocker_tip", "crank"), force=push)]
+    )
+    with pytest.raises(IntegrationError, match=r"not finite at t = 0\.0[5-9]"):
+        simulate(dyn, np.linspace(0.0, 0.1, 11), q0, np.zeros(3))

@@ -1,0 +1,129 @@
+"""Force elements read from a mechanism file's ``[[force]]`` tables (TOML), or from a file of
+only those (``feeder simulate --forces F``). Units SI; vectors in world axes; table files are CSV
+with a header, relative to the file that names them::
+
+    [[force]]
+    type = "spring"                 # point-to-point spring–damper–actuator
+    frames = ["D_body3", "C_ground"]
+    stiffness = 4530.0              # [N/m]
+    rest_length = 0.07785           # [m]
+    damping = 0.0                   # [N·s/m]
+    force = 0.0                     # [N] the actuator's push (extending), or
+    force_table = "push.csv"        # columns t, force
+
+    [[force]]
+    type = "cylinder"               # hydraulic cylinder, cap end first
+    frames = ["cap", "rod_end"]
+    bore = 0.08                     # [m]
+    rod = 0.045                     # [m]
+    pressure = 12e6                 # [Pa] cap side, or pressure_table = "p.csv" (t, pressure)
+    rod_pressure = 0.0              # [Pa] rod side, or rod_pressure_table = "…" (t, pressure)
+    damping = 0.0                   # [N·s/m]
+
+    [[force]]
+    type = "joint_spring"           # torsion (revolute) or linear (prismatic) spring–damper
+    joint = "rocker_joint"
+    stiffness = 0.2                 # [N·m/rad] or [N/m]
+    rest = 1.0                      # [rad] or [m]
+    damping = 0.0                   # [N·m·s/rad] or [N·s/m]
+    preload = 0.0                   # [N·m] or [N], the resistance at rest
+
+    [[force]]
+    type = "load"                   # a force and a moment on a frame's body, at its origin
+    frame = "body1"
+    force = [0.0, 0.0, 0.0]         # [N]
+    moment = [0.0, 0.0, 0.033]      # [N·m], or table = "load.csv" (t, fx, fy, fz, mx, my, mz)
+
+Each may have a ``name`` (its label in the results).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from ...exceptions import InputError
+from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, read_table
+
+KEYS = {
+    "spring": {"frames", "stiffness", "rest_length", "damping", "force", "force_table"},
+    "cylinder": {
+        "frames", "bore", "rod", "pressure", "pressure_table", "rod_pressure",
+        "rod_pressure_table", "damping",
+    },
+    "joint_spring": {"joint", "stiffness", "rest", "damping", "preload"},
+    "load": {"frame", "force", "moment", "table"},
+}  # fmt: skip
+"""The keys of each ``type`` (besides ``type`` and ``name``)."""
+
+
+def read_forces(entries: object, folder: Path, where: str) -> tuple[ForceElement, ...]:
+    """The force elements of a list of ``[[force]]`` tables; table files relative to ``folder``.
+
+    Raises:
+        InputError: Not a list of tables, an unknown type or key, a missing or bad value, a
+            missing or malformed table file (each named with the entry's number).
+    """
+    if not isinstance(entries, list):
+        raise InputError(f"{where}: [[force]] must be a list of tables")
+    return tuple(
+        _element(entry, folder, f"{where} [[force]] #{i + 1}") for i, entry in enumerate(entries)
+    )
+
+
+def read_force_file(path: Path) -> tuple[ForceElement, ...]:
+    """The force elements of a TOML file holding only ``[[force]]`` tables.
+
+    Raises:
+        InputError: A missing or unreadable file, another section, a bad element.
+    """
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+    if set(document) - {"force"}:
+        raise InputError(f"{path}: only [[force]] tables are expected, got {sorted(document)}")
+    return read_forces(document.get("force", []), path.parent, str(path))
+
+
+def _element(entry: object, folder: Path, where: str) -> ForceElement:
+    if not isinstance(entry, dict):
+        raise InputError(f"{where}: must be a table")
+    kind = entry.get("type")
+    if kind not in KEYS:
+        raise InputError(f"{where}: 'type' must be one of {sorted(KEYS)}, got {kind!r}")
+    unknown = set(entry) - KEYS[kind] - {"type", "name"}
+    if unknown:
+        raise InputError(f"{where}: unknown keys {sorted(unknown)} for a {kind}")
+    name = entry.get("name", "")
+    if not isinstance(name, str):
+        raise InputError(f"{where}: 'name' must be text, got {name!r}")
+    values = {key: value for key, value in entry.items() if key not in ("type", "name")}
+    for key, columns in (
+        ("force_table", ("force",)),
+        ("pressure_table", ("pressure",)),
+        ("rod_pressure_table", ("pressure",)),
+        ("table", ("fx", "fy", "fz", "mx", "my", "mz")),
+    ):
+        if key in values:
+            target = key.removesuffix("_table")
+            if target != key and target in values:
+                raise InputError(f"{where}: give '{target}' or '{key}', not both")
+            if not isinstance(values[key], str):
+                raise InputError(f"{where}: '{key}' must name a CSV file, got {values[key]!r}")
+            try:
+                values[target] = read_table(folder / values.pop(key), columns)
+            except InputError as exc:
+                raise InputError(f"{where}: {exc}") from exc
+    try:
+        if kind == "spring":
+            return Spring(tuple(values.pop("frames", ())), name=name, **values)
+        if kind == "cylinder":
+            if "bore" not in values or "rod" not in values:
+                raise InputError("a cylinder needs 'bore' and 'rod' [m]")
+            return Cylinder(tuple(values.pop("frames", ())), name=name, **values)
+        if kind == "joint_spring":
+            return JointSpring(values.pop("joint", ""), name=name, **values)
+        return Load(values.pop("frame", ""), name=name, **values)
+    except (InputError, TypeError) as exc:
+        raise InputError(f"{where}: {exc}") from exc
