@@ -10,6 +10,8 @@ Commands:
     errata      the table of the paper's errata measured on the reference cycle (Markdown)
     sweep       peak loads over elevations × parameter variants × devices, resumable
     analyze     any closed-chain mechanism: mobility report, or its loads and every reaction
+    simulate    any closed-chain mechanism run forward from rest under gravity and its force
+                elements: states, loads, reactions, drift and energy balance
 
 A command is a function ``cmd_<name>(args) -> int`` and a sub-parser in :func:`_parser`, built
 from the shared option groups (:func:`_device_options`, :func:`_study_options`), so that every
@@ -228,6 +230,33 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     with folder:
         paths = write_analysis_outputs(analysis, folder, _command(args))
     print(analysis.summary())
+    print(
+        f"wrote {paths[0]}, {paths[1].name}, {paths[2].name} and {len(paths) - 3} figures in "
+        f"{folder.path}"
+    )
+    return 0
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    """A user's closed-chain mechanism run forward from rest: states.csv, summary, figures."""
+    from .outputs import OutputFolder, write_simulation_outputs
+    from .study.simulate import simulate_mechanism
+
+    folder = OutputFolder(args.out)
+    simulation = simulate_mechanism(
+        args.closures,
+        args.duration,
+        model=args.model,
+        pose=args.pose,
+        forces=args.forces,
+        samples=args.samples,
+        method=args.method,
+        rtol=args.rtol,
+        atol=args.atol,
+    )
+    with folder:
+        paths = write_simulation_outputs(simulation, folder, _command(args))
+    print(simulation.summary())
     print(
         f"wrote {paths[0]}, {paths[1].name}, {paths[2].name} and {len(paths) - 3} figures in "
         f"{folder.path}"
@@ -507,6 +536,91 @@ def _parser() -> argparse.ArgumentParser:
         "--check",
         "check",
         "print the mobility report and the assembled pose instead (default: off)",
+    )
+
+    from .chain.dynamics.forward import ATOL, METHODS, RTOL
+    from .study.simulate import SAMPLES
+
+    simulate = command(
+        "simulate",
+        cmd_simulate,
+        "any closed-chain mechanism run forward from rest: states, loads, reactions, energy",
+    )
+    simulate.add_argument(
+        "model",
+        type=_path,
+        metavar="MODEL",
+        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
+    )
+    simulate.add_argument(
+        "--closures",
+        action=_Once,
+        type=_path,
+        required=True,
+        metavar="FILE",
+        help="mechanism file, required: TOML (cut frames and types, gravity, force elements, "
+        "optional reference pose) or a CAD export's Extended-URDF YAML; see docs/MECHANISMS.md",
+    )
+    simulate.add_argument(
+        "--duration",
+        action=_Once,
+        type=float,
+        required=True,
+        metavar="SECONDS",
+        help="length of the run [s], required",
+    )
+    simulate.add_argument(
+        "--out",
+        action=_Once,
+        type=_path,
+        required=True,
+        metavar="DIR",
+        help="output folder for states.csv, summary.txt and the figures, required",
+    )
+    simulate.add_argument(
+        "--forces",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="TOML file of more [[force]] elements (default: the mechanism file's only)",
+    )
+    simulate.add_argument(
+        "--pose",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch "
+        "(default: the mechanism file's pose, or the model's zero pose)",
+    )
+    simulate.add_argument(
+        "--samples",
+        action=_Once,
+        type=int,
+        default=SAMPLES,
+        metavar="N",
+        help=f"output samples over the run, both ends included (default: {SAMPLES})",
+    )
+    simulate.add_argument(
+        "--method",
+        action=_Once,
+        choices=METHODS,
+        default="DOP853",
+        help="SciPy integrator: explicit DOP853 or RK45, implicit Radau or BDF for stiff "
+        "mechanisms (default: DOP853)",
+    )
+    simulate.add_argument(
+        "--rtol",
+        action=_Once,
+        type=float,
+        default=RTOL,
+        help=f"relative tolerance of each step (default: {RTOL:g})",
+    )
+    simulate.add_argument(
+        "--atol",
+        action=_Once,
+        type=float,
+        default=ATOL,
+        help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
     )
     return parser
 

@@ -30,6 +30,9 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from .chain.model.closure import ClosedChain
 from .device.feeder import Feeder
 from .device.parameter_file import parameters_sha256
 from .exceptions import InputError
@@ -39,6 +42,7 @@ from .study.analyze import Analysis
 from .study.columns import kinematic_columns
 from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
+from .study.simulate import Simulation
 from .validation import check_path
 from .viz.report import (
     FigureData,
@@ -277,7 +281,9 @@ def write_analysis_outputs(
     outputs: dict[str, Writer] = {
         "loads.csv": lambda path: write_csv(path, analysis.columns()),
         "summary.txt": lambda path: write_text(path, analysis.summary() + "\n"),
-        "assembled_pose.csv": lambda path: write_text(path, _pose_csv(analysis)),
+        "assembled_pose.csv": lambda path: write_text(
+            path, _pose_csv(analysis.chain, analysis.assembled)
+        ),
     }
     outputs |= _figure_writers(analysis_figures(analysis))
     record = {
@@ -291,12 +297,45 @@ def write_analysis_outputs(
     return _write(directory, outputs, record)
 
 
-def _pose_csv(analysis: Analysis) -> str:
+def write_simulation_outputs(
+    simulation: Simulation, directory: str | Path | OutputFolder, command: str | None = None
+) -> list[Path]:
+    """Write a mechanism's forward run (``feeder simulate``): ``states.csv``
+    (:meth:`~feeder.study.simulate.Simulation.columns`), ``summary.txt`` (the mobility report,
+    the assembled pose, the run's statistics, drift and energy balance, the peaks),
+    ``assembled_pose.csv``, its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
+    the manifest; returns the paths, the table first."""
+    from .viz.analysis import simulation_figures
+
+    outputs: dict[str, Writer] = {
+        "states.csv": lambda path: write_csv(path, simulation.columns()),
+        "summary.txt": lambda path: write_text(path, simulation.summary() + "\n"),
+        "assembled_pose.csv": lambda path: write_text(
+            path, _pose_csv(simulation.chain, simulation.assembled)
+        ),
+    }
+    outputs |= _figure_writers(simulation_figures(simulation))
+    record = {
+        "command": command or "Python API (feeder.outputs)",
+        "model": str(simulation.spec.model),
+        "closures": [closure.label for closure in simulation.chain.closures],
+        "force_elements": [element.name for element in simulation.elements],
+        "integrator": {
+            "method": simulation.method,
+            "rtol": simulation.rtol,
+            "atol": simulation.atol,
+        },
+        "samples": int(simulation.run.t.size),
+    }
+    return _write(directory, outputs, record)
+
+
+def _pose_csv(chain: ClosedChain, assembled: np.ndarray) -> str:
     """The assembled pose as CSV: joint, coordinate, value (SI units; the coordinates of
     :func:`~feeder.study.analyze.joint_columns`)."""
     from .study.analyze import pose_rows
 
-    rows = pose_rows(analysis.chain.model, analysis.assembled)
+    rows = pose_rows(chain.model, assembled)
     return "joint,coordinate,value\n" + "".join(f"{j},{c},{x:.17g}\n" for j, c, x in rows)
 
 

@@ -518,6 +518,54 @@ def test_analyze_bad_input_exits_with_message(tmp_path, capsys, extra, message):
     assert not (tmp_path / "x").exists()  # a failed analysis creates no output folder
 
 
+SQUEEZER = REPO / "examples" / "andrews_squeezer"
+
+
+def test_simulate_runs_the_squeezer_from_its_two_files(tmp_path, capsys):
+    """``feeder simulate`` on the shipped URDF and mechanism file is the whole run: the published
+    state at t = 0.03 s (checked more tightly in tests/chain/test_andrews_squeezer.py), the
+    table, the summary with the drift and energy balance, the figures and the manifest."""
+    import json
+    import tomllib
+
+    out = tmp_path / "squeezer"
+    arguments = [str(SQUEEZER / "andrews_squeezer.urdf"), "--closures"]
+    arguments += [str(SQUEEZER / "squeezer.toml"), "--duration", "0.03", "--out", str(out)]
+    assert main(["simulate", *arguments, "--samples", "31"]) == 0
+    table = read_csv(out / "states.csv")
+    reference = tomllib.loads((SQUEEZER / "reference.toml").read_text(encoding="utf-8"))
+    beta = reference["final"]["q"][0]
+    # the default tolerances (rtol 1e-8) give q(0.03) to ~1e-9 relative (measured 9e-10)
+    assert table["t"].size == 31 and abs(table["q_beta"][-1] - beta) <= 1e-8 * abs(beta)
+    for column in ("spring:D_body3-C_ground_force", "F_body2-F_body3_force_x", "energy_balance"):
+        assert column in table
+    summary = (out / "summary.txt").read_text(encoding="utf-8")
+    assert "energy balance" in summary and "largest drift" in summary
+    manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert manifest["integrator"]["method"] == "DOP853"
+    for name in ("motion.png", "energy_balance.png", "force_elements.png"):
+        assert (out / name).stat().st_size > 10_000
+    assert "wrote" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--duration", "-1"], "duration must be > 0"),
+        (["--duration", "0.1", "--rtol", "0"], "rtol must be > 0"),
+        (["--duration", "0.1", "--forces", "missing.toml"], "missing.toml: not a readable"),
+        (["--duration", "0.1", "--samples", "1"], "samples must be"),
+    ],
+)
+def test_simulate_bad_input_exits_with_message(tmp_path, capsys, extra, message):
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    extra = [str(tmp_path / x) if x.endswith(".toml") else x for x in extra]
+    assert main(["simulate", *arguments, "--out", str(tmp_path / "x"), *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "x").exists()
+
+
 def test_sweep_command_writes_its_table(tmp_path, capsys):
     out = tmp_path / "sweep"
     arguments = ["--out", str(out), "--elevations", "60", "70", "10", "--workers", "1"]

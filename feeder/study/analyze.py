@@ -10,6 +10,7 @@ inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,9 +22,10 @@ from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.kinematics.joints import kind_of
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
+from ..chain.model.forces import ForceElement, JointSpring
 from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
-from ..chain.readers.pose import read_pose
+from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
 
 
@@ -61,27 +63,12 @@ class Analysis:
 
         ``t``; the coordinates, rates and accelerations of every joint (:func:`joint_columns`;
         the accelerations include the idle motions', :attr:`ChainLoads.accelerations`);
-        ``velocity_gain``; ``tau_<joint>`` of the actuated joints (N or N·m along the joint
-        axis); ``<closure>_force_x|y|z`` and ``<closure>_moment_x|y|z`` (the cut's wrench on the
-        body of its first frame, moment about that frame's origin); ``<joint>_force_x|y|z`` and
-        ``<joint>_moment_x|y|z`` (the wrench the parent exerts on the child, about the joint's
-        origin) and their magnitudes ``<joint>_force``, ``<joint>_moment``.
+        ``velocity_gain``; the loads (:func:`load_columns`).
         """
         cols: dict[str, np.ndarray] = {"t": self.motion.t}
         cols |= joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations)
         cols["velocity_gain"] = self.gain
-        for name, values in self.loads.actuators.items():
-            cols[f"tau_{name}"] = values
-        for label, wrench in self.loads.closures.items():
-            for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
-                for k, axis in enumerate("xyz"):
-                    cols[f"{label}_{what}_{axis}"] = vector[:, k]
-        for name, wrench in self.loads.joints.items():
-            for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
-                cols[f"{name}_{what}"] = np.linalg.norm(vector, axis=1)
-                for k, axis in enumerate("xyz"):
-                    cols[f"{name}_{what}_{axis}"] = vector[:, k]
-        return cols
+        return cols | load_columns(self.loads)
 
     def summary(self) -> str:
         """The mobility report, peaks of the loads and the indeterminacy convention, as text."""
@@ -100,32 +87,91 @@ class Analysis:
             )
         k = int(np.argmax(self.gain))
         lines.append(f"  largest velocity gain {self.gain[k]:.3g} at t = {t[k]:.4g} s")
-        for name, values in self.loads.actuators.items():
-            k = int(np.argmax(np.abs(values)))
-            unit = "N" if self._prismatic(name) else "N·m"
-            lines.append(
-                f"  peak actuator load {name}: max |τ| = {abs(values[k]):.4g} {unit} "
-                f"(sign {'+' if values[k] >= 0 else '−'}) at t = {t[k]:.4g} s"
-            )
-        for name, wrench in self.loads.joints.items():
-            force = np.linalg.norm(wrench.force, axis=1)
-            k = int(np.argmax(force))
-            lines.append(f"  peak reaction force in {name}: {force[k]:.4g} N at t = {t[k]:.4g} s")
-        if self.loads.indeterminate:
-            lines.append(
-                "  statically indeterminate closure rows: "
-                + ", ".join(self.loads.indeterminate)
-                + f" ({self.loads.convention})"
-            )
-        return "\n".join(lines)
+        peaks = load_peaks(self.chain.model, t, self.loads, self.spec.forces)
+        return "\n".join(lines + peaks)
 
     def pose_lines(self) -> list[str]:
         """The assembled pose as text (:func:`pose_lines`)."""
         return pose_lines(self.chain.model, self.reference, self.assembled)
 
     def _prismatic(self, joint: str) -> bool:
-        model = self.chain.model
-        return kind_of(model.joints[model.getJointId(joint)]) == "prismatic"
+        return prismatic(self.chain.model, joint)
+
+
+def prismatic(model: pin.Model, joint: str) -> bool:
+    """Whether ``joint`` is prismatic (its loads in N, not N·m)."""
+    return kind_of(model.joints[model.getJointId(joint)]) == "prismatic"
+
+
+def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
+    """The loads as table columns (N,), SI units, world axes: ``tau_<joint>`` of the actuated
+    joints (N or N·m along the joint axis); ``<closure>_force_x|y|z`` and
+    ``<closure>_moment_x|y|z`` (the cut's wrench on the body of its first frame, moment about
+    that frame's origin); ``<joint>_force_x|y|z`` and ``<joint>_moment_x|y|z`` (the wrench the
+    parent exerts on the child, about the joint's origin) and their magnitudes
+    ``<joint>_force``, ``<joint>_moment``; ``<element>_force`` of each force element (a
+    spring's or cylinder's tension [N], positive pulling its frames together; a joint spring's
+    resistance [N·m or N])."""
+    cols: dict[str, np.ndarray] = {}
+    for name, values in loads.actuators.items():
+        cols[f"tau_{name}"] = values
+    for label, wrench in loads.closures.items():
+        for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
+            for k, axis in enumerate("xyz"):
+                cols[f"{label}_{what}_{axis}"] = vector[:, k]
+    for name, wrench in loads.joints.items():
+        for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
+            cols[f"{name}_{what}"] = np.linalg.norm(vector, axis=1)
+            for k, axis in enumerate("xyz"):
+                cols[f"{name}_{what}_{axis}"] = vector[:, k]
+    for name, values in loads.elements.items():
+        cols[f"{name}_force"] = values
+    return cols
+
+
+def element_units(model: pin.Model, elements: Sequence[ForceElement]) -> dict[str, str]:
+    """The unit of each force element's reported force, by name: N for a spring or a
+    cylinder (tension), N·m or N for a joint spring on a revolute or prismatic joint."""
+    return {
+        element.name: "N·m"
+        if isinstance(element, JointSpring) and not prismatic(model, element.joint)
+        else "N"
+        for element in elements
+    }
+
+
+def load_peaks(
+    model: pin.Model,
+    t: np.ndarray,
+    loads: ChainLoads,
+    elements: Sequence[ForceElement],
+    drives: bool = True,
+) -> list[str]:
+    """The peak of every drive load (if ``drives``), reaction force and element force with its
+    time, and the statically indeterminate rows, as summary lines."""
+    lines = []
+    for name, values in loads.actuators.items() if drives else ():
+        k = int(np.argmax(np.abs(values)))
+        unit = "N" if prismatic(model, name) else "N·m"
+        lines.append(
+            f"  peak actuator load {name}: max |τ| = {abs(values[k]):.4g} {unit} "
+            f"(sign {'+' if values[k] >= 0 else '−'}) at t = {t[k]:.4g} s"
+        )
+    for name, wrench in loads.joints.items():
+        force = np.linalg.norm(wrench.force, axis=1)
+        k = int(np.argmax(force))
+        lines.append(f"  peak reaction force in {name}: {force[k]:.4g} N at t = {t[k]:.4g} s")
+    units = element_units(model, elements)
+    for name, values in loads.elements.items():
+        k = int(np.argmax(np.abs(values)))
+        lines.append(f"  peak force of {name}: {values[k]:.4g} {units[name]} at t = {t[k]:.4g} s")
+    if loads.indeterminate:
+        lines.append(
+            "  statically indeterminate closure rows: "
+            + ", ".join(loads.indeterminate)
+            + f" ({loads.convention})"
+        )
+    return lines
 
 
 def joint_columns(
@@ -202,13 +248,17 @@ def pose_lines(model: pin.Model, reference: np.ndarray, assembled: np.ndarray) -
     ]
 
 
-def _mounted(spec_path, model, pose):
+def mount_mechanism(spec_path, model, pose):
     """The side-file, its chain, the partition of its independent joints, the reference pose
-    (the model's zero pose or the pose file) and the closed pose nearest to it."""
+    (the pose file, or the side-file's pose, or the model's zero pose) and the closed pose
+    nearest to it."""
     spec = read_spec(spec_path, model)
     chain = load_mechanism(spec)
     partition = Partition(chain, spec.independent)
-    reference = pin.neutral(chain.model) if pose is None else read_pose(pose, chain.model)
+    if pose is not None:
+        reference = read_pose(pose, chain.model)
+    else:
+        reference = pose_from_values(list(spec.pose), chain.model)
     return spec, chain, partition, reference, partition.mount(reference)
 
 
@@ -218,7 +268,7 @@ def check_mechanism(
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
     the closed pose nearest to the reference (the model's zero pose, or the pose file), which the
     report prints."""
-    spec, chain, _, reference, assembled = _mounted(spec_path, model, pose)
+    spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     report = mobility(chain, assembled, spec.independent).text()
     return "\n".join([report, *pose_lines(chain.model, reference, assembled)])
 
@@ -243,10 +293,10 @@ def analyze(
         FeederError: Bad files, an unreachable or singular pose, a motion the actuated joints
             cannot produce (each with its own message).
     """
-    spec, chain, partition, reference, assembled = _mounted(spec_path, model, pose)
+    spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
     q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx)
-    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness)
-    loads = inverse_dynamics(dyn, q, v, a)
+    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces)
+    loads = inverse_dynamics(dyn, q, v, a, t=table.t)
     report = mobility(chain, q[0], spec.independent)
     return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)

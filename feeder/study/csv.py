@@ -1,4 +1,5 @@
-"""Reading and writing the cycle table (``cycle.csv``, columns: :mod:`feeder.study.columns`)."""
+"""Reading and writing the tables feeder writes (``cycle.csv``, whose columns are in
+:mod:`feeder.study.columns`; ``loads.csv``, ``states.csv``), by column name."""
 
 from __future__ import annotations
 
@@ -53,13 +54,13 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
     if not path.is_file():
         raise InputError(f"no such file: {path}")
     try:
-        table = np.genfromtxt(path, delimiter=",", names=True, invalid_raise=True)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path} is not a cycle table: {exc}") from exc
-    if (
-        table.dtype.names is None
-        or table.size == 0
-        or np.any([np.isnan(table[name]).any() for name in table.dtype.names])
-    ):
-        raise InputError(f"{path} is not a cycle table (a header row, then rows of numbers)")
-    return {name: np.atleast_1d(np.asarray(table[name])) for name in table.dtype.names}
+        with path.open(encoding="utf-8") as handle:
+            header = handle.readline().strip().split(",")
+        table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"{path} is not a table of numbers with a header row: {exc}") from exc
+    if table.size == 0 or table.shape[1] != len(header) or len(set(header)) != len(header):
+        raise InputError(f"{path} is not a table of numbers with a header row")
+    if not np.all(np.isfinite(table)):
+        raise InputError(f"{path} has a value that is not a finite number")
+    return {name: table[:, k].copy() for k, name in enumerate(header)}

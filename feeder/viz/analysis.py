@@ -1,6 +1,7 @@
-"""Figures of a user mechanism's analysis (``feeder analyze``): the drive loads, every joint's
-reaction, the cut forces and the distance to a singular pose. Each function returns a
-:class:`matplotlib.figure.Figure`; saving it is the caller's."""
+"""Figures of a user mechanism's analysis (``feeder analyze``) and forward run (``feeder
+simulate``): the drive loads, every joint's reaction, the cut forces, the distance to a singular
+pose, the motion, the force elements, and the run's energy balance and drift. Each function
+returns a :class:`matplotlib.figure.Figure`; saving it is the caller's."""
 
 from __future__ import annotations
 
@@ -8,7 +9,9 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from ..chain.dynamics.inverse import ChainLoads
 from ..study.analyze import Analysis
+from ..study.simulate import Simulation
 
 
 def _finish(ax: Axes, ylabel: str, title: str) -> None:
@@ -18,6 +21,7 @@ def _finish(ax: Axes, ylabel: str, title: str) -> None:
     ax.grid(True, linewidth=0.4, alpha=0.6)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="best", fontsize=8)
+    ax.label_outer()  # panels sharing the time axis: its label and ticks on the bottom one only
 
 
 def _unit(analysis: Analysis, joint: str) -> str:
@@ -40,12 +44,11 @@ def loads_figure(analysis: Analysis) -> Figure:
     return fig
 
 
-def reactions_figure(analysis: Analysis) -> Figure:
+def reactions_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
     """Magnitude of every joint's reaction force and moment against time (two panels)."""
-    t = analysis.motion.t
     fig = Figure(figsize=(8.0, 6.0))
     forces, moments = fig.subplots(2, 1, sharex=True)
-    for name, wrench in analysis.loads.joints.items():
+    for name, wrench in loads.joints.items():
         forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=name, linewidth=1.2)
         moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=name, linewidth=1.2)
     _finish(forces, "|force| [N]", "Joint reaction forces (parent on child)")
@@ -54,13 +57,12 @@ def reactions_figure(analysis: Analysis) -> Figure:
     return fig
 
 
-def closures_figure(analysis: Analysis) -> Figure:
+def closures_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
     """Magnitude of each cut's force and moment (on the body of its first frame) against time;
     statically indeterminate components are the minimum-norm choice (the summary says which)."""
-    t = analysis.motion.t
     fig = Figure(figsize=(8.0, 6.0))
     forces, moments = fig.subplots(2, 1, sharex=True)
-    for label, wrench in analysis.loads.closures.items():
+    for label, wrench in loads.closures.items():
         forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=label, linewidth=1.2)
         moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=label, linewidth=1.2)
     _finish(forces, "|force| [N]", "Closure (cut) forces")
@@ -71,8 +73,72 @@ def closures_figure(analysis: Analysis) -> Figure:
 
 def analysis_figures(analysis: Analysis) -> dict[str, Figure]:
     """Every figure of an analysis, by file name."""
+    t = analysis.motion.t
     return {
         "actuator_loads.png": loads_figure(analysis),
-        "joint_reactions.png": reactions_figure(analysis),
-        "closure_forces.png": closures_figure(analysis),
+        "joint_reactions.png": reactions_figure(t, analysis.loads),
+        "closure_forces.png": closures_figure(t, analysis.loads),
     }
+
+
+def motion_figure(simulation: Simulation) -> Figure:
+    """The one-coordinate joints' values and rates against time (two panels)."""
+    run, model = simulation.run, simulation.chain.model
+    fig = Figure(figsize=(8.0, 6.0))
+    values, rates = fig.subplots(2, 1, sharex=True)
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nv != 1:
+            continue
+        q = run.q[:, joint.idx_q]
+        if joint.nq == 2:
+            q = np.unwrap(np.arctan2(run.q[:, joint.idx_q + 1], q))
+        values.plot(run.t, q, label=model.names[j], linewidth=1.2)
+        rates.plot(run.t, run.v[:, joint.idx_v], label=model.names[j], linewidth=1.2)
+    _finish(values, "joint value [rad or m]", "Joint coordinates (forward run from rest)")
+    _finish(rates, "joint rate [rad/s or m/s]", "Joint rates")
+    fig.tight_layout()
+    return fig
+
+
+def balance_figure(simulation: Simulation) -> Figure:
+    """The energy, the work of the non-conservative forces, their balance and the drift."""
+    run = simulation.run
+    fig = Figure(figsize=(8.0, 7.5))
+    energy, balance, drift = fig.subplots(3, 1, sharex=True)
+    energy.plot(run.t, run.energy - run.energy[0], label="E − E(0)", linewidth=1.3)
+    energy.plot(run.t, run.work, label="W (non-conservative work)", linewidth=1.0, linestyle="--")
+    _finish(energy, "energy [J]", "Energy (kinetic, gravitational, elastic) and work")
+    balance.plot(run.t, run.energy - run.energy[0] - run.work, color="C3", linewidth=1.0)
+    _finish(balance, "E − E(0) − W [J]", "Energy balance (zero for an exact run)")
+    drift.semilogy(run.t, np.maximum(run.residual, 1e-18), color="C2", linewidth=1.0)
+    _finish(drift, "residual [m, rad]", "Closure drift before projection (floor 1e-18)")
+    fig.tight_layout()
+    return fig
+
+
+def elements_figure(simulation: Simulation) -> Figure:
+    """Each force element's force against time."""
+    run = simulation.run
+    fig = Figure(figsize=(8.0, 4.0))
+    ax = fig.subplots()
+    for name, values in run.loads.elements.items():
+        ax.plot(run.t, values, label=name, linewidth=1.2)
+    _finish(ax, "force [N] (tension +) or resistance [N·m, N]", "Force elements")
+    fig.tight_layout()
+    return fig
+
+
+def simulation_figures(simulation: Simulation) -> dict[str, Figure]:
+    """Every figure of a forward run, by file name."""
+    run = simulation.run
+    figures = {
+        "motion.png": motion_figure(simulation),
+        "energy_balance.png": balance_figure(simulation),
+        "joint_reactions.png": reactions_figure(run.t, run.loads),
+    }
+    if run.loads.closures:
+        figures["closure_forces.png"] = closures_figure(run.t, run.loads)
+    if run.loads.elements:
+        figures["force_elements.png"] = elements_figure(simulation)
+    return figures

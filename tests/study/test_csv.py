@@ -123,5 +123,5 @@ def test_reading_a_missing_file_raises(tmp_path):
 def test_reading_a_text_file_that_is_not_a_table_raises(tmp_path, text):
     path = tmp_path / "notes.csv"
     path.write_text(text, encoding="utf-8")
-    with pytest.raises(InputError, match="not a cycle table"):
+    with pytest.raises(InputError, match="not a table of numbers"):
         read_csv(path)

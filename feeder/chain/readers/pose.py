@@ -1,7 +1,8 @@
 """A pose given by the user: a CSV table ``joint,value`` (header row, then one row per joint,
 SI units: rad for revolute and continuous joints, m for prismatic ones). The joints not listed
 keep their reference value (0, or the identity rotation). It picks the assembly branch: the
-mechanism is mounted onto the closed pose nearest to it."""
+mechanism is mounted onto the closed pose nearest to it. A TOML mechanism file may give the same
+as ``pose = {joint = value, …}`` in its ``[mechanism]`` table."""
 
 from __future__ import annotations
 
@@ -30,8 +31,7 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
     rows = [line.split(",") for line in lines if line]
     if not rows or [x.strip() for x in rows[0]] != ["joint", "value"]:
         raise InputError(f"{path}: the header row must be 'joint,value'")
-    q = pin.neutral(model)
-    seen = set()
+    values, seen = [], set()
     for number, row in enumerate(rows[1:], start=2):
         if len(row) != 2:
             raise InputError(f"{path}, row {number}: expected 'joint,value', got {row!r}")
@@ -40,19 +40,33 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
             value = float(text)
         except ValueError:
             value = float("nan")
-        if not np.isfinite(value):
-            raise InputError(f"{path}, row {number}: {text!r} is not a finite number")
-        if not model.existJointName(name) or name in seen:
-            raise InputError(
-                f"{path}, row {number}: {name!r} is not a joint of the model, or given twice; "
-                f"joints: {list(model.names)[1:]}"
-            )
+        if name in seen:
+            raise InputError(f"{path}, row {number}: joint {name!r} given twice")
         seen.add(name)
+        values.append((name, value, f"{path}, row {number}"))
+    return pose_from_values(values, model)
+
+
+def pose_from_values(values: list[tuple[str, float, str]], model: pin.Model) -> np.ndarray:
+    """The configuration (nq,) with the given joints at the given values, the others at their
+    reference value (module docstring); ``values`` are (joint, value, where it was read).
+
+    Raises:
+        InputError: An unknown or multi-coordinate joint, a value that is not a finite number.
+    """
+    q = pin.neutral(model)
+    for name, value, where in values:
+        if not isinstance(value, int | float) or not np.isfinite(value):
+            raise InputError(f"{where}: {value!r} is not a finite number")
+        if not model.existJointName(name):
+            raise InputError(
+                f"{where}: {name!r} is not a joint of the model; joints: {list(model.names)[1:]}"
+            )
         joint = model.joints[model.getJointId(name)]
         if joint.nv != 1:
             raise InputError(
-                f"{path}, row {number}: joint {name!r} has {joint.nv} coordinates; a pose file "
-                "gives revolute, continuous and prismatic joints"
+                f"{where}: joint {name!r} has {joint.nv} coordinates; a pose gives revolute, "
+                "continuous and prismatic joints"
             )
         if joint.nq == 2:
             q[joint.idx_q : joint.idx_q + 2] = np.cos(value), np.sin(value)

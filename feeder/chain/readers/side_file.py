@@ -8,6 +8,7 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     actuated = ["crank_joint"]      # joints whose generalized forces are the unknown loads
     independent = ["crank_joint"]   # joints whose motion the motion table prescribes
     gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF)
+    pose = {crank_joint = 0.7}      # optional: the reference pose [rad, m] that picks the branch
 
     [[closure]]                     # one per cut joint (none for an MJCF with equality
     frames = ["coupler_tip", "rocker_tip"]   # constraints: those are read from the model)
@@ -88,7 +89,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     if not isinstance(mechanism, dict):
         raise InputError(f"{path}: a [mechanism] table is required")
     where = f"{path} [mechanism]"
-    known = {"actuated", "independent", "gravity", *MODEL_KEYS}
+    known = {"actuated", "independent", "gravity", "pose", *MODEL_KEYS}
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
@@ -105,6 +106,9 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
             raise InputError(
                 f"{where}: gravity must be 3 numbers [m/s²], got {mechanism['gravity']!r}"
             )
+    pose = mechanism.get("pose", {})
+    if not isinstance(pose, dict):
+        raise InputError(f"{where}: pose must be a table {{joint = value, …}}, got {pose!r}")
     closures, stiffness = [], {}
     for i, entry in enumerate(document.get("closure", [])):
         here = f"{path} [[closure]] #{i + 1}"
@@ -142,4 +146,5 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         gravity=gravity,
         stiffness=stiffness,
         forces=read_forces(document.get("force", []), path.parent, str(path)),
+        pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
     )

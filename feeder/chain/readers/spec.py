@@ -27,6 +27,8 @@ class MechanismSpec:
         joint_types: Joint name → the type that replaces its URDF type
             (:mod:`~feeder.chain.readers.joint_types`).
         forces: The force elements (:mod:`~feeder.chain.model.forces`).
+        pose: The reference pose the file gives: (joint, value [rad, m], where it was read)
+            (:func:`~feeder.chain.readers.pose.pose_from_values`); empty: the model's zero.
     """
 
     model: Path
@@ -38,6 +40,7 @@ class MechanismSpec:
     stiffness: dict[str, tuple[float, ...]] = field(default_factory=dict)
     joint_types: dict[str, str] = field(default_factory=dict)
     forces: tuple[ForceElement, ...] = ()
+    pose: tuple[tuple[str, float, str], ...] = ()
 
 
 def format_of(path: Path) -> str:

@@ -1,0 +1,155 @@
+"""A forward run of a user's closed-chain mechanism (``feeder simulate``): released at rest from
+its assembled pose under gravity and its force elements, run with error control.
+
+Data flow: side-file and model (:mod:`feeder.chain.readers`, with the side-file's force elements
+and those of an optional ``--forces`` file) → :class:`~feeder.chain.ClosedChain` → the closed
+pose nearest to the reference pose (the side-file's ``pose``, a pose file, or the model's zero)
+→ mobility report there → :func:`~feeder.chain.simulate` → the table
+(:meth:`Simulation.columns`) and its summary.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..chain.dynamics.forward import ATOL, RTOL, ForwardRun, simulate
+from ..chain.dynamics.inverse import ChainDynamics
+from ..chain.mobility import MobilityReport, mobility
+from ..chain.model.closure import ClosedChain
+from ..chain.model.forces import ForceElement
+from ..chain.readers.forces import read_force_file
+from ..chain.readers.spec import MechanismSpec
+from ..exceptions import InputError
+from ..validation import check_number
+from .analyze import joint_columns, load_columns, load_peaks, mount_mechanism, pose_lines
+
+SAMPLES = 1001
+"""Default number of output samples over the run (both ends included)."""
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A mechanism's forward run.
+
+    Attributes:
+        spec: The side-file's content (its force elements, plus those of ``--forces``, are in
+            :attr:`elements`).
+        elements: The force elements that acted.
+        chain: The closed chain.
+        run: The run (states, accelerations, loads, drift, energy and work).
+        report: Mobility at the first sample.
+        reference: The pose the mechanism was mounted from (nq,).
+        assembled: The closed pose nearest to it, where the run starts at rest (nq,).
+        method, rtol, atol: The integrator and its tolerances.
+    """
+
+    spec: MechanismSpec
+    elements: tuple[ForceElement, ...]
+    chain: ClosedChain
+    run: ForwardRun
+    report: MobilityReport
+    reference: np.ndarray
+    assembled: np.ndarray
+    method: str
+    rtol: float
+    atol: float
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The state table, each column (N,), SI units, world axes: ``t``; every joint's
+        coordinates, rates and accelerations (:func:`~feeder.study.analyze.joint_columns`); the
+        loads (:func:`~feeder.study.analyze.load_columns`: the actuated joints' drive — zero
+        here, nothing drives them — the closure forces, every joint's reaction and every force
+        element's force); ``drift`` (the closure residual before projection [m, rad]),
+        ``energy`` (kinetic, gravitational and elastic [J]), ``work`` (of the non-conservative
+        forces since t = 0 [J]) and ``energy_balance`` (energy − energy(0) − work [J], zero for
+        an exact run)."""
+        run = self.run
+        cols: dict[str, np.ndarray] = {"t": run.t}
+        cols |= joint_columns(self.chain.model, run.q, run.v, run.a)
+        cols |= load_columns(run.loads)
+        cols["drift"] = run.residual
+        cols["energy"] = run.energy
+        cols["work"] = run.work
+        cols["energy_balance"] = run.energy - run.energy[0] - run.work
+        return cols
+
+    def summary(self) -> str:
+        """The mobility report, the assembled pose, the run's statistics, its drift and energy
+        balance, and the peaks of the loads, as text."""
+        run = self.run
+        t = run.t
+        lines = [self.report.text(), *pose_lines(self.chain.model, self.reference, self.assembled)]
+        lines.append(
+            f"forward run: {t[-1] - t[0]:.4g} s from rest, {t.size} output samples; "
+            f"{self.method} at rtol {self.rtol:g}, atol {self.atol:g}: {run.steps} steps, "
+            f"{run.evaluations} right-hand sides, {run.projections} projections onto the "
+            "constraints"
+        )
+        lines.append(
+            "  force elements: "
+            + (", ".join(element.name for element in self.elements) or "none")
+            + f"; gravity {np.round(self.chain.model.gravity.linear, 6).tolist()} m/s²"
+        )  # fmt: skip
+        lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
+        scale = max(float(np.ptp(run.energy)), float(np.abs(run.work).max()), 1e-300)
+        lines.append(
+            f"  energy balance: max |E − E(0) − W| = {run.energy_error():.3g} J "
+            f"(energy varies by {np.ptp(run.energy):.4g} J, work {run.work[-1]:.4g} J; "
+            f"relative {run.energy_error() / scale:.2g})"
+        )
+        if run.loads.actuators:
+            worst = max(float(np.abs(x).max()) for x in run.loads.actuators.values())
+            lines.append(
+                f"  actuated joints {list(run.loads.actuators)}: not driven (the inverse dynamics "
+                f"of the run give them {worst:.2g}: a check of the run)"
+            )
+        peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=False)
+        return "\n".join(lines + peaks)
+
+
+def simulate_mechanism(
+    spec_path: str | Path,
+    duration: float,
+    model: str | Path | None = None,
+    pose: str | Path | None = None,
+    forces: str | Path | None = None,
+    samples: int = SAMPLES,
+    method: str = "DOP853",
+    rtol: float = RTOL,
+    atol: float = ATOL,
+) -> Simulation:
+    """Run the mechanism forward from rest at its assembled pose.
+
+    Args:
+        spec_path: The mechanism file (TOML with closures and force elements, or YAML).
+        duration: Length of the run [s] (> 0).
+        model: The model file, overriding the side-file's.
+        pose: A pose file that picks the assembly branch (default: the side-file's pose, or
+            the model's zero pose).
+        forces: A TOML file of more ``[[force]]`` tables.
+        samples: Output samples over [0, duration] (≥ 2).
+        method, rtol, atol: The integrator (:func:`~feeder.chain.simulate`).
+
+    Raises:
+        FeederError: Bad files or settings, an unreachable pose, an integration that fails
+            (each with its own message).
+    """
+    duration = check_number("duration [s]", duration)
+    if not duration > 0.0:
+        raise InputError(f"the duration must be > 0 s, got {duration!r}")
+    if not isinstance(samples, int) or samples < 2:
+        raise InputError(f"samples must be a whole number ≥ 2, got {samples!r}")
+    spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
+    elements = spec.forces + (read_force_file(Path(forces)) if forces is not None else ())
+    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, elements)
+    t = np.linspace(0.0, duration, samples)
+    run = simulate(
+        dyn, t, assembled, np.zeros(chain.model.nv), method=method, rtol=rtol, atol=atol
+    )
+    report = mobility(chain, assembled, spec.independent)
+    return Simulation(
+        spec, elements, chain, run, report, reference, assembled, method, float(rtol), float(atol)
+    )
