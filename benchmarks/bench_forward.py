@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 import tomllib
 import warnings
 from pathlib import Path
@@ -25,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import scipy.integrate
+from bench_chain import best_time  # the script's folder is on the path
 
 from feeder.chain import (
     ChainDynamics,
@@ -42,15 +42,6 @@ SQUEEZER = EXAMPLES / "andrews_squeezer"
 RTOLS = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10)
 TARGET = 1e-8
 RATE = 20.0  # Baumgarte [1/s], as simulate's default
-
-
-def best_time(function, repeats: int = 5) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def squeezer():
