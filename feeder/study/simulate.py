@@ -94,10 +94,10 @@ class Simulation:
             + f"; gravity {np.round(self.chain.model.gravity.linear, 6).tolist()} m/s²"
         )  # fmt: skip
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
-        scale = max(float(np.ptp(run.energy)), float(np.abs(run.work).max()), 1e-300)
+        scale = max(float(run.kinetic.max()), float(np.abs(run.work).max()), 1e-300)
         lines.append(
             f"  energy balance: max |E − E(0) − W| = {run.energy_error():.3g} J "
-            f"(energy varies by {np.ptp(run.energy):.4g} J, work {run.work[-1]:.4g} J; "
+            f"(largest kinetic energy {run.kinetic.max():.4g} J, work {run.work[-1]:.4g} J; "
             f"relative {run.energy_error() / scale:.2g})"
         )
         if run.loads.actuators:

@@ -41,7 +41,8 @@ import scipy.integrate
 
 from ...exceptions import FeederError, InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number
-from ..assembly.newton import POSITION_TOLERANCE, newton
+from ..assembly.newton import POSITION_TOLERANCE, RANK_TOLERANCE, newton
+from ..assembly.rank import truncated_inverse
 from ..kinematics.joints import angle_columns, angular_difference, configuration_rate
 from .inverse import ChainDynamics, ChainLoads, inverse_dynamics
 
@@ -94,6 +95,7 @@ class ForwardRun:
             closure forces, every joint's reaction, every force element's force.
         residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
         energy: Kinetic, gravitational and elastic energy [J], (N,).
+        kinetic: Kinetic energy [J], (N,) (the scale of the energy balance).
         work: Work of the non-conservative forces since t[0] [J], (N,).
         steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
         projections: Steps projected back onto the constraints.
@@ -106,6 +108,7 @@ class ForwardRun:
     loads: ChainLoads
     residual: np.ndarray
     energy: np.ndarray
+    kinetic: np.ndarray
     work: np.ndarray
     steps: int
     evaluations: int
@@ -324,7 +327,12 @@ def _project(equations, y: np.ndarray) -> np.ndarray:
         )
     v = y[nq : nq + nv]
     jac = chain.jacobian(q)
-    v = v - np.linalg.lstsq(jac, jac @ v, rcond=None)[0]
+    # J⁺ truncated at RANK_TOLERANCE: a redundant row (a planar loop's, Bricard's) is a singular
+    # value of round-off size that lstsq's default cut-off (n ε σ_max) may keep, and then J⁺ J = I
+    # would project every velocity to zero.
+    scale = float(np.abs(jac).max(initial=0.0))
+    pinv, _, _ = truncated_inverse(jac, RANK_TOLERANCE * max(scale, 1e-300))
+    v = v - pinv @ (jac @ v)
     return np.concatenate([q, v, y[nq + nv :]])
 
 
@@ -344,13 +352,10 @@ def _results(equations, t, states, steps, projections) -> ForwardRun:
     except (InputError, SingularPoseError) as exc:
         raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
     data = equations.data
-    energy = np.array(
-        [
-            pin.computeKineticEnergy(model, data, x, y)
-            + pin.computePotentialEnergy(model, data, x)
-            + dyn.elements.energy(x)
-            for x, y in zip(q, v, strict=True)
-        ]
+    pairs = zip(q, v, strict=True)
+    kinetic = np.array([pin.computeKineticEnergy(model, data, x, y) for x, y in pairs])
+    potential = np.array(
+        [pin.computePotentialEnergy(model, data, x) + dyn.elements.energy(x) for x in q]
     )
     return ForwardRun(
         t=t,
@@ -359,7 +364,8 @@ def _results(equations, t, states, steps, projections) -> ForwardRun:
         a=a,
         loads=loads,
         residual=residual,
-        energy=energy,
+        energy=kinetic + potential,
+        kinetic=kinetic,
         work=work,
         steps=steps,
         evaluations=count,
