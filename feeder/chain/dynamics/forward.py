@@ -18,10 +18,10 @@ or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time w
 ``rtol`` / ``atol``; the results on the caller's time grid come from each step's dense output.
 Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
 constraints (minimum-norm Newton over every coordinate, then J q̇ = 0) whenever an accepted step
-leaves the loops open by more than ``drift_tolerance`` (the integrator then restarts from the
-projected state). The work of the non-conservative forces (drives, dampers, pushes, pressures,
-loads) is integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to
-the integrator's tolerance.
+leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
+integrator then restarts from the projected state). The work of the non-conservative forces
+(drives, dampers, pushes, pressures, loads) is integrated with the state, so the energy balance
+E(t) − E(t₀) = W(t) checks the run to the integrator's tolerance.
 
 Results: every output sample is projected onto the constraints (the drift before the projection
 is reported), its accelerations evaluated, and the inverse dynamics of the sampled motion give the
@@ -305,10 +305,11 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
             break
         y = solver.y
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
-        if residual > drift_tolerance:
+        unit = equations.flat or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
+        if residual > drift_tolerance or not unit:  # loops open, or quaternions off unit length
             y = _project(equations, y)
             projections += 1
-            solver = start(solver.t, y, solver.step_size)
+            solver = start(solver.t, y, min(solver.step_size, t[-1] - solver.t))
     return states, steps, projections
 
 
