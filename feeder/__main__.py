@@ -492,29 +492,7 @@ def _parser() -> argparse.ArgumentParser:
     analyze = command(
         "analyze", cmd_analyze, "any closed-chain mechanism: mobility, loads, every reaction"
     )
-    analyze.add_argument(
-        "model",
-        type=_path,
-        metavar="MODEL",
-        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
-    )
-    analyze.add_argument(
-        "--closures",
-        action=_Once,
-        type=_path,
-        required=True,
-        metavar="FILE",
-        help="closure file, required: TOML (cut frames and types, actuated and independent "
-        "joints) or a CAD export's Extended-URDF YAML (robot.yaml); see docs/MECHANISMS.md",
-    )
-    analyze.add_argument(
-        "--pose",
-        action=_Once,
-        type=_path,
-        metavar="FILE",
-        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch: the "
-        "closed pose nearest to it (default: the model's zero pose)",
-    )
+    _mechanism_options(analyze)
     analyze.add_argument(
         "--motion",
         action=_Once,
@@ -546,21 +524,7 @@ def _parser() -> argparse.ArgumentParser:
         cmd_simulate,
         "any closed-chain mechanism run forward from rest: states, loads, reactions, energy",
     )
-    simulate.add_argument(
-        "model",
-        type=_path,
-        metavar="MODEL",
-        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
-    )
-    simulate.add_argument(
-        "--closures",
-        action=_Once,
-        type=_path,
-        required=True,
-        metavar="FILE",
-        help="mechanism file, required: TOML (cut frames and types, gravity, force elements, "
-        "optional reference pose) or a CAD export's Extended-URDF YAML; see docs/MECHANISMS.md",
-    )
+    _mechanism_options(simulate)
     simulate.add_argument(
         "--duration",
         action=_Once,
@@ -583,14 +547,6 @@ def _parser() -> argparse.ArgumentParser:
         type=_path,
         metavar="FILE",
         help="TOML file of more [[force]] elements (default: the mechanism file's only)",
-    )
-    simulate.add_argument(
-        "--pose",
-        action=_Once,
-        type=_path,
-        metavar="FILE",
-        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch "
-        "(default: the mechanism file's pose, or the model's zero pose)",
     )
     simulate.add_argument(
         "--samples",
@@ -623,6 +579,36 @@ def _parser() -> argparse.ArgumentParser:
         help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
     )
     return parser
+
+
+def _mechanism_options(parser: argparse.ArgumentParser) -> None:
+    """MODEL, ``--closures`` and ``--pose``: a user mechanism, as ``analyze`` and ``simulate``
+    take it."""
+    parser.add_argument(
+        "model",
+        type=_path,
+        metavar="MODEL",
+        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
+    )
+    parser.add_argument(
+        "--closures",
+        action=_Once,
+        type=_path,
+        required=True,
+        metavar="FILE",
+        help="mechanism file, required: TOML (cut frames and types, actuated and independent "
+        "joints, gravity, force elements, an optional reference pose) or a CAD export's "
+        "Extended-URDF YAML (robot.yaml); see docs/MECHANISMS.md",
+    )
+    parser.add_argument(
+        "--pose",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch: the "
+        "closed pose nearest to it (default: the mechanism file's pose, or the model's zero "
+        "pose)",
+    )
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:

@@ -278,23 +278,14 @@ def write_analysis_outputs(
     returns the paths, the table first."""
     from .viz.analysis import analysis_figures
 
-    outputs: dict[str, Writer] = {
-        "loads.csv": lambda path: write_csv(path, analysis.columns()),
-        "summary.txt": lambda path: write_text(path, analysis.summary() + "\n"),
-        "assembled_pose.csv": lambda path: write_text(
-            path, _pose_csv(analysis.chain, analysis.assembled)
-        ),
-    }
-    outputs |= _figure_writers(analysis_figures(analysis))
     record = {
-        "command": command or "Python API (feeder.outputs)",
-        "model": str(analysis.spec.model),
-        "closures": [closure.label for closure in analysis.chain.closures],
         "actuated": list(analysis.spec.actuated),
         "independent": list(analysis.spec.independent),
         "samples": int(analysis.motion.t.size),
     }
-    return _write(directory, outputs, record)
+    return _write_mechanism(
+        directory, command, analysis, "loads.csv", analysis_figures(analysis), record
+    )
 
 
 def write_simulation_outputs(
@@ -307,18 +298,7 @@ def write_simulation_outputs(
     the manifest; returns the paths, the table first."""
     from .viz.analysis import simulation_figures
 
-    outputs: dict[str, Writer] = {
-        "states.csv": lambda path: write_csv(path, simulation.columns()),
-        "summary.txt": lambda path: write_text(path, simulation.summary() + "\n"),
-        "assembled_pose.csv": lambda path: write_text(
-            path, _pose_csv(simulation.chain, simulation.assembled)
-        ),
-    }
-    outputs |= _figure_writers(simulation_figures(simulation))
     record = {
-        "command": command or "Python API (feeder.outputs)",
-        "model": str(simulation.spec.model),
-        "closures": [closure.label for closure in simulation.chain.closures],
         "force_elements": [element.name for element in simulation.elements],
         "integrator": {
             "method": simulation.method,
@@ -326,6 +306,35 @@ def write_simulation_outputs(
             "atol": simulation.atol,
         },
         "samples": int(simulation.run.t.size),
+    }
+    return _write_mechanism(
+        directory, command, simulation, "states.csv", simulation_figures(simulation), record
+    )
+
+
+def _write_mechanism(
+    directory: str | Path | OutputFolder,
+    command: str | None,
+    result: Analysis | Simulation,
+    table: str,
+    figures: Mapping[str, Figure],
+    record: dict,
+) -> list[Path]:
+    """The outputs of a user mechanism's study: its table (``result.columns()``), summary,
+    assembled pose and figures, with the manifest's model and closures before ``record``."""
+    outputs: dict[str, Writer] = {
+        table: lambda path: write_csv(path, result.columns()),
+        "summary.txt": lambda path: write_text(path, result.summary() + "\n"),
+        "assembled_pose.csv": lambda path: write_text(
+            path, _pose_csv(result.chain, result.assembled)
+        ),
+    }
+    outputs |= _figure_writers(figures)
+    record = {
+        "command": command or "Python API (feeder.outputs)",
+        "model": str(result.spec.model),
+        "closures": [closure.label for closure in result.chain.closures],
+        **record,
     }
     return _write(directory, outputs, record)
 

@@ -46,27 +46,29 @@ def loads_figure(analysis: Analysis) -> Figure:
 
 def reactions_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
     """Magnitude of every joint's reaction force and moment against time (two panels)."""
-    fig = Figure(figsize=(8.0, 6.0))
-    forces, moments = fig.subplots(2, 1, sharex=True)
-    for name, wrench in loads.joints.items():
-        forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=name, linewidth=1.2)
-        moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=name, linewidth=1.2)
-    _finish(forces, "|force| [N]", "Joint reaction forces (parent on child)")
-    _finish(moments, "|moment| [N·m]", "Joint reaction moments about each joint's origin")
-    fig.tight_layout()
-    return fig
+    return _wrench_figure(
+        t,
+        loads.joints,
+        "Joint reaction forces (parent on child)",
+        "Joint reaction moments about each joint's origin",
+    )
 
 
 def closures_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
     """Magnitude of each cut's force and moment (on the body of its first frame) against time;
     statically indeterminate components are the minimum-norm choice (the summary says which)."""
+    return _wrench_figure(t, loads.closures, "Closure (cut) forces", "Closure (cut) moments")
+
+
+def _wrench_figure(t: np.ndarray, wrenches: dict, force_title: str, moment_title: str) -> Figure:
+    """|force| and |moment| of each named wrench against time, two panels."""
     fig = Figure(figsize=(8.0, 6.0))
     forces, moments = fig.subplots(2, 1, sharex=True)
-    for label, wrench in loads.closures.items():
-        forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=label, linewidth=1.2)
-        moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=label, linewidth=1.2)
-    _finish(forces, "|force| [N]", "Closure (cut) forces")
-    _finish(moments, "|moment| [N·m]", "Closure (cut) moments")
+    for name, wrench in wrenches.items():
+        forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=name, linewidth=1.2)
+        moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=name, linewidth=1.2)
+    _finish(forces, "|force| [N]", force_title)
+    _finish(moments, "|moment| [N·m]", moment_title)
     fig.tight_layout()
     return fig
 

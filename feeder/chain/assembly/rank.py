@@ -8,6 +8,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..model.closure import ClosedChain
+from ..model.jacobians import frame_jacobian, joint_jacobian
 from .newton import RANK_TOLERANCE
 
 IDLE_TOLERANCE = 1e-9
@@ -24,14 +25,14 @@ def point_rows(chain: ClosedChain) -> np.ndarray:
     world = pin.LOCAL_WORLD_ALIGNED
     rows = []
     for j in range(1, model.njoints):
-        jac = pin.getJointJacobian(model, data, j, world).reshape(6, model.nv)  # (6,) if nv = 1
+        jac = joint_jacobian(model, data, j, world)
         rows.append(jac[:3])
         if model.inertias[j].mass > 0.0:
             lever = data.oMi[j].rotation @ model.inertias[j].lever
             rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
     for f in range(1, len(model.frames)):
         if model.frames[f].parentJoint > 0:
-            rows.append(pin.getFrameJacobian(model, data, f, world).reshape(6, model.nv)[:3])
+            rows.append(frame_jacobian(model, data, f, world)[:3])
     return np.vstack(rows)
 
 

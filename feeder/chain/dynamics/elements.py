@@ -35,6 +35,7 @@ from ..model.forces import (
     Table,
     tables_of,
 )
+from ..model.jacobians import frame_jacobian
 
 WORLD = pin.LOCAL_WORLD_ALIGNED
 
@@ -129,10 +130,10 @@ class BoundElements:
                 raise SingularPoseError(
                     f"{line.element.name}: its frames coincide at t = {t:.6g} s"
                 )
-            jac = pin.getFrameJacobian(model, data, line.b, WORLD) - pin.getFrameJacobian(
+            jac = frame_jacobian(model, data, line.b, WORLD) - frame_jacobian(
                 model, data, line.a, WORLD
             )
-            row = (gap / length) @ jac.reshape(6, nv)[:3]  # dℓ/dq
+            row = (gap / length) @ jac[:3]  # dℓ/dq
             rate = row @ v
             push = line.push(t)
             out -= (
@@ -144,7 +145,7 @@ class BoundElements:
             power += element.power(v[iv])
         for element, f, constant in self.loads:
             wrench = element.wrench(t) if constant is None else constant
-            jac = pin.getFrameJacobian(model, data, f, WORLD).reshape(6, nv)
+            jac = frame_jacobian(model, data, f, WORLD)
             out += wrench @ jac
             power += wrench @ (jac @ v)
         return out, power

@@ -41,6 +41,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
+from ..model.jacobians import joint_jacobian
 
 _Z = np.array([0.0, 0.0, 1.0])
 
@@ -89,9 +90,7 @@ def joint_axes(model: pin.Model) -> list[np.ndarray]:
         if kind not in ("revolute", "continuous", "universal", "spherical_zyx", "prismatic"):
             axes.append(np.zeros((0, 3)))
             continue
-        local = pin.getJointJacobian(model, data, j, pin.LOCAL).reshape(
-            6, model.nv
-        )  # nv = 1: (6,)
+        local = joint_jacobian(model, data, j, pin.LOCAL)
         subspace = local[:, joint.idx_v : joint.idx_v + joint.nv]
         columns = subspace[:3] if kind == "prismatic" else subspace[3:]
         axes.append((columns / np.linalg.norm(columns, axis=0)).T)

@@ -35,6 +35,7 @@ import pinocchio as pin
 
 from ...exceptions import ClosureFrameError, InputError
 from ...validation import check_vector
+from .jacobians import frame_jacobian
 
 KINDS = {"point": 3, "weld": 6, "revolute": 5}
 """Closure kinds and their number of scalar constraints."""
@@ -258,8 +259,8 @@ class ClosedChain:
         world = pin.LOCAL_WORLD_ALIGNED
         return [
             (
-                pin.getFrameJacobian(self.model, self.data, a, world),
-                pin.getFrameJacobian(self.model, self.data, b, world),
+                frame_jacobian(self.model, self.data, a, world),
+                frame_jacobian(self.model, self.data, b, world),
             )
             for a, b in self.frame_ids
         ]
@@ -311,7 +312,7 @@ class ClosedChain:
                 ra, rb = self.data.oMf[a].rotation, self.data.oMf[b].rotation
                 relative = ra @ rb.T
                 ja, jb = (
-                    pin.getFrameJacobian(self.model, self.data, f, pin.LOCAL_WORLD_ALIGNED)[3:]
+                    frame_jacobian(self.model, self.data, f, pin.LOCAL_WORLD_ALIGNED)[3:]
                     for f in (a, b)
                 )
                 jac[rows.start + 3 : rows.stop] = pin.Jlog3(relative) @ (relative.T @ ja - jb)
