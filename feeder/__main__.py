@@ -3,7 +3,8 @@
 Commands:
     cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
     kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
-    view        MeshCat viewer of the cycle on 127.0.0.1, or a static HTML page of it
+    view        MeshCat viewer of the cycle, or of any mechanism (MODEL --closures F), on
+                127.0.0.1, or a static HTML page of it
     parameters  every number of a device with its unit and source (Markdown), or its parameter
                 file (TOML, ``--format toml``)
     urdf        regenerate the URDF files from the parameter sets
@@ -230,10 +231,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     with folder:
         paths = write_analysis_outputs(analysis, folder, _command(args))
     print(analysis.summary())
-    print(
-        f"wrote {paths[0]}, {paths[1].name}, {paths[2].name} and {len(paths) - 3} figures in "
-        f"{folder.path}"
-    )
+    print(_wrote(paths, folder.path))
     return 0
 
 
@@ -257,23 +255,66 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     with folder:
         paths = write_simulation_outputs(simulation, folder, _command(args))
     print(simulation.summary())
-    print(
-        f"wrote {paths[0]}, {paths[1].name}, {paths[2].name} and {len(paths) - 3} figures in "
-        f"{folder.path}"
-    )
+    print(_wrote(paths, folder.path))
     return 0
 
 
-def cmd_view(args: argparse.Namespace) -> int:
-    """Animate the cycle in MeshCat (127.0.0.1 only) or write it as a static HTML page."""
-    from .device.feeder import load_feeder
-    from .dynamics.cycle import cycle_dynamics
-    from .viz.viewer import check_port, check_writable, cycle_forces, show_cycle, write_html
+def _wrote(paths: Sequence[Path], folder: Path) -> str:
+    """One line naming a mechanism run's files (the figures counted) and its folder."""
+    figures = sum(path.suffix == ".png" for path in paths)
+    files = ", ".join(path.name for path in paths if path.suffix != ".png")
+    return f"wrote {files} and {figures} figure{'' if figures == 1 else 's'} in {folder}"
 
-    params = _params(args)
-    elevation = _elevation(args, params)
+
+def cmd_view(args: argparse.Namespace) -> int:
+    """Animate the cycle or a mechanism in MeshCat (127.0.0.1 only) or write it as a static
+    HTML page."""
+    from .viz.viewer import check_port, check_writable
+
     html = None if args.html is None else check_writable(args.html)
     port = check_port(args.port)
+    if args.model is None:
+        return _view_device(args, html, port)
+    device = [flag for flag, value in (("--elevation", args.elevation), ("--device",
+              args.device), ("--params", args.params)) if value is not None]  # fmt: skip
+    if device:
+        raise InputError(f"{', '.join(device)}: options of the device's view, not of a MODEL's")
+    if args.closures is None:
+        raise InputError("give --closures FILE with MODEL (the mechanism file)")
+    from .study.view import motion_view, pose_view, run_view
+    from .viz.viewer import show_mechanism, write_mechanism_html
+
+    if args.motion is not None:
+        view = motion_view(args.closures, args.motion, args.model, args.pose)
+    elif args.run_dir is not None:
+        view = run_view(args.closures, args.run_dir, args.model, args.pose)
+    else:
+        view = pose_view(args.closures, args.model, args.pose)
+    if html is not None:
+        print(f"wrote {write_mechanism_html(view, html, args.reactions, port=port)}")
+        return 0
+    with show_mechanism(view, args.reactions, port=port) as viewer, suppress(KeyboardInterrupt):
+        print(f"{args.model.name} ({view.source}): open {viewer.url}")
+        print("press Ctrl-C to stop the viewer", flush=True)
+        viewer.serve_forever()
+    return 0
+
+
+def _view_device(args: argparse.Namespace, html: Path | None, port: int | None) -> int:
+    """``feeder view --elevation DEG``: the device's cycle."""
+    from .device.feeder import load_feeder
+    from .dynamics.cycle import cycle_dynamics
+    from .viz.viewer import cycle_forces, show_cycle, write_html
+
+    mechanism = [flag for flag, value in (("--closures", args.closures), ("--pose", args.pose),
+                 ("--motion", args.motion), ("--run", args.run_dir), ("--reactions",
+                 args.reactions)) if value is not None]  # fmt: skip
+    if mechanism:
+        raise InputError(f"{', '.join(mechanism)}: options of a MODEL's view; give MODEL")
+    if args.elevation is None:
+        raise InputError("give --elevation DEG for the device's view (or MODEL --closures F)")
+    params = _params(args)
+    elevation = _elevation(args, params)
     feeder = load_feeder(params)
     dynamics = cycle_dynamics(feeder, elevation, forward=False)
     cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
@@ -314,16 +355,18 @@ def _device_options(sub: argparse.ArgumentParser, default: str) -> None:
     )
 
 
-def _study_options(sub: argparse.ArgumentParser, out: bool = True) -> None:
-    """``--elevation`` (required), ``--out`` (required if ``out``) and the device options."""
+def _study_options(sub: argparse.ArgumentParser, out: bool = True, required: bool = True) -> None:
+    """``--elevation`` (required if ``required``), ``--out`` (required if ``out``) and the
+    device options."""
     sub.add_argument(
         "--elevation",
         action=_Once,
         type=float,
-        required=True,
+        required=required,
         metavar="DEG",
-        help="barrel elevation ε [deg], required, inside the device's range (−4 … 70 for the "
-        "built-in ones)",
+        help="barrel elevation ε [deg], "
+        + ("required" if required else "required for the device (default: none)")
+        + ", inside the device's range (−4 … 70 for the built-in ones)",
     )
     if out:
         sub.add_argument(
@@ -383,8 +426,39 @@ def _parser() -> argparse.ArgumentParser:
         "--rate", action=_Once, type=float, default=1000.0, metavar="HZ", help=rate_help
     )
 
-    view = command("view", cmd_view, "animate the cycle in the browser (MeshCat, 127.0.0.1)")
-    _study_options(view, out=False)
+    view = command(
+        "view",
+        cmd_view,
+        "animate the cycle, or any mechanism (MODEL --closures F), in the browser (MeshCat, "
+        "127.0.0.1)",
+    )
+    _study_options(view, out=False, required=False)
+    _mechanism_options(view, required=False)
+    source = view.add_mutually_exclusive_group()
+    source.add_argument(
+        "--motion",
+        action=_Once,
+        type=_path,
+        metavar="FILE",
+        help="a mechanism's motion table, analysed as feeder analyze does (default: the "
+        "assembled pose with its static loads)",
+    )
+    source.add_argument(
+        "--run",
+        dest="run_dir",
+        action=_Once,
+        type=_path,
+        metavar="DIR",
+        help="the output folder of an earlier feeder analyze or feeder simulate of the "
+        "mechanism (default: none)",
+    )
+    view.add_argument(
+        "--reactions",
+        action=_Once,
+        nargs="+",
+        metavar="JOINT",
+        help="joints whose reaction force is drawn (default: the few of largest peak force)",
+    )
     view.add_argument(
         "--html",
         action=_Once,
@@ -581,22 +655,26 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _mechanism_options(parser: argparse.ArgumentParser) -> None:
+def _mechanism_options(parser: argparse.ArgumentParser, required: bool = True) -> None:
     """MODEL, ``--closures`` and ``--pose``: a user mechanism, as ``analyze`` and ``simulate``
-    take it."""
+    take it (``view`` takes it optionally: without MODEL it shows the device)."""
+    needed = "required" if required else "required with MODEL (default: none)"
     parser.add_argument(
         "model",
         type=_path,
+        nargs=None if required else "?",
         metavar="MODEL",
-        help="the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), required",
+        help=f"the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), {needed}"
+        if required
+        else "a mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf) (default: the device)",
     )
     parser.add_argument(
         "--closures",
         action=_Once,
         type=_path,
-        required=True,
+        required=required,
         metavar="FILE",
-        help="mechanism file, required: TOML (cut frames and types, actuated and independent "
+        help=f"mechanism file, {needed}: TOML (cut frames and types, actuated and independent "
         "joints, gravity, force elements, an optional reference pose) or a CAD export's "
         "Extended-URDF YAML (robot.yaml); see docs/MECHANISMS.md",
     )

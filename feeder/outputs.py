@@ -43,6 +43,7 @@ from .study.columns import kinematic_columns
 from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
 from .study.simulate import Simulation
+from .study.view import MechanismView, analysis_view, simulation_view
 from .validation import check_path
 from .viz.report import (
     FigureData,
@@ -284,7 +285,13 @@ def write_analysis_outputs(
         "samples": int(analysis.motion.t.size),
     }
     return _write_mechanism(
-        directory, command, analysis, "loads.csv", analysis_figures(analysis), record
+        directory,
+        command,
+        analysis,
+        "loads.csv",
+        analysis_figures(analysis),
+        analysis_view(analysis, "prescribed motion"),
+        record,
     )
 
 
@@ -307,8 +314,15 @@ def write_simulation_outputs(
         },
         "samples": int(simulation.run.t.size),
     }
+    duration = simulation.run.t[-1] - simulation.run.t[0]
     return _write_mechanism(
-        directory, command, simulation, "states.csv", simulation_figures(simulation), record
+        directory,
+        command,
+        simulation,
+        "states.csv",
+        simulation_figures(simulation),
+        simulation_view(simulation, f"forward run over {duration:g} s"),
+        record,
     )
 
 
@@ -318,20 +332,32 @@ def _write_mechanism(
     result: Analysis | Simulation,
     table: str,
     figures: Mapping[str, Figure],
+    view: MechanismView,
     record: dict,
 ) -> list[Path]:
     """The outputs of a user mechanism's study: its table (``result.columns()``), summary,
-    assembled pose and figures, with the manifest's model and closures before ``record``."""
+    assembled pose, figures and report page (``report.html``: the summary, the 3-D view of
+    ``view`` and the figures), with the manifest's model and closures before ``record``."""
+    from .viz.report_page import report_page
+    from .viz.viewer import mechanism_html
+
+    command = command or "Python API (feeder.outputs)"
+    summary = result.summary()
+    pngs = {name: png_bytes(fig) for name, fig in figures.items()}
+    title = f"{Path(result.spec.model).name}: {view.source}"
     outputs: dict[str, Writer] = {
         table: lambda path: write_csv(path, result.columns()),
-        "summary.txt": lambda path: write_text(path, result.summary() + "\n"),
+        "summary.txt": lambda path: write_text(path, summary + "\n"),
         "assembled_pose.csv": lambda path: write_text(
             path, _pose_csv(result.chain, result.assembled)
         ),
+        "report.html": lambda path: write_text(
+            path, report_page(title, command, summary, mechanism_html(view), pngs)
+        ),
     }
-    outputs |= _figure_writers(figures)
+    outputs |= {name: partial(write_png, png=png) for name, png in pngs.items()}
     record = {
-        "command": command or "Python API (feeder.outputs)",
+        "command": command,
         "model": str(result.spec.model),
         "closures": [closure.label for closure in result.chain.closures],
         **record,

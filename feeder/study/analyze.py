@@ -10,7 +10,7 @@ inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,6 +27,7 @@ from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
+from ..exceptions import InputError
 
 
 @dataclass(frozen=True)
@@ -222,6 +223,39 @@ def _joint_columns(
             cols[f"v_{name}_{k + 1}"] = vj[:, k]
             cols[f"a_{name}_{k + 1}"] = aj[:, k]
     return cols
+
+
+def q_from_columns(model: pin.Model, cols: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The configurations (N, nq) a table's coordinate columns hold: the inverse of
+    :func:`joint_columns` (a continuous joint's angle back to its cos, sin; a ball joint from its
+    quaternion columns).
+
+    Raises:
+        InputError: A joint's coordinate column is missing (named).
+    """
+
+    def column(key: str) -> np.ndarray:
+        if key not in cols:
+            raise InputError(f"the table has no column {key!r}: it is not a table of this model")
+        return np.asarray(cols[key], dtype=float)
+
+    n = len(next(iter(cols.values())))
+    q = np.empty((n, model.nq))
+    for j in range(1, model.njoints):
+        joint, name = model.joints[j], model.names[j]
+        first = joint.idx_q
+        if joint.nv == 1 and joint.nq == 2:
+            angle = column(f"q_{name}")
+            q[:, first], q[:, first + 1] = np.cos(angle), np.sin(angle)
+        elif joint.nv == 1:
+            q[:, first] = column(f"q_{name}")
+        elif joint.shortname() == "JointModelSpherical":
+            for k, part in enumerate(("qx", "qy", "qz", "qw")):
+                q[:, first + k] = column(f"q_{name}_{part}")
+        else:
+            for k in range(joint.nq):
+                q[:, first + k] = column(f"q_{name}_{k + 1}")
+    return q
 
 
 def pose_rows(model: pin.Model, q: np.ndarray) -> list[tuple[str, str, float]]:

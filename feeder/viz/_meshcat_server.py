@@ -3,7 +3,10 @@
 MeshCat 0.3.2's tornado server binds every interface (0.0.0.0 and [::]) unless told otherwise.
 Here its web sockets are bound to the loopback address before tornado starts, so a busy port
 fails cleanly (:class:`~feeder.exceptions.ViewerPortError`) and nothing else is ever bound; the
-ZMQ port is on 127.0.0.1 already. The server runs on a background thread. Its page
+ZMQ port is on 127.0.0.1 already (on a free port the system gives: MeshCat's own search from port
+6000 prints "Port: 6000 in use" for each busy one). The server runs on a background thread and
+says nothing on the terminal: MeshCat's "opened:"/"closed:" lines for each browser tab and
+tornado's access log (``404 GET /favicon.ico``) are left out. Its page
 (``/static/``) is MeshCat's with :attr:`MeshcatServer.overlay` inserted (the legend and player of
 :mod:`feeder.viz._overlay`); every other file is MeshCat's own.
 """
@@ -19,7 +22,9 @@ import threading
 import tornado.httpserver
 import tornado.netutil
 import tornado.web
+import zmq
 from meshcat.servers import zmqserver
+from zmq.eventloop.zmqstream import ZMQStream
 
 from ..exceptions import FeederError, ViewerPortError
 from ._overlay import with_overlay
@@ -33,7 +38,7 @@ class _LoopbackApplication(tornado.web.Application):
     ``listen`` would bind every interface)."""
 
     def __init__(self, sockets: list[socket.socket], handlers: list):
-        super().__init__(handlers)
+        super().__init__(handlers, log_function=lambda handler: None)  # no access log
         self._sockets = sockets
         self.http_server: tornado.httpserver.HTTPServer | None = None
 
@@ -59,13 +64,35 @@ class _PageHandler(tornado.web.RequestHandler):
         self.write(with_overlay(page, self._server.overlay))
 
 
+class _QuietWebSocketHandler(zmqserver.WebSocketHandler):
+    """MeshCat's websocket handler without its "opened:"/"closed:" lines on stderr."""
+
+    def open(self) -> None:
+        self.bridge.websocket_pool.add(self)
+        self.bridge.send_scene(self)
+
+    def on_close(self) -> None:
+        self.bridge.websocket_pool.discard(self)
+
+
 class _LoopbackBridge(zmqserver.ZMQWebSocketBridge):
     """MeshCat's ZMQ ↔ websocket bridge serving on pre-bound loopback sockets."""
 
     def __init__(self, sockets: list[socket.socket], server: MeshcatServer):
         self._sockets = sockets
         self._server = server
-        super().__init__(host=LOOPBACK, port=sockets[0].getsockname()[1])
+        super().__init__(
+            zmq_url=f"tcp://{LOOPBACK}", host=LOOPBACK, port=sockets[0].getsockname()[1]
+        )
+
+    def setup_zmq(self, url: str):
+        """The ZMQ socket on a free port of ``url`` (``tcp://127.0.0.1``), its stream and its
+        full address."""
+        zmq_socket = self.context.socket(zmq.REP)
+        port = zmq_socket.bind_to_random_port(url)
+        stream = ZMQStream(zmq_socket)
+        stream.on_recv(self.handle_zmq)
+        return zmq_socket, stream, f"{url}:{port}"
 
     def make_app(self) -> _LoopbackApplication:
         return _LoopbackApplication(
@@ -77,7 +104,7 @@ class _LoopbackBridge(zmqserver.ZMQWebSocketBridge):
                     zmqserver.StaticFileHandlerNoCache,
                     {"path": zmqserver.VIEWER_ROOT, "default_filename": zmqserver.VIEWER_HTML},
                 ),
-                (r"/", zmqserver.WebSocketHandler, {"bridge": self}),
+                (r"/", _QuietWebSocketHandler, {"bridge": self}),
             ],
         )
 

@@ -17,16 +17,10 @@ from __future__ import annotations
 
 import html
 import json
+import math
 import re
 
-from .scene import ARROW_LENGTH, DrawnCycle
-
-STAGES = (
-    "the empty forearm swings to the conveyor",
-    "the forearm swings back with the payload",
-    "the arm lifts the payload to the barrel",
-)
-"""What happens in each stage of the cycle (REFERENCE.md, section "The feeding cycle")."""
+from .scene import DrawnScene
 
 _STYLE = """
 #feeder-legend, #feeder-player {
@@ -62,7 +56,8 @@ _SCRIPT = """
   var stage = document.getElementById("feeder-stage");
   var LOOP_REPEAT = 2201;  // THREE.LoopRepeat
   var options = new URLSearchParams(location.hash.slice(1));
-  var pending = options.has("t") ? parseFloat(options.get("t")) : null;
+  var pending = options.has("t") ? (parseFloat(options.get("t")) - config.start) * config.slow
+    : null;
   var loaded = null;  // the animation's actions the controls were last set up for
   loop.checked = options.has("loop");
 
@@ -94,13 +89,16 @@ _SCRIPT = """
         if (pending !== null && isFinite(pending)) { seek(pending); }
         pending = null;
       }
-      var t = Math.min(animator.time, animator.duration);
+      var played = Math.min(animator.time, animator.duration);
+      var t = config.start + played / config.slow;  // the motion's time [s]
       slider.max = animator.duration;
-      slider.value = t;
-      clock.textContent = "t = " + t.toFixed(3) + " s";
-      var k = 0;
-      while (k < config.stages.length - 1 && t >= config.boundaries[k + 1]) { k += 1; }
-      stage.textContent = "stage " + (k + 1) + ": " + config.stages[k];
+      slider.value = played;
+      clock.textContent = "t = " + t.toFixed(config.digits) + " s";
+      if (config.stages.length) {
+        var k = 0;
+        while (k < config.stages.length - 1 && t >= config.boundaries[k + 1]) { k += 1; }
+        stage.textContent = "stage " + (k + 1) + ": " + config.stages[k];
+      }
       play.textContent = animator.playing ? "pause" : "play";
     }
     requestAnimationFrame(refresh);
@@ -110,37 +108,63 @@ _SCRIPT = """
 """
 
 
-def overlay_html(drawn: DrawnCycle, title: str) -> str:
-    """The legend and the player for a drawn cycle, as HTML to insert before ``</body>``."""
+def overlay_html(drawn: DrawnScene, title: str) -> str:
+    """The legend and the player for a drawn scene, as HTML to insert before ``</body>``."""
     rows = [f"<summary>{html.escape(title)}</summary>"]
     for entry in drawn.legend:
+        if entry.mark == "note":
+            rows.append(f"<div>{html.escape(entry.label)}</div>")
+            continue
         rows.append(
             f'<div><span class="mark {entry.mark}" style="background: {entry.color}; '
             f'--c: {entry.color}"></span>{html.escape(entry.label)}</div>'
         )
+    length = drawn.arrow_length
     if drawn.newtons_per_metre > 0.0:
-        newtons = drawn.newtons_per_metre * ARROW_LENGTH
         rows.append(
-            f"<div>arrows to one scale: {ARROW_LENGTH:g} m long = {newtons:.0f} N, from the "
-            "point the force acts on</div>"
+            f"<div>force arrows to one scale: {length:.3g} m long = "
+            f"{drawn.newtons_per_metre * length:.4g} N, from the point the force acts on</div>"
         )
-    rows.append("<div>axes at the cylinder pivot B: x red, y green (up), z blue</div>")
-    config = json.dumps({"boundaries": list(drawn.boundaries), "stages": list(STAGES)})
+    if drawn.moment_scale > 0.0:
+        rows.append(
+            f"<div>moment arrows to one scale: {length:.3g} m long = "
+            f"{drawn.moment_scale * length:.4g} N·m, along the moment's axis</div>"
+        )
+    if drawn.slow_motion > 1.0:
+        rows.append(f"<div>played {drawn.slow_motion:.3g}× slower than the motion</div>")
+    rows.append(f"<div>{html.escape(drawn.axes)}</div>")
+    start, end = drawn.boundaries[0], drawn.boundaries[-1]
+    duration = end - start
+    config = json.dumps(
+        {
+            "start": start,
+            "slow": drawn.slow_motion,
+            "boundaries": list(drawn.boundaries),
+            "stages": list(drawn.stages),
+            "digits": max(3, 3 - math.floor(math.log10(duration))) if duration > 0.0 else 3,
+        }
+    )
+    if duration <= 0.0:  # a pose: nothing to play
+        player = [f'<div id="feeder-player">pose at t = {start:g} s (no motion)</div>']
+    else:
+        player = [
+            '<div id="feeder-player">',
+            '<button id="feeder-play" type="button">play</button>',
+            '<label><input id="feeder-loop" type="checkbox"> loop</label>',
+            f'<input id="feeder-time" type="range" min="0" max="{duration * drawn.slow_motion}" '
+            'step="0.001" value="0" aria-label="time">',
+            f'<span id="feeder-clock">t = {start:.3f} s</span>',
+            '<span id="feeder-stage"></span>',
+            "</div>",
+            f"<script>{_SCRIPT % {'config': config}}</script>",
+        ]
     return "\n".join(
         [
             f"<style>{_STYLE}</style>",
             '<details id="feeder-legend" open>',
             *rows,
             "</details>",
-            '<div id="feeder-player">',
-            '<button id="feeder-play" type="button">play</button>',
-            '<label><input id="feeder-loop" type="checkbox"> loop</label>',
-            f'<input id="feeder-time" type="range" min="0" max="{drawn.boundaries[-1]}" '
-            'step="0.001" value="0" aria-label="time">',
-            '<span id="feeder-clock">t = 0.000 s</span>',
-            '<span id="feeder-stage"></span>',
-            "</div>",
-            f"<script>{_SCRIPT % {'config': config}}</script>",
+            *player,
         ]
     )
 

@@ -1,16 +1,22 @@
-"""The MeshCat scene of a feeding cycle: the device's visuals, the barrel axis, the payload's
-path, force arrows to one scale, the floor grid and the camera, animated over the cycle.
+"""The MeshCat scene of any mechanism's motion: its visuals animated over the motion, force (and
+moment) arrows to one scale, the floor grid and the camera.
 
-The scene lives under the node ``feeder`` in device coordinates (y up), turned onto MeshCat's
-z-up world and centred on the device, whose centre is the camera's orbit target. The force
-arrows and the payload's path are drawn unlit, over the bodies (no depth test, rendered last):
-they start at points inside the bodies (a pivot, a centre of gravity) and would otherwise be
-hidden at most poses. Every colour drawn has an entry in :attr:`DrawnCycle.legend`.
+One builder for the feeding device (:mod:`feeder.viz.cycle_scene`) and for a user's mechanism
+(:mod:`feeder.viz.mechanism_scene`). The scene lives under the node ``feeder`` in the model's
+own coordinates, turned so that "up" (against gravity) is MeshCat's z and centred on the
+drawing, whose centre is the camera's orbit target. Arrows and lines are drawn unlit, over the
+bodies (no depth test, rendered last): they start at points inside the bodies (a joint, a
+centre of gravity) and would otherwise be hidden at most poses. Every colour drawn has an entry
+in :attr:`DrawnScene.legend`.
+
+Time: the animation plays the motion at its own pace, or slower for a short one (at least
+:data:`MIN_PLAYBACK` seconds); :attr:`DrawnScene.slow_motion` says by how much.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import meshcat
@@ -19,46 +25,47 @@ import meshcat.geometry as mg
 import meshcat.transformations as mtf
 import numpy as np
 import pinocchio as pin
-from lxml import etree
-from pinocchio.visualize import MeshcatVisualizer
-
-from ..device.feeder import Feeder
-from ..motion.cycle import CycleKinematics
 
 FRAME_RATE = 40.0
-"""Animation key frames per second of cycle time [1/s]; the 1 kHz cycle is subsampled."""
+"""Animation key frames per second of playback [1/s]; the motion's samples are subsampled."""
+
+MIN_PLAYBACK = 3.0
+"""Shortest playback [s]: a faster motion (a 30 ms forward run) is played in slow motion."""
 
 ARROW_LENGTH = 0.45
-"""Drawn length [m] of the largest force over the cycle; all arrows share one scale [N/m]. A
-third of the device's size, so that a force a tenth of the largest is still drawn 45 mm long
-(tests/viz/test_viewer.py checks that every such arrow shows on screen at every stage)."""
+"""Drawn length [m] of the largest force over the motion; all force arrows share one scale
+[N/m] (moments another [N·m/m]). A third of the feeding device's size, so that a force a tenth
+of the largest is still drawn 45 mm long (tests/viz/test_viewer.py checks that every such arrow
+shows on screen at every stage of the cycle); a mechanism's arrows are scaled to its size
+(:func:`arrow_length`)."""
 
 CAMERA_AZIMUTH, CAMERA_ELEVATION = math.radians(35.0), math.radians(25.0)
-"""Default view direction [rad]: from the +z side, turned towards +x, looking down."""
+"""Default view direction [rad]: turned 35° from the model's horizontal axes, looking down 25°."""
 
 CAMERA_FOV = math.radians(75.0)
 """MeshCat's default camera: vertical field of view [rad]."""
 
 ForceSeries = tuple[np.ndarray, np.ndarray]
-"""(force, point): forces [N] and their application points [m] in the device's world frame
-(x horizontal, y up), each (N, 3), one row per cycle sample."""
+"""(vector, point): forces [N] (or moments [N·m]) and their application points [m] in the
+model's world frame, each (N, 3), one row per motion sample."""
 
-_ROOT = "feeder"
-_DEVICE = f"{_ROOT}/device"
-_ANIMATION = "animation"
-_BARREL_COLOR, _PATH_COLOR, _GRID_COLOR = 0xCC2222, 0xD4A017, 0x8A8F99
+ROOT = "feeder"
+"""The scene's MeshCat node."""
+ANIMATION = "animation"
+GRID_COLOR = 0x8A8F99
 _BACKGROUND = ((0.93, 0.94, 0.95), (0.62, 0.65, 0.70))  # MeshCat gradient, top and bottom RGB
-_GRID_STEP = 0.1  # [m] floor grid squares
-ARROW_COLORS = (0x8E24AA, 0x00ACC1, 0xD81B60, 0x00C853, 0xFF6D00, 0x3949AB)
-"""Colours of the force arrows, in the order the forces are given: none is a device colour."""
-_ARROW_RADIUS, _HEAD_LENGTH, _HEAD_RADIUS = 0.010, 0.06, 0.025  # [m]
-_ON_TOP = 10  # render order of the arrows and the path: after the bodies, over them
-_LINK_NUMBERS = {"cylinder": 1, "piston": 2, "arm": 3, "forearm": 4}  # the paper's numbering
+ARROW_COLORS = (
+    0x8E24AA, 0x00ACC1, 0xD81B60, 0x00C853, 0xFF6D00, 0x3949AB, 0x6D4C41, 0xC0CA33, 0x000000,
+    0x00897B,
+)  # fmt: skip
+"""Colours of the arrows, in the order the loads are given: none is a device colour. A scene
+draws at most this many arrows (:func:`draw_scene` says which it left out)."""
+_ARROW_RADIUS, _HEAD_LENGTH, _HEAD_RADIUS = 0.010, 0.06, 0.025  # [m] at ARROW_LENGTH
+ON_TOP = 10
+"""Render order of arrows and lines: after the bodies, over them."""
 _INVISIBLE = 1e-6  # scale of a zero-length arrow part (a zero scale makes a singular matrix)
 _FRAME_FILL = 0.9  # the scene's extent fills at most this share of the camera's view
-_BARREL_RADIUS, _BARREL_BEHIND, _BARREL_AHEAD = 0.006, 0.4, 0.8  # [m] around the rammed CG
-# Device (y up) → MeshCat world (z up): a quarter turn about x.
-_DEVICE_TO_MESHCAT = mtf.rotation_matrix(math.pi / 2.0, [1.0, 0.0, 0.0])
+_Y_UP_TO_MESHCAT = mtf.rotation_matrix(math.pi / 2.0, [1.0, 0.0, 0.0])  # y up → MeshCat's z up
 
 
 @dataclass(frozen=True)
@@ -67,7 +74,8 @@ class LegendEntry:
 
     Attributes:
         color: CSS colour, ``#rrggbb``.
-        mark: How it is drawn: ``"body"``, ``"line"`` or ``"arrow"``.
+        mark: How it is drawn: ``"body"``, ``"line"`` or ``"arrow"`` (``"note"``: no colour,
+            a remark).
         label: What it is.
     """
 
@@ -77,53 +85,51 @@ class LegendEntry:
 
 
 @dataclass(frozen=True)
-class DrawnCycle:
-    """What :func:`draw_cycle` drew.
+class DrawnScene:
+    """What a scene builder drew.
 
     Attributes:
         newtons_per_metre: Scale of the force arrows [N/m] (0 without forces).
+        moment_scale: Scale of the moment arrows [N·m/m] (0 without moments).
+        arrow_length: Drawn length [m] of the largest force (and of the largest moment).
         legend: Every colour of the scene with what it shows.
-        boundaries: Stage boundaries (0, T1, T1 + T2, T) [s]: the animation's time line.
+        boundaries: The motion's time line [s]: its start, the ends of its stages, its end (a
+            single time for a pose).
+        stages: What happens in each stage (len(boundaries) − 1 texts, or none).
+        slow_motion: Playback time per second of motion (≥ 1).
+        axes: What MeshCat's x-y-z triad marks.
     """
 
     newtons_per_metre: float
+    moment_scale: float
+    arrow_length: float
     legend: tuple[LegendEntry, ...]
     boundaries: tuple[float, ...]
+    stages: tuple[str, ...]
+    slow_motion: float
+    axes: str
 
 
-def _css(color: int) -> str:
+def css(color: int) -> str:
+    """A 24-bit colour as CSS ``#rrggbb``."""
     return f"#{color:06x}"
 
 
-def _device_legend(feeder: Feeder) -> list[LegendEntry]:
-    """The URDF's visual materials, once each, in the order of the file."""
-    entries: dict[str, LegendEntry] = {}
-    for material in etree.fromstring(feeder.urdf.encode("utf-8")).iter("material"):
-        color = material.find("color")
-        if color is None or material.get("name") in entries:
-            continue
-        r, g, b = (int(255 * float(x)) for x in color.get("rgba").split()[:3])  # as Pinocchio
-        name = material.get("name")
-        if name == "projectile":
-            label = f"payload ({feeder.params.payload_name})"
-        elif name == "pin":
-            label = "pins"
-        elif name in _LINK_NUMBERS:
-            label = f"{name} (link {_LINK_NUMBERS[name]})"
-        else:
-            label = name
-        entries[name] = LegendEntry(f"#{r:02x}{g:02x}{b:02x}", "body", label)
-    return list(entries.values())
+def material_css(rgba: Sequence[float]) -> str:
+    """The CSS colour Pinocchio's MeshCat visualizer draws for a URDF ``rgba``."""
+    r, g, b = (int(255 * float(x)) for x in list(rgba)[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
 
 
-def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
+def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
+    """The 4 × 4 homogeneous transform of a rotation (3, 3) and a translation (3,)."""
     out = np.eye(4)
     out[:3, :3] = rotation
     out[:3, 3] = translation
     return out
 
 
-def _y_onto(direction: np.ndarray) -> np.ndarray:
+def y_onto(direction: np.ndarray) -> np.ndarray:
     """A rotation (3, 3) turning the y axis onto the unit vector ``direction``."""
     y = np.array([0.0, 1.0, 0.0])
     axis = np.cross(y, direction)
@@ -133,84 +139,110 @@ def _y_onto(direction: np.ndarray) -> np.ndarray:
     return pin.AngleAxis(math.atan2(sine, cosine), axis / sine).matrix()
 
 
-def _geometry_radius(geometry_object: pin.GeometryObject) -> float:
-    """Radius [m] of a sphere about the geometry's origin that contains it (box or cylinder)."""
+def up_of(gravity: np.ndarray) -> np.ndarray:
+    """The unit "up" vector (3,) against ``gravity`` [m/s²]: z (URDF's convention) without
+    gravity."""
+    norm = float(np.linalg.norm(gravity))
+    return -np.asarray(gravity) / norm if norm > 0.0 else np.array([0.0, 0.0, 1.0])
+
+
+def geometry_sphere(geometry_object: pin.GeometryObject) -> tuple[np.ndarray, float]:
+    """A sphere that contains the geometry: its centre (3,) in the geometry's frame and its
+    radius [m] (a mesh's bounding box, whose vertices need not surround the frame's origin: CAD
+    exports often keep the assembly's origin)."""
     shape = geometry_object.geometry
     if hasattr(shape, "halfSide"):
-        return float(np.linalg.norm(shape.halfSide))
-    return float(math.hypot(shape.radius, shape.halfLength))
+        return np.zeros(3), float(np.linalg.norm(shape.halfSide))
+    if hasattr(shape, "halfLength"):
+        return np.zeros(3), float(math.hypot(shape.radius, shape.halfLength))
+    if hasattr(shape, "radius"):
+        return np.zeros(3), float(shape.radius)
+    shape.computeLocalAABB()
+    box = shape.aabb_local
+    low, high = (np.asarray(x) * geometry_object.meshScale for x in (box.min_, box.max_))
+    return (low + high) / 2.0, float(np.linalg.norm(high - low) / 2.0)
 
 
-def _placements(
-    feeder: Feeder, visual_model: pin.GeometryModel, cycle: CycleKinematics, samples: np.ndarray
+def sphere_centres(placements: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """World centres (N · n, 3) of the geometries' spheres (:func:`geometry_sphere`), from their
+    placements (N, n, 4, 4) and local centres (n, 3)."""
+    local = np.concatenate([centres, np.ones((len(centres), 1))], axis=1)
+    return np.einsum("knij,nj->kni", placements, local)[..., :3].reshape(-1, 3)
+
+
+def geometry_placements(
+    model: pin.Model, visual_model: pin.GeometryModel, q: np.ndarray
 ) -> np.ndarray:
-    """World placements (len(samples), n_geometries, 4, 4) of the visual geometries.
-
-    Before the grip (payload = 0) the payload's geometries stay where they are gripped."""
-    model = feeder.model
+    """World placements (N, n_geometries, 4, 4) of the visual geometries at the poses q (N, nq)."""
     data, visual_data = model.createData(), pin.GeometryData(visual_model)
-    on_payload = np.array(
-        [model.frames[g.parentFrame].name == "projectile" for g in visual_model.geometryObjects]
-    )
-
-    def at(i: int) -> np.ndarray:
-        pin.forwardKinematics(model, data, feeder.to_pinocchio(cycle.q[i]))
+    out = np.empty((len(q), len(visual_model.geometryObjects), 4, 4))
+    for k, q_k in enumerate(q):
+        pin.forwardKinematics(model, data, q_k)
         pin.updateGeometryPlacements(model, data, visual_model, visual_data)
-        return np.array([placement.homogeneous for placement in visual_data.oMg])
-
-    gripped = at(int(np.argmax(cycle.gripped)))
-    out = np.empty((samples.size, len(visual_model.geometryObjects), 4, 4))
-    for k, i in enumerate(samples):
-        out[k] = at(i)
-        if not cycle.gripped[i]:
-            out[k, on_payload] = gripped[on_payload]
+        out[k] = [placement.homogeneous for placement in visual_data.oMg]
     return out
 
 
-def _arrows(force: np.ndarray, point: np.ndarray, newtons_per_metre: float) -> dict:
-    """Placements of one force's arrow at n samples; ``force``, ``point`` (n, 3) [N], [m].
+def arrow_length(extent: float) -> float:
+    """Drawn length [m] of the largest arrow for a drawing ``extent`` [m] across: a third of
+    it, as the device's :data:`ARROW_LENGTH` is of its ~1.4 m."""
+    return extent / 3.0 if extent > 0.0 else ARROW_LENGTH
 
-    The arrow starts at the point and is ``|force| / newtons_per_metre`` long; its head is at
-    most a third of it. Shaft and head are MeshCat cylinders along y, of unit height and of
-    height :data:`_HEAD_LENGTH`, scaled by ``shaft_scale`` and ``head_scale``.
+
+def _arrows(force: np.ndarray, point: np.ndarray, per_metre: float, size: float) -> dict:
+    """Placements of one arrow at n samples; ``force``, ``point`` (n, 3) [N or N·m], [m].
+
+    The arrow starts at the point and is ``|force| / per_metre`` long; its head is at most a
+    third of it. Shaft and head are MeshCat cylinders along y, of unit height and of height
+    ``size`` × :data:`_HEAD_LENGTH`, scaled by ``shaft_scale`` and ``head_scale``.
 
     Returns:
         ``shaft``, ``head``: rigid placements (n, 4, 4); ``shaft_scale``, ``head_scale``:
         scale factors (n, 3); ``tip``: arrow tips (n, 3) [m].
     """
     magnitude = np.linalg.norm(force, axis=1)
-    length = magnitude / newtons_per_metre if newtons_per_metre > 0.0 else 0.0 * magnitude
+    length = magnitude / per_metre if per_metre > 0.0 else 0.0 * magnitude
     direction = np.where(magnitude[:, None] > 0.0, force, [0.0, 1.0, 0.0])
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    head = np.clip(length / (3.0 * _HEAD_LENGTH), _INVISIBLE, 1.0)
-    shaft = np.maximum(length - head * _HEAD_LENGTH, _INVISIBLE)
-    rotations = [_y_onto(d) for d in direction]
+    head_length = size * _HEAD_LENGTH
+    head = np.clip(length / (3.0 * head_length), _INVISIBLE, 1.0)
+    shaft = np.maximum(length - head * head_length, _INVISIBLE)
+    rotations = [y_onto(d) for d in direction]
     shaft_centres = point + direction * (shaft / 2.0)[:, None]
-    head_centres = point + direction * (length - head * _HEAD_LENGTH / 2.0)[:, None]
+    head_centres = point + direction * (length - head * head_length / 2.0)[:, None]
     return {
-        "shaft": np.array(
-            [_homogeneous(*rc) for rc in zip(rotations, shaft_centres, strict=True)]
-        ),
-        "head": np.array([_homogeneous(*rc) for rc in zip(rotations, head_centres, strict=True)]),
+        "shaft": np.array([homogeneous(*rc) for rc in zip(rotations, shaft_centres, strict=True)]),
+        "head": np.array([homogeneous(*rc) for rc in zip(rotations, head_centres, strict=True)]),
         "shaft_scale": np.column_stack([np.ones_like(shaft), shaft, np.ones_like(shaft)]),
         "head_scale": np.repeat(head[:, None], 3, axis=1),
         "tip": point + direction * length[:, None],
     }
 
 
-def _floor_grid(low: np.ndarray, high: np.ndarray) -> mg.LineSegments:
-    """Square grid of :data:`_GRID_STEP` on the horizontal plane under the box ``low``–``high``
-    (device frame, [m]), one step wider on every side."""
-    xs = np.arange(math.floor(low[0] / _GRID_STEP) - 1, math.ceil(high[0] / _GRID_STEP) + 2)
-    zs = np.arange(math.floor(low[2] / _GRID_STEP) - 1, math.ceil(high[2] / _GRID_STEP) + 2)
-    xs, zs = xs * _GRID_STEP, zs * _GRID_STEP
+def grid_step(extent: float) -> float:
+    """Floor grid square [m] for a drawing ``extent`` [m] across: 1, 2 or 5 × 10ᵏ, about a
+    tenth of it (0.1 m for the feeding device)."""
+    if extent <= 0.0:
+        return 0.1
+    decade = 10.0 ** math.floor(math.log10(extent / 10.0))
+    return next(m * decade for m in (1.0, 2.0, 5.0, 10.0) if m * decade >= extent / 14.0)
+
+
+def _floor_grid(low: np.ndarray, high: np.ndarray, step: float, to_model: np.ndarray):
+    """Square grid of ``step`` [m] on the horizontal plane under the box ``low``–``high`` (y-up
+    coordinates, [m]), one step wider on every side, drawn in model coordinates (``to_model``
+    turns y-up coordinates into the model's)."""
+    xs = np.arange(math.floor(low[0] / step) - 1, math.ceil(high[0] / step) + 2) * step
+    zs = np.arange(math.floor(low[2] / step) - 1, math.ceil(high[2] / step) + 2) * step
     ends = [((x, zs[0]), (x, zs[-1])) for x in xs] + [((xs[0], z), (xs[-1], z)) for z in zs]
-    points = np.array([(x, low[1], z) for segment in ends for x, z in segment], dtype=np.float32)
-    return mg.LineSegments(mg.PointsGeometry(points.T), mg.LineBasicMaterial(color=_GRID_COLOR))
+    points = np.array([(x, low[1], z) for segment in ends for x, z in segment]) @ to_model.T
+    return mg.LineSegments(
+        mg.PointsGeometry(points.T.astype(np.float32)), mg.LineBasicMaterial(color=GRID_COLOR)
+    )
 
 
 def _camera_position(points: np.ndarray, reach: np.ndarray) -> np.ndarray:
-    """Camera position (3,) [m] relative to the orbit centre, device axes: along the default
+    """Camera position (3,) [m] relative to the orbit centre, y-up axes: along the default
     view direction, at the smallest distance at which every sphere (centres ``points`` (n, 3)
     relative to the orbit centre, radii ``reach`` (n,)) is inside the field of view."""
     view = np.array(
@@ -228,101 +260,149 @@ def _camera_position(points: np.ndarray, reach: np.ndarray) -> np.ndarray:
     return view * float(np.max(points @ view + lateral / half_width))
 
 
-def _frame_scene(vis: meshcat.Visualizer, points: np.ndarray, reach: np.ndarray) -> None:
-    """Centre the scene on the box around every drawn sphere (centres ``points`` (n, 3),
-    radii ``reach`` (n,), device frame [m]), which the camera orbits; floor grid under it."""
+def extent_of(points: np.ndarray, reach: np.ndarray) -> float:
+    """Largest side [m] of the box around the spheres (centres (n, 3), radii (n,))."""
     low = (points - reach[:, None]).min(axis=0)
     high = (points + reach[:, None]).max(axis=0)
+    return float((high - low).max())
+
+
+def frame_scene(
+    vis: meshcat.Visualizer, points: np.ndarray, reach: np.ndarray, up: np.ndarray
+) -> float:
+    """Centre the scene on the box around every drawn sphere (centres ``points`` (n, 3), radii
+    ``reach`` (n,), model frame [m]), which the camera orbits; turn ``up`` onto MeshCat's z;
+    draw a floor grid under it. Returns the grid's square [m]."""
+    to_y_up = y_onto(up).T  # model coordinates → y-up coordinates
+    upright = points @ to_y_up.T
+    low = (upright - reach[:, None]).min(axis=0)
+    high = (upright + reach[:, None]).max(axis=0)
     centre = (low + high) / 2.0
-    device_to_world = _DEVICE_TO_MESHCAT @ _homogeneous(np.eye(3), -centre)
-    vis[_ROOT].set_transform(device_to_world)
-    vis["/Axes"].set_transform(device_to_world)  # MeshCat's triad: device axes at B
+    model_to_world = _Y_UP_TO_MESHCAT @ homogeneous(to_y_up, -centre)
+    step = grid_step(float((high - low).max()))
+    vis[ROOT].set_transform(model_to_world)
+    vis["/Axes"].set_transform(model_to_world)  # MeshCat's triad: the model's axes
     vis["/Grid"].set_property("visible", False)  # 20 m wide: replaced by a floor to scale
-    vis[f"{_ROOT}/floor"].set_object(_floor_grid(low, high))
+    vis[f"{ROOT}/floor"].set_object(_floor_grid(low, high, step, to_y_up.T))
     vis["/Background"].set_property("top_color", _BACKGROUND[0])
     vis["/Background"].set_property("bottom_color", _BACKGROUND[1])
-    # The camera lives in MeshCat's "rotated" frame, whose axes are the device's.
+    # The camera lives in MeshCat's "rotated" frame, whose axes are the y-up ones.
     vis["/Cameras/default/rotated/<object>"].set_property(
-        "position", _camera_position(points - centre, reach).tolist()
+        "position", _camera_position(upright - centre, reach).tolist()
     )
+    return step
 
 
-def _draw_references(vis: meshcat.Visualizer, cycle: CycleKinematics) -> np.ndarray:
-    """Draw the barrel axis and the payload's path; return the axis' ends (2, 3) [m]."""
-    direction = np.array([-math.cos(cycle.elevation), math.sin(cycle.elevation), 0.0])
-    rammed = cycle.payload_position[-1]
-    ends = np.array([rammed - _BARREL_BEHIND * direction, rammed + _BARREL_AHEAD * direction])
-    barrel = vis[f"{_ROOT}/barrel_axis"]
-    barrel.set_object(
-        mg.Cylinder(_BARREL_BEHIND + _BARREL_AHEAD, _BARREL_RADIUS),
-        mg.MeshLambertMaterial(color=_BARREL_COLOR),
-    )
-    barrel.set_transform(_homogeneous(_y_onto(direction), ends.mean(axis=0)))
-    path = cycle.payload_position[cycle.gripped == 1].T.astype(np.float32)
-    vis[f"{_ROOT}/payload_path"].set_object(
-        mg.Line(mg.PointsGeometry(path), mg.LineBasicMaterial(color=_PATH_COLOR, depthTest=False))
-    )
-    vis[f"{_ROOT}/payload_path"].set_property("renderOrder", _ON_TOP)
-    return ends
+@dataclass(frozen=True)
+class DrawnParts:
+    """What :func:`draw_scene` drew: the arrows' scales [N/m], [N·m/m] and length [m], the
+    playback time per second of motion, the legend of the floor grid and the arrows."""
+
+    newtons_per_metre: float
+    moment_scale: float
+    arrow_length: float
+    slow_motion: float
+    legend: tuple[LegendEntry, ...]
 
 
-def draw_cycle(
-    viz: MeshcatVisualizer, feeder: Feeder, cycle: CycleKinematics, forces: dict[str, ForceSeries]
-) -> DrawnCycle:
-    """Draw and animate the cycle in ``viz``; return the arrows' scale and the legend."""
-    vis = viz.viewer
-    viz.loadViewerModel(rootNodeName=_DEVICE)
-    step = max(1, round(cycle.spec.rate / FRAME_RATE))
-    samples = np.unique(np.append(np.arange(0, cycle.t.size, step), cycle.t.size - 1))
-    geometries = viz.visual_model.geometryObjects
-    nodes = [viz.getViewerNodeName(g, pin.GeometryType.VISUAL) for g in geometries]
-    placements = _placements(feeder, viz.visual_model, cycle, samples)
-    points = [placements[:, :, :3, 3].reshape(-1, 3), _draw_references(vis, cycle)]
-    reach = [np.tile([_geometry_radius(g) for g in geometries], samples.size), np.zeros(2)]
+@dataclass(frozen=True)
+class Arrows:
+    """Arrows to draw: force series by name (one scale), moment series by name (another)."""
 
-    peak = max((float(np.linalg.norm(f, axis=1).max()) for f, _ in forces.values()), default=0.0)
-    newtons_per_metre = peak / ARROW_LENGTH
-    legend = _device_legend(feeder) + [
-        LegendEntry(
-            _css(_BARREL_COLOR), "line", f"barrel axis at ε = {math.degrees(cycle.elevation):g}°"
-        ),
-        LegendEntry(
-            _css(_PATH_COLOR), "line", "payload path (its centre of gravity, once gripped)"
-        ),
-        LegendEntry(_css(_GRID_COLOR), "line", f"floor grid, {_GRID_STEP:g} m squares"),
-    ]
-    arrows = {}
-    for k, (name, (force, point)) in enumerate(forces.items()):
-        node = f"{_ROOT}/forces/{name}"
+    forces: Mapping[str, ForceSeries]
+    moments: Mapping[str, ForceSeries]
+
+    def scales(self, length: float) -> tuple[float, float]:
+        """[N/m] and [N·m/m]: the largest force, and the largest moment, drawn ``length`` long."""
+
+        def peak(series: Mapping[str, ForceSeries]) -> float:
+            peaks = (float(np.linalg.norm(v, axis=1).max()) for v, _ in series.values())
+            return max(peaks, default=0.0)
+
+        return peak(self.forces) / length, peak(self.moments) / length
+
+
+def draw_scene(
+    vis: meshcat.Visualizer,
+    t: np.ndarray,
+    tracks: Mapping[str, np.ndarray],
+    points: np.ndarray,
+    reach: np.ndarray,
+    arrows: Arrows,
+    up: np.ndarray,
+    *,
+    length: float | None = None,
+) -> DrawnParts:
+    """Frame, draw the arrows and animate a motion whose bodies are already loaded.
+
+    Args:
+        vis: The MeshCat visualizer (nodes relative to its root).
+        t: Motion sample times [s], (N,).
+        tracks: Node path → its placements (N, 4, 4) in model coordinates (the bodies).
+        points, reach: Spheres (centres (n, 3) [m], radii (n,) [m]) that the camera must see
+            besides the arrows (the bodies over the motion, lines drawn by the caller).
+        arrows: Force and moment arrows, each (N, 3) series.
+        up: Unit vector against gravity (3,).
+        length: Drawn length [m] of the largest force and moment (default: a third of the
+            drawing's extent).
+
+    Returns:
+        The scales, the playback speed and the legend of the floor grid and the arrows.
+    """
+    length = length or arrow_length(extent_of(points, reach))
+    size = length / ARROW_LENGTH  # arrow thickness follows its length
+    newtons_per_metre, moment_scale = arrows.scales(length)
+    duration = float(t[-1] - t[0])
+    slow = max(1.0, MIN_PLAYBACK / duration) if duration > 0.0 else 1.0
+    frames = max(2, math.ceil(duration * slow * FRAME_RATE) + 1)
+    samples = np.unique(np.linspace(0, t.size - 1, min(frames, t.size)).round().astype(int))
+    legend, drawn = [LegendEntry(css(GRID_COLOR), "line", "")], {}  # the grid's, set below
+    series = [(n, s, newtons_per_metre, "") for n, s in arrows.forces.items()]
+    moment = " (moment, right-hand rule)"
+    series += [(n, s, moment_scale, moment) for n, s in arrows.moments.items()]
+    left_out = [name for name, *_ in series[len(ARROW_COLORS) :]]
+    series = series[: len(ARROW_COLORS)]  # one colour each
+    all_points, all_reach = [points], [reach]
+    for k, (name, (vector, point), scale, note) in enumerate(series):
+        node = f"{ROOT}/forces/{name}"
         color = ARROW_COLORS[k % len(ARROW_COLORS)]
-        legend.append(LegendEntry(_css(color), "arrow", name))
+        legend.append(LegendEntry(css(color), "arrow", name + note))
         material = mg.MeshBasicMaterial(color=color, depthTest=False)
-        vis[f"{node}/shaft"].set_object(mg.Cylinder(1.0, _ARROW_RADIUS), material)
+        vis[f"{node}/shaft"].set_object(mg.Cylinder(1.0, size * _ARROW_RADIUS), material)
         vis[f"{node}/head"].set_object(
-            mg.Cylinder(_HEAD_LENGTH, radiusTop=0.0, radiusBottom=_HEAD_RADIUS), material
+            mg.Cylinder(size * _HEAD_LENGTH, radiusTop=0.0, radiusBottom=size * _HEAD_RADIUS),
+            material,
         )
         for part in ("shaft", "head"):
-            vis[f"{node}/{part}"].set_property("renderOrder", _ON_TOP)
-        arrows[node] = _arrows(force[samples], point[samples], newtons_per_metre)
-        points += [point[samples], arrows[node]["tip"]]
-        reach += [np.zeros(samples.size), np.full(samples.size, _HEAD_RADIUS)]
-    _frame_scene(vis, np.concatenate(points), np.concatenate(reach))
+            vis[f"{node}/{part}"].set_property("renderOrder", ON_TOP)
+        drawn[node] = _arrows(vector[samples], point[samples], scale, size)
+        all_points += [point[samples], drawn[node]["tip"]]
+        all_reach += [np.zeros(samples.size), np.full(samples.size, size * _HEAD_RADIUS)]
+    step = frame_scene(vis, np.concatenate(all_points), np.concatenate(all_reach), up)
+    legend[0] = LegendEntry(css(GRID_COLOR), "line", f"floor grid, {step:g} m squares")
+    if left_out:
+        legend.append(LegendEntry("", "note", f"not drawn (one colour per arrow): {left_out}"))
 
-    animation = meshcat.animation.Animation(default_framerate=FRAME_RATE)
-    for k, i in enumerate(samples):
-        with animation.at_frame(vis, cycle.t[i] * FRAME_RATE) as frame:
-            for node, placement in zip(nodes, placements[k], strict=True):
-                frame[node].set_transform(placement)
-            for node, arrow in arrows.items():
-                for part in ("shaft", "head"):
-                    frame[f"{node}/{part}"].set_transform(arrow[part][k])
-                    frame[f"{node}/{part}"].set_property(
-                        "scale", "vector3", arrow[f"{part}_scale"][k].tolist()
-                    )
-    # Kept on a node of its own, created last: MeshCat sends a scene node by node in creation
-    # order, so the animation comes after every set_transform (Pinocchio's included) and a
-    # late transform cannot undo a pause at a chosen time.
-    vis[_ANIMATION].set_animation(animation, play=True, repetitions=1)
-    return DrawnCycle(
-        newtons_per_metre, tuple(legend), tuple(float(b) for b in cycle.spec.boundaries)
-    )
+    for node, placements in tracks.items():
+        vis[node].set_transform(placements[0])
+    for node, arrow in drawn.items():  # the scale in the matrix: a static page applies a
+        for part in ("shaft", "head"):  # node's transform after its properties
+            scale = np.diag([*arrow[f"{part}_scale"][0], 1.0])
+            vis[f"{node}/{part}"].set_transform(arrow[part][0] @ scale)
+    if t.size > 1:
+        animation = meshcat.animation.Animation(default_framerate=FRAME_RATE)
+        for k, i in enumerate(samples):
+            with animation.at_frame(vis, (t[i] - t[0]) * slow * FRAME_RATE) as frame:
+                for node, placements in tracks.items():
+                    frame[node].set_transform(placements[i])
+                for node, arrow in drawn.items():
+                    for part in ("shaft", "head"):
+                        frame[f"{node}/{part}"].set_transform(arrow[part][k])
+                        frame[f"{node}/{part}"].set_property(
+                            "scale", "vector3", arrow[f"{part}_scale"][k].tolist()
+                        )
+        # Kept on a node of its own, created last: MeshCat sends a scene node by node in
+        # creation order, so the animation comes after every set_transform (Pinocchio's
+        # included) and a late transform cannot undo a pause at a chosen time.
+        vis[ANIMATION].set_animation(animation, play=True, repetitions=1)
+    return DrawnParts(newtons_per_metre, moment_scale, length, slow, tuple(legend))

@@ -1,4 +1,8 @@
-"""MeshCat viewer of a feeding cycle, served on 127.0.0.1 only, and its static HTML page.
+"""MeshCat viewer of a feeding cycle or of a user's mechanism, served on 127.0.0.1 only, and its
+static HTML page.
+
+A user's mechanism (:class:`MechanismViewer`) is drawn from its URDF's visuals (or as a stick
+figure) with its closure cuts and load arrows (:mod:`feeder.viz.mechanism_scene`).
 
 The device is drawn with Pinocchio's :class:`~pinocchio.visualize.MeshcatVisualizer` from the
 URDF's visual primitives (frame, cylinder, piston, arm, forearm tray, payload) and animated over
@@ -10,8 +14,8 @@ on the conveyor where it is gripped at t = T1. Both the live page and the static
 legend for every colour and a player: play/pause, loop, a time slider with the time and the
 stage (:mod:`feeder.viz._overlay`).
 
-The scene is drawn by :mod:`feeder.viz.scene`. MeshCat 0.3.2's server listens on every
-interface unless told otherwise; :class:`CycleViewer` starts it here with its web port bound to
+Both scenes are drawn by :mod:`feeder.viz.scene`. MeshCat 0.3.2's server listens on every
+interface unless told otherwise; :class:`SceneViewer` starts it here with its web port bound to
 127.0.0.1 (its ZMQ port is on 127.0.0.1 already). The static page (:func:`write_html`) embeds
 MeshCat's JavaScript and the scene: it opens offline.
 """
@@ -21,7 +25,8 @@ from __future__ import annotations
 import contextlib
 import io
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 from pathlib import Path
 
 import meshcat
@@ -34,45 +39,50 @@ from ..dynamics.cycle import CycleDynamics
 from ..exceptions import InputError
 from ..files import write_text
 from ..motion.cycle import CycleKinematics
+from ..study.view import MechanismView
 from ..validation import check_finite
 from ._meshcat_server import MeshcatServer
 from ._overlay import overlay_html, static_page
-from .scene import DrawnCycle, ForceSeries, draw_cycle
+from .cycle_scene import draw_cycle
+from .mechanism_scene import draw_mechanism, pick_reactions, visual_model
+from .scene import DrawnScene, ForceSeries
 
 
-class CycleViewer:
-    """A live MeshCat viewer of one feeding cycle, served on 127.0.0.1 only.
+class SceneViewer:
+    """A live MeshCat viewer of one scene, served on 127.0.0.1 only.
 
     Use as a context manager, or call :meth:`close`.
+
+    Args:
+        model: The Pinocchio model whose bodies are drawn.
+        visuals: Their visual geometries.
+        draw: Draws the scene into Pinocchio's visualizer and says what it drew.
+        title: The legend's title.
+        port: Web port; None picks a free one.
 
     Attributes:
         url: The viewer's address, ``http://127.0.0.1:<port>/static/``.
         port: The web server's port.
-        visualizer: Pinocchio's MeshCat visualizer holding the device's visual model.
-        drawn: What the scene shows: the arrows' scale [N/m] (0 without forces), the legend.
+        visualizer: Pinocchio's MeshCat visualizer holding the visual model.
+        drawn: What the scene shows: the arrows' scales, the legend, the time line.
         overlay: The legend and player HTML of the page.
     """
 
     def __init__(
         self,
-        feeder: Feeder,
-        cycle: CycleKinematics,
-        forces: Mapping[str, ForceSeries] | None = None,
-        *,
-        port: int | None = None,
+        model: pin.Model,
+        visuals: pin.GeometryModel,
+        draw: Callable[[MeshcatVisualizer], DrawnScene],
+        title: str,
+        port: int | None,
     ):
-        forces = _check_forces(forces or {}, cycle.t.size)
         self._server = MeshcatServer(check_port(port))
         try:
             with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL
                 viewer = meshcat.Visualizer(zmq_url=self._server.zmq_url)
-            visual_model = pin.buildGeomFromUrdfString(
-                feeder.model, feeder.urdf, pin.GeometryType.VISUAL
-            )
-            self.visualizer = MeshcatVisualizer(feeder.model, None, visual_model)
+            self.visualizer = MeshcatVisualizer(model, None, visuals)
             self.visualizer.initViewer(viewer=viewer)
-            self.drawn: DrawnCycle = draw_cycle(self.visualizer, feeder, cycle, forces)
-            title = f"{feeder.params.name} feeder, ε = {np.degrees(cycle.elevation):g}°"
+            self.drawn: DrawnScene = draw(self.visualizer)
             self.overlay = overlay_html(self.drawn, title)
             self._server.overlay = self.overlay
         except BaseException:
@@ -96,11 +106,71 @@ class CycleViewer:
         self.visualizer.viewer.window.zmq_socket.close(linger=0)
         self._server.stop()
 
-    def __enter__(self) -> CycleViewer:
+    def __enter__(self) -> SceneViewer:
         return self
 
     def __exit__(self, *exc_info) -> None:
         self.close()
+
+
+class CycleViewer(SceneViewer):
+    """A live MeshCat viewer of one feeding cycle, served on 127.0.0.1 only
+    (:class:`SceneViewer`).
+
+    Args:
+        feeder: The device.
+        cycle: Its sampled cycle (:func:`~feeder.motion.cycle.feeding_cycle`), N samples.
+        forces: Optional arrows by name: world-frame forces [N] and application points [m],
+            each (N, 3) (see :data:`~feeder.viz.scene.ForceSeries`).
+        port: Web port; None picks a free one.
+    """
+
+    def __init__(
+        self,
+        feeder: Feeder,
+        cycle: CycleKinematics,
+        forces: Mapping[str, ForceSeries] | None = None,
+        *,
+        port: int | None = None,
+    ):
+        forces = _check_forces(forces or {}, cycle.t.size)
+        visuals = pin.buildGeomFromUrdfString(feeder.model, feeder.urdf, pin.GeometryType.VISUAL)
+        title = f"{feeder.params.name} feeder, ε = {np.degrees(cycle.elevation):g}°"
+        super().__init__(
+            feeder.model, visuals, partial(draw_cycle, feeder=feeder, cycle=cycle, forces=forces),
+            title, port,
+        )  # fmt: skip
+
+
+class MechanismViewer(SceneViewer):
+    """A live MeshCat viewer of a user's mechanism (:class:`SceneViewer`): its bodies, cuts and
+    load arrows over its motion (:mod:`feeder.viz.mechanism_scene`).
+
+    Args:
+        view: The mechanism's poses and loads (:mod:`feeder.study.view`).
+        reactions: Joints whose reaction force is drawn (default: those of largest peak).
+        port: Web port; None picks a free one.
+
+    Raises:
+        InputError: A picked reaction that is not in the view's table; a bad port.
+        UrdfError: A mesh file that is not found.
+        ViewerPortError: The port is busy.
+    """
+
+    def __init__(
+        self,
+        view: MechanismView,
+        reactions: Sequence[str] | None = None,
+        *,
+        port: int | None = None,
+    ):
+        pick_reactions(view, reactions)  # refused before a server starts
+        visuals, kind = visual_model(view)
+        title = f"{view.spec.model.name}: {view.source}"
+        super().__init__(
+            view.chain.model, visuals,
+            partial(draw_mechanism, view=view, kind=kind, reactions=reactions), title, port,
+        )  # fmt: skip
 
 
 def show_cycle(
@@ -150,6 +220,46 @@ def write_html(
     path = check_writable(path)
     with CycleViewer(feeder, cycle, forces, port=port) as viewer:
         return write_text(path, viewer.static_html())
+
+
+def show_mechanism(
+    view: MechanismView,
+    reactions: Sequence[str] | None = None,
+    *,
+    port: int | None = None,
+    open_browser: bool = False,
+) -> MechanismViewer:
+    """Serve the mechanism's view on ``http://127.0.0.1:<port>/static/`` (see
+    :class:`MechanismViewer`)."""
+    viewer = MechanismViewer(view, reactions, port=port)
+    if open_browser:
+        viewer.visualizer.viewer.open()
+    return viewer
+
+
+def mechanism_html(
+    view: MechanismView, reactions: Sequence[str] | None = None, *, port: int | None = None
+) -> str:
+    """The mechanism's view as a self-contained HTML page (opens offline; meshes embedded). A
+    MeshCat server runs on 127.0.0.1 while the page is assembled."""
+    with MechanismViewer(view, reactions, port=port) as viewer:
+        return viewer.static_html()
+
+
+def write_mechanism_html(
+    view: MechanismView,
+    path: str | Path,
+    reactions: Sequence[str] | None = None,
+    *,
+    port: int | None = None,
+) -> Path:
+    """Write the mechanism's view as a self-contained HTML page (:func:`mechanism_html`).
+
+    Raises:
+        InputError: ``path`` cannot be written, a bad reaction or port.
+    """
+    path = check_writable(path)
+    return write_text(path, mechanism_html(view, reactions, port=port))
 
 
 def cycle_forces(feeder: Feeder, dynamics: CycleDynamics) -> dict[str, ForceSeries]:

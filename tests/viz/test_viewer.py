@@ -4,7 +4,6 @@ Chromium draws of it (software WebGL), its server's loopback-only binding, and t
 
 from __future__ import annotations
 
-import argparse
 import base64
 import json
 import math
@@ -27,7 +26,7 @@ import psutil
 import pytest
 import umsgpack
 
-from feeder.__main__ import cmd_view
+from feeder.__main__ import _parser, cmd_view
 from feeder.dynamics.cycle import cycle_dynamics
 from feeder.exceptions import ElevationError, InputError, ViewerPortError
 from feeder.motion import feeding_cycle
@@ -400,10 +399,10 @@ def test_browser_draws_the_barrel_axis(screenshots):
 
 def view_command(device: str, elevation: float, html: str | None, port: int | None) -> int:
     """``feeder view`` as the command line runs it, errors raised rather than printed."""
-    args = argparse.Namespace(
-        device=device, params=None, elevation=elevation, html=html, port=port
-    )
-    return cmd_view(args)
+    argv = ["view", "--device", device, "--elevation", repr(elevation)]
+    argv += ["--html", str(html)] if html is not None else []
+    argv += ["--port", str(port)] if port is not None else []
+    return cmd_view(_parser().parse_args(argv))
 
 
 @pytest.fixture

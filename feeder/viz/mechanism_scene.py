@@ -1,0 +1,284 @@
+"""The MeshCat scene of a user's mechanism (:mod:`feeder.viz.scene` with a mechanism's parts):
+its bodies, its closure cuts and its load arrows, animated over its motion.
+
+Bodies: the URDF's visuals — meshes (STL, DAE, OBJ; ``package://``, ``file://`` and relative
+paths resolved beside the model, :func:`~feeder.chain.readers.urdf.mesh_path`) or primitives —
+with their materials' colours. A model without visuals (an MJCF or SDF file, or a URDF whose
+links have none) is drawn as a stick figure: a ball at every joint and a rod from each joint to
+its children's joints and to the closure frames on its body.
+
+Arrows, from the loads table of :class:`~feeder.study.view.MechanismView`: each actuated
+joint's drive load at the joint's origin (a prismatic joint's force along its axis; a revolute
+joint's moment as a vector along its axis, right-hand rule, to a scale of its own) and the
+reaction force (parent on child) of the joints picked, by default the
+:data:`DEFAULT_REACTIONS` with the largest peak force. The closure cuts are marked by balls at
+each cut's first frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+from lxml import etree
+from pinocchio.visualize import MeshcatVisualizer
+
+from ..chain.kinematics.joints import joint_axes, kind_of
+from ..chain.readers.urdf import mesh_path
+from ..exceptions import InputError
+from ..study.view import MechanismView
+from .scene import (
+    ON_TOP,
+    ROOT,
+    Arrows,
+    DrawnScene,
+    ForceSeries,
+    LegendEntry,
+    css,
+    draw_scene,
+    extent_of,
+    geometry_placements,
+    geometry_sphere,
+    material_css,
+    sphere_centres,
+    up_of,
+)
+
+DEFAULT_REACTIONS = 3
+"""Joints whose reaction force is drawn when the user picks none: those of largest peak."""
+
+BODIES = f"{ROOT}/mechanism"
+"""The bodies' node (Pinocchio's visual model under ``visuals``)."""
+_CUTS = f"{ROOT}/cuts"
+_CUT_COLOR = 0xE53935
+_CUT_SHARE = 0.012  # a cut marker's radius per metre of the mechanism's extent
+_STICK_COLOR = (0.55, 0.60, 0.68, 1.0)  # RGBA of a stick figure's balls and rods
+_STICK_SHARE = 0.015  # a stick figure's rod radius per metre of the mechanism's extent
+ROUND_OFF = 1e-9
+"""A drive load below this share of the largest reaction force (times the mechanism's size for a
+moment) is round-off, not drawn: the loads come from solves whose relative error is ~1e-12 of
+the largest load (condition numbers up to ~1e3 on the shipped mechanisms)."""
+_LEGEND_NAMES = 4  # links named in one legend entry before "and k more"
+
+
+def visual_model(view: MechanismView) -> tuple[pin.GeometryModel, str]:
+    """The bodies to draw and what they are: the URDF's visuals (meshes resolved beside the
+    model) or, without any, a stick figure.
+
+    Raises:
+        UrdfError: A mesh file that is not found (named, with where it was looked for).
+    """
+    model, path = view.chain.model, view.spec.model
+    if view.spec.model_format == "urdf":
+        root = etree.parse(str(path)).getroot()
+        for mesh in root.iter("mesh"):
+            mesh.set("filename", str(mesh_path(mesh.get("filename"), path).resolve()))
+        xml = etree.tostring(root, encoding="unicode")
+        visuals = pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL)
+        if visuals.ngeoms:
+            return visuals, "visuals"
+    return _stick_figure(view), "stick figure"
+
+
+def _stick_figure(view: MechanismView) -> pin.GeometryModel:
+    """A ball at every joint and a rod from each joint to its children's joints and to the
+    closure frames on its body (at the assembled pose, in the joint's frame)."""
+    import coal
+
+    model = view.chain.model
+    data = model.createData()
+    pin.forwardKinematics(model, data, view.q[0])
+    pin.updateFramePlacements(model, data)
+    origins = np.array([data.oMi[j].translation for j in range(model.njoints)])
+    extent = float(np.ptp(origins, axis=0).max()) if model.njoints > 1 else 1.0
+    radius = _STICK_SHARE * (extent or 1.0)
+    geometry = pin.GeometryModel()
+
+    def add(name: str, joint: int, placement: pin.SE3, shape) -> None:
+        item = pin.GeometryObject(name, joint, placement, shape)
+        item.meshColor = np.array(_STICK_COLOR)
+        item.overrideMaterial = True
+        geometry.addGeometryObject(item)
+
+    def rod(name: str, joint: int, end: np.ndarray) -> None:
+        """A rod in joint ``joint``'s frame from its origin to ``end`` (3,) [m], local."""
+        length = float(np.linalg.norm(end))
+        if length < radius:
+            return
+        z = end / length  # coal's cylinders lie along z
+        helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        x = np.cross(helper, z)
+        x /= np.linalg.norm(x)
+        rotation = np.column_stack([x, np.cross(z, x), z])
+        add(name, joint, pin.SE3(rotation, end / 2.0), coal.Cylinder(radius * 0.6, length))
+
+    for j in range(1, model.njoints):
+        add(f"joint_{model.names[j]}", j, pin.SE3.Identity(), coal.Sphere(radius * 1.4))
+        parent = model.parents[j]
+        rod(f"rod_{model.names[j]}", parent, data.oMi[parent].actInv(origins[j]))
+    for closure in view.chain.closures:
+        for name in (closure.frame_a, closure.frame_b):
+            frame = model.frames[model.getFrameId(name)]
+            rod(f"rod_{name}", frame.parentJoint, frame.placement.translation)
+    return geometry
+
+
+def _body_legend(model: pin.Model, visuals: pin.GeometryModel, kind: str) -> list[LegendEntry]:
+    """One entry per colour drawn, naming the links of that colour."""
+    if kind == "stick figure":
+        return [
+            LegendEntry(
+                material_css(_STICK_COLOR),
+                "body",
+                "bodies as a stick figure (the model has no visuals): a ball at each joint",
+            )
+        ]
+    links: dict[str, list[str]] = {}
+    for item in visuals.geometryObjects:
+        own = item.meshPath.lower().endswith(".dae") and not item.overrideMaterial
+        color = "own" if own else material_css(item.meshColor)
+        name = model.frames[item.parentFrame].name
+        if name not in links.setdefault(color, []):
+            links[color].append(name)
+    entries = []
+    for color, names in links.items():
+        shown = ", ".join(names[:_LEGEND_NAMES])
+        if len(names) > _LEGEND_NAMES:
+            shown += f" and {len(names) - _LEGEND_NAMES} more"
+        if color == "own":
+            entries.append(LegendEntry("#ffffff", "body", f"{shown} (the mesh's own colours)"))
+        else:
+            entries.append(LegendEntry(color, "body", shown))
+    return entries
+
+
+def reaction_peaks(view: MechanismView) -> dict[str, float]:
+    """Peak reaction force [N] of every joint with a reaction in the view's table."""
+    model = view.chain.model
+    peaks = {}
+    for name in list(model.names)[1:]:
+        keys = [f"{name}_force_{axis}" for axis in "xyz"]
+        if all(key in view.columns for key in keys):
+            force = np.column_stack([view.columns[key] for key in keys])
+            peaks[name] = float(np.linalg.norm(force, axis=1).max())
+    return peaks
+
+
+def pick_reactions(view: MechanismView, reactions: Sequence[str] | None) -> list[str]:
+    """The joints whose reaction force is drawn: ``reactions`` as given (checked), or the
+    :data:`DEFAULT_REACTIONS` of largest peak force.
+
+    Raises:
+        InputError: A name that is not a joint with a reaction in the table.
+    """
+    peaks = reaction_peaks(view)
+    if reactions is None:
+        ranked = sorted(peaks, key=peaks.get, reverse=True)
+        return [name for name in ranked[:DEFAULT_REACTIONS] if peaks[name] > 0.0]
+    unknown = [name for name in reactions if name not in peaks]
+    if unknown:
+        raise InputError(
+            f"no reaction of joint(s) {unknown} to draw; joints: {sorted(peaks) or 'none'}"
+        )
+    return list(dict.fromkeys(reactions))
+
+
+def _arrows(view: MechanismView, reactions: list[str]) -> tuple[Arrows, list[str]]:
+    """The drive loads and the picked reactions as arrow series (module docstring), and the
+    actuated joints whose drive load is zero (round-off: not drawn)."""
+    model, columns = view.chain.model, view.columns
+    data = model.createData()
+    origins = np.empty((len(view.q), model.njoints, 3))
+    rotations = np.empty((len(view.q), model.njoints, 3, 3))
+    for k, q in enumerate(view.q):
+        pin.forwardKinematics(model, data, q)
+        origins[k] = [placement.translation for placement in data.oMi]
+        rotations[k] = [placement.rotation for placement in data.oMi]
+    axes = joint_axes(model)
+    forces: dict[str, ForceSeries] = {}
+    moments: dict[str, ForceSeries] = {}
+    force_scale = max(reaction_peaks(view).values(), default=0.0)
+    lever = float(np.ptp(origins.reshape(-1, 3), axis=0).max())
+    zero = []
+    for name in list(model.names)[1:]:
+        if f"tau_{name}" not in columns:
+            continue
+        j = model.getJointId(name)
+        tau = columns[f"tau_{name}"]
+        prismatic = kind_of(model.joints[j]) == "prismatic"
+        if np.abs(tau).max() <= ROUND_OFF * force_scale * (1.0 if prismatic else lever):
+            zero.append(name)
+            continue
+        vector = tau[:, None] * (rotations[:, j] @ axes[j][0])
+        if prismatic:
+            forces[f"drive force of {name} [N]"] = (vector, origins[:, j])
+        else:
+            moments[f"drive moment of {name} [N·m]"] = (vector, origins[:, j])
+    for name in reactions:
+        j = model.getJointId(name)
+        force = np.column_stack([columns[f"{name}_force_{axis}"] for axis in "xyz"])
+        forces[f"reaction force in {name} [N]"] = (force, origins[:, j])
+    return Arrows(forces, moments), zero
+
+
+def _cut_tracks(vis, view: MechanismView, radius: float) -> dict[str, np.ndarray]:
+    """Draw a ball at each closure's first frame; return their placements (N, 4, 4)."""
+    model = view.chain.model
+    data = model.createData()
+    tracks = {}
+    material = mg.MeshBasicMaterial(color=_CUT_COLOR, depthTest=False)
+    for closure in view.chain.closures:
+        node = f"{_CUTS}/{closure.label}"
+        vis[node].set_object(mg.Sphere(radius), material)
+        vis[node].set_property("renderOrder", ON_TOP)
+        frame = model.getFrameId(closure.frame_a)
+        placements = np.empty((len(view.q), 4, 4))
+        for k, q in enumerate(view.q):
+            pin.forwardKinematics(model, data, q)
+            placements[k] = pin.updateFramePlacement(model, data, frame).homogeneous
+        tracks[node] = placements
+    return tracks
+
+
+def draw_mechanism(
+    viz: MeshcatVisualizer, view: MechanismView, kind: str, reactions: Sequence[str] | None
+) -> DrawnScene:
+    """Draw and animate the mechanism's view in ``viz`` (its visual model loaded from
+    :func:`visual_model`, of ``kind``); return the scales and the legend.
+
+    Raises:
+        InputError: A picked reaction that is not in the table.
+    """
+    picked = pick_reactions(view, reactions)
+    vis = viz.viewer
+    viz.loadViewerModel(rootNodeName=BODIES)
+    model = view.chain.model
+    geometries = viz.visual_model.geometryObjects
+    nodes = [viz.getViewerNodeName(g, pin.GeometryType.VISUAL) for g in geometries]
+    placements = geometry_placements(model, viz.visual_model, view.q)
+    centres, radii = zip(*(geometry_sphere(g) for g in geometries), strict=True)
+    points = sphere_centres(placements, np.array(centres))
+    reach = np.tile(radii, len(view.q))
+    tracks = {node: placements[:, k] for k, node in enumerate(nodes)}
+    tracks |= _cut_tracks(vis, view, _CUT_SHARE * extent_of(points, reach))
+    arrows, zero = _arrows(view, picked)
+    parts = draw_scene(vis, view.t, tracks, points, reach, arrows, up_of(model.gravity.linear))
+    legend = [*_body_legend(model, viz.visual_model, kind)]
+    if view.chain.closures:
+        cuts = ", ".join(closure.label for closure in view.chain.closures)
+        legend.append(LegendEntry(css(_CUT_COLOR), "body", f"closure cuts: {cuts}"))
+    legend += parts.legend
+    if zero:
+        legend.append(LegendEntry("", "note", f"zero drive load (round-off): {', '.join(zero)}"))
+    return DrawnScene(
+        newtons_per_metre=parts.newtons_per_metre,
+        moment_scale=parts.moment_scale,
+        arrow_length=parts.arrow_length,
+        legend=tuple(legend),
+        boundaries=(float(view.t[0]), float(view.t[-1])),
+        stages=(),
+        slow_motion=parts.slow_motion,
+        axes=f"axes at the model's origin: x red, y green, z blue; {view.note}",
+    )

@@ -1,0 +1,307 @@
+"""The viewer of a user's mechanism (``feeder view MODEL``): the scene it sends (decoded from its
+static page) against Pinocchio's kinematics and the run's own table, what headless Chromium draws
+of a shared CAD export (with its meshes) and of the four-bar, its loopback-only, silent server,
+the command line, and the report page of ``feeder analyze`` / ``feeder simulate``."""
+
+from __future__ import annotations
+
+import base64
+import re
+import shutil
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from lxml import etree
+
+from feeder.__main__ import main
+from feeder.chain import read_spec
+from feeder.exceptions import InputError, UrdfError
+from feeder.outputs import write_analysis_outputs
+from feeder.study.analyze import analyze, joint_columns, q_from_columns
+from feeder.study.view import analysis_view, pose_view, run_view
+from feeder.viz._meshcat_server import LOOPBACK
+from feeder.viz.mechanism_scene import DEFAULT_REACTIONS
+from feeder.viz.scene import ARROW_LENGTH, FRAME_RATE, ROOT
+from feeder.viz.viewer import MechanismViewer, mechanism_html
+from tests.viz.test_viewer import (
+    FLOAT32_POSITION,
+    HIDE_LEGEND,
+    WINDOW,
+    changed,
+    decode_commands,
+    legend_colours,
+    listening,
+    needs_chromium,
+    scene_colours,
+    screenshot,
+    tracks,
+)
+
+ROOT_DIR = Path(__file__).resolve().parents[2]
+FOUR_BAR = ROOT_DIR / "examples" / "four_bar"
+CASSIE = ROOT_DIR.parent / "shared" / "mechanisms" / "cassie_like"
+if not CASSIE.is_dir():  # the repository's own copy of the shared export
+    CASSIE = ROOT_DIR / "examples" / "cad" / "cassie_like"
+MIN_BODY_SHARE = 0.005
+"""The mechanism's bodies cover more than 0.5 % of the 1000 × 800 window (measured: the four-bar
+~4 %, the Cassie-like leg ~3 %): a blank scene covers none."""
+MIN_MOTION_SHARE = 0.002
+"""Between two times of the four-bar's motion more than 0.2 % of the window changes (its crank
+turns by ~40°; measured ~1.5 %); an animation that does not move changes 0 (the software
+renderer draws one scene identically)."""
+PLAYER_ROWS = 700
+"""[px] Rows of the window above the player, whose clock and slider change with the time."""
+
+
+@pytest.fixture(scope="module")
+def four_bar():
+    return analyze(FOUR_BAR / "closures.toml", FOUR_BAR / "motion.csv")
+
+
+@pytest.fixture(scope="module")
+def four_bar_page(four_bar):
+    return mechanism_html(analysis_view(four_bar))
+
+
+@pytest.fixture(scope="module")
+def cassie_page():
+    return mechanism_html(pose_view(CASSIE / "robot.yaml"))
+
+
+def test_coordinate_columns_give_the_configurations_back():
+    """joint_columns → q_from_columns on every joint type of the Cassie-like leg (ball joints
+    among them) and the four-bar, at random closed or open poses: exactly (the quaternion and
+    the plain coordinates are written as they are; a continuous angle goes through atan2)."""
+    from feeder.chain import load_mechanism
+
+    for path in (CASSIE / "robot.yaml", FOUR_BAR / "closures.toml"):
+        model = load_mechanism(read_spec(path)).model
+        q = np.array([pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+                      for _ in range(5)])  # fmt: skip
+        zero = np.zeros((5, model.nv))
+        back = q_from_columns(model, joint_columns(model, q, zero, zero))
+        np.testing.assert_allclose(back, q, rtol=0.0, atol=4e-16)  # cos(atan2(s, c)): 2 ulp
+
+
+def test_a_table_of_another_model_is_refused(four_bar):
+    with pytest.raises(InputError, match="no column 'q_crank_joint'"):
+        q_from_columns(four_bar.chain.model, {"t": np.zeros(2)})
+
+
+def test_meshes_are_embedded_and_every_body_drawn(cassie_page):
+    """The Cassie-like leg's STL meshes, read beside its URDF, travel inside the page: it needs
+    no file and no network."""
+    commands = decode_commands(cassie_page)
+    meshes = [
+        c for c in commands
+        if c["type"] == "set_object" and "/mechanism/visuals/" in c["path"]
+    ]  # fmt: skip
+    urdf_meshes = etree.parse(str(CASSIE / "robot.urdf")).findall(".//visual//mesh")
+    assert len(meshes) == len(urdf_meshes) > 0
+    for command in meshes:
+        (geometry,) = command["object"]["geometries"]
+        assert geometry["type"] == "_meshfile" and geometry["format"] == "stl"
+        assert len(geometry["data"].data) > 1000  # the file's bytes (msgpack ext), no reference
+    assert not re.search(r'(src|href)="https?://', cassie_page)
+
+
+def test_a_pose_has_no_animation_and_says_so(cassie_page):
+    commands = decode_commands(cassie_page)
+    assert not [c for c in commands if c["type"] == "set_animation"]
+    assert "(no motion)" in cassie_page and 'id="feeder-play"' not in cassie_page
+
+
+def test_legend_names_every_colour_of_the_scene(four_bar_page, cassie_page):
+    """Read from the scene's own commands, not from the legend's code."""
+    for page in (four_bar_page, cassie_page):
+        missing = scene_colours(decode_commands(page)) - set(legend_colours(page))
+        assert not missing, f"colours without a legend entry: {missing}"
+
+
+def key_samples(track: dict, t: np.ndarray) -> np.ndarray:
+    """The motion sample (index into t) of each key frame of a track: the animation plays the
+    motion from t[0] to t[-1] over its key frames' span (slowed down, if at all, uniformly)."""
+    played = np.array([key["time"] for key in track["position"]]) / track["fps"]
+    assert played[0] == 0.0 and track["fps"] == FRAME_RATE
+    motion = t[0] + played / played[-1] * (t[-1] - t[0])
+    samples = np.abs(t[None, :] - motion[:, None]).argmin(axis=1)
+    np.testing.assert_allclose(t[samples], motion, atol=1e-12)  # keys sit on samples
+    return samples
+
+
+def test_bodies_and_cut_follow_pinocchio(four_bar, four_bar_page):
+    """The animated placement of the closure's cut marker equals Pinocchio's placement of the
+    cut's first frame at every key frame (to MeshCat's float32 key frames)."""
+    model = four_bar.chain.model
+    data = model.createData()
+    animated = tracks(decode_commands(four_bar_page))
+    closure = four_bar.chain.closures[0]
+    cut = animated[f"/meshcat/{ROOT}/cuts/{closure.label}"]
+    frame = model.getFrameId(closure.frame_a)
+    samples = key_samples(cut, four_bar.motion.t)
+    assert samples[-1] == four_bar.motion.t.size - 1
+    for key, k in zip(cut["position"], samples, strict=True):
+        pin.framesForwardKinematics(model, data, four_bar.q[k])
+        np.testing.assert_allclose(
+            key["value"], data.oMf[frame].translation, atol=FLOAT32_POSITION
+        )
+
+
+def test_default_arrows_are_the_drive_and_the_largest_reactions(four_bar, four_bar_page):
+    """Ranked here from the loads themselves (ChainLoads), not from the viewer's table."""
+    peaks = {
+        name: float(np.linalg.norm(wrench.force, axis=1).max())
+        for name, wrench in four_bar.loads.joints.items()
+    }
+    largest = sorted(peaks, key=peaks.get, reverse=True)[:DEFAULT_REACTIONS]
+    legend = legend_colours(four_bar_page).values()
+    for name in largest:
+        assert f"reaction force in {name} [N]" in legend
+    for name in four_bar.loads.actuators:
+        assert any(f"drive moment of {name}" in label for label in legend)
+
+
+def test_arrows_to_one_scale(four_bar, four_bar_page):
+    """Every drawn reaction arrow is |F| / scale long at every key frame, F the analysis' own
+    reaction at that sample, the scale the page's (largest force = the page's length)."""
+    animated = tracks(decode_commands(four_bar_page))
+    found = re.search(
+        r"force arrows to one scale: ([0-9.e-]+) m long = ([0-9.e+-]+) N", four_bar_page
+    )
+    length, newtons = float(found.group(1)), float(found.group(2))
+    peaks = {n: np.linalg.norm(w.force, axis=1).max() for n, w in four_bar.loads.joints.items()}
+    assert newtons == pytest.approx(max(peaks.values()), rel=1e-3)  # printed to 4 digits
+    head_length = 0.06 * length / ARROW_LENGTH  # the head's cone, scaled with the arrow
+    for name in sorted(peaks, key=peaks.get, reverse=True)[:DEFAULT_REACTIONS]:
+        node = f"/meshcat/{ROOT}/forces/reaction force in {name} [N]"
+        shaft, head = animated[f"{node}/shaft"], animated[f"{node}/head"]
+        drawn = np.array(
+            [s["value"][1] + h["value"][1] * head_length
+             for s, h in zip(shaft["scale"], head["scale"], strict=True)]
+        )  # fmt: skip
+        force = np.linalg.norm(four_bar.loads.joints[name].force, axis=1)
+        expected = force[key_samples(shaft, four_bar.motion.t)] / newtons * length
+        # float32 scales (1e-7 relative) and the 4 printed digits of the scale (5e-4)
+        np.testing.assert_allclose(drawn, expected, rtol=1e-3, atol=1e-6)
+
+
+def test_run_folder_shows_the_run(four_bar, tmp_path):
+    """An analysis written to a folder and read back: the same poses (the CSV keeps every
+    digit) and a refused folder of another mechanism or without a table."""
+    write_analysis_outputs(four_bar, tmp_path / "run")
+    view = run_view(FOUR_BAR / "closures.toml", tmp_path / "run")
+    np.testing.assert_array_equal(view.q, four_bar.q)
+    np.testing.assert_array_equal(view.t, four_bar.motion.t)
+    assert "report.html" in {p.name for p in (tmp_path / "run").iterdir()}
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError, match="holds no loads.csv or states.csv"):
+        run_view(FOUR_BAR / "closures.toml", tmp_path / "empty")
+    with pytest.raises(InputError, match="run folder not found"):
+        run_view(FOUR_BAR / "closures.toml", tmp_path / "nowhere")
+
+
+def test_bad_reaction_and_missing_mesh(tmp_path):
+    view = pose_view(FOUR_BAR / "closures.toml")
+    with pytest.raises(InputError, match="no reaction of joint"):
+        MechanismViewer(view, ["no_such_joint"])
+    urdf = (FOUR_BAR / "four_bar.urdf").read_text(encoding="utf-8")
+    broken = urdf.replace("<box ", '<mesh filename="package://four_bar/missing.stl"/><box ', 1)
+    (tmp_path / "four_bar.urdf").write_text(broken, encoding="utf-8")
+    shutil.copy(FOUR_BAR / "closures.toml", tmp_path / "closures.toml")
+    with pytest.raises(UrdfError, match="missing.stl"):
+        MechanismViewer(pose_view(tmp_path / "closures.toml"))
+
+
+def test_server_is_on_loopback_and_silent(capfd):
+    """MeshCat's own server prints "opened:" per tab, "Port: 6000 in use" per busy ZMQ port
+    and tornado's "404 GET /favicon.ico": none of it reaches the terminal."""
+    with MechanismViewer(pose_view(FOUR_BAR / "closures.toml")) as viewer:
+        assert set(listening(viewer.port)) == {LOOPBACK}
+        zmq_port = int(viewer._server.zmq_url.rsplit(":", 1)[1])
+        assert set(listening(zmq_port)) == {LOOPBACK}
+        with pytest.raises(urllib.error.HTTPError):
+            urllib.request.urlopen(viewer.url.replace("static/", "favicon.ico"), timeout=10)
+        with urllib.request.urlopen(viewer.url, timeout=10) as response:
+            assert 'id="feeder-legend"' in response.read().decode("utf-8")
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+
+
+def test_view_command(tmp_path, capsys):
+    page = tmp_path / "view.html"
+    args = [str(FOUR_BAR / "four_bar.urdf"), "--closures", str(FOUR_BAR / "closures.toml")]
+    assert (
+        main(["view", *args, "--motion", str(FOUR_BAR / "motion.csv"), "--html", str(page)]) == 0
+    )
+    assert f"wrote {page}" in capsys.readouterr().out
+    assert "set_animation" in str(decode_commands(page.read_text(encoding="utf-8")))
+    assert main(["view", *args, "--elevation", "30", "--html", str(page)]) == 2
+    assert "not of a MODEL's" in capsys.readouterr().err
+    assert main(["view", "--run", str(tmp_path), "--html", str(page)]) == 2
+    assert "give MODEL" in capsys.readouterr().err
+    assert main(["view", *args, "--reactions", "nope", "--html", str(page)]) == 2
+
+
+def test_report_page(four_bar, tmp_path):
+    """One file that opens offline: the summary, the viewer's page in an iframe, every figure
+    the folder holds (the same PNG bytes)."""
+    paths = write_analysis_outputs(four_bar, tmp_path / "run", "feeder analyze (test)")
+    page = (tmp_path / "run" / "report.html").read_text(encoding="utf-8")
+    assert four_bar.summary().splitlines()[0] in page
+    assert 'iframe id="view"' in page and "feeder-legend" in page
+    images = re.findall(r'<img alt="([^"]+)" src="data:image/png;base64,([^"]+)"', page)
+    pngs = {p.name for p in paths if p.suffix == ".png"}
+    assert {name for name, _ in images} == pngs
+    for name, data in images:
+        assert base64.b64decode(data) == (tmp_path / "run" / name).read_bytes()
+    assert not re.search(r'(src|href)="https?://', page)
+
+
+@pytest.fixture(scope="module")
+def four_bar_shots(four_bar_page, tmp_path_factory):
+    """Screenshots of the four-bar's page at two times, and without its bodies."""
+    folder = tmp_path_factory.mktemp("four_bar_shots")
+    page = folder / "page.html"
+    page.write_text(four_bar_page.replace("</body>", HIDE_LEGEND + "</body>"), encoding="utf-8")
+    hidden = folder / "hidden.html"
+    hide = "<style>#feeder-legend { display: none; }</style>"
+    script = (
+        "<script>viewer.scene_tree.find(['meshcat', 'feeder', 'mechanism'])"
+        ".set_property('visible', false);</script>"
+    )
+    hidden.write_text(
+        four_bar_page.replace("</body>", hide + script + "</body>"), encoding="utf-8"
+    )
+    return {
+        "start": screenshot(page.as_uri() + "#t=0", folder / "start.png"),
+        "later": screenshot(page.as_uri() + "#t=0.5", folder / "later.png"),
+        "hidden": screenshot(hidden.as_uri() + "#t=0", folder / "hidden.png"),
+    }
+
+
+@needs_chromium
+def test_browser_draws_the_four_bar_and_plays_it(four_bar_shots):
+    bodies = changed(four_bar_shots["start"], four_bar_shots["hidden"])
+    assert bodies.mean() > MIN_BODY_SHARE, f"bodies cover {bodies.mean():.2%}"
+    moved = changed(four_bar_shots["start"], four_bar_shots["later"])[:PLAYER_ROWS]
+    assert moved.mean() > MIN_MOTION_SHARE, f"{moved.mean():.3%} of the window moved"
+
+
+@needs_chromium
+def test_browser_draws_the_cad_export_with_its_meshes(cassie_page, tmp_path):
+    """The Cassie-like leg, live on 127.0.0.1 and offline: its meshes cover the window's share."""
+    with MechanismViewer(pose_view(CASSIE / "robot.yaml")) as viewer:
+        live = screenshot(viewer.url, tmp_path / "live.png")
+        viewer.visualizer.viewer[f"{ROOT}/mechanism"].set_property("visible", False)
+        hidden = screenshot(viewer.url, tmp_path / "hidden.png")
+    page = tmp_path / "page.html"
+    page.write_text(cassie_page, encoding="utf-8")
+    offline = screenshot(page.as_uri(), tmp_path / "offline.png")
+    for image in (live, offline):
+        bodies = changed(image, hidden)
+        assert bodies.mean() > MIN_BODY_SHARE, f"bodies cover {bodies.mean():.2%}"
+    assert WINDOW == (1000, 800)
