@@ -1,5 +1,6 @@
 """What the figures show, without drawing anything (no matplotlib): the time histories of a
-cycle, the unit an engineer reads for each SI unit, and the one format of the elevation.
+cycle, the words for each quantity, the unit an engineer reads for each SI unit, and the one
+format of the elevation.
 
 :mod:`feeder.viz.report` names and ships the figures from here before matplotlib is loaded;
 :mod:`feeder.viz.figures` draws them.
@@ -22,6 +23,35 @@ DISPLAY_UNITS = {
     "rad": (180 / math.pi, "deg"),
 }
 """SI unit → (factor, the unit figures show); any other unit (N·m, m/s, s) is shown as it is."""
+
+
+WORDS = {
+    "projectile_speed": "payload speed",
+    "piston_force": "piston force",
+    "forearm_torque": "forearm moment",
+    "cylinder_cap_pressure": "cap-side pressure",
+    "cylinder_rod_pressure": "rod-side pressure",
+    "cylinder_frame_force": "cylinder–frame joint force",
+    "piston_cylinder_force": "piston guide side force",
+    "piston_cylinder_moment": "piston guide moment",
+    "piston_arm_force": "piston–arm pin force",
+    "arm_frame_force": "arm–frame joint force",
+    "arm_frame_moment": "arm–frame bearing moment",
+    "forearm_joint_force": "forearm–arm joint force",
+    "forearm_joint_moment": "forearm–arm joint moment",
+    "grip_force": "grip force",
+    "grip_moment": "grip moment",
+    "rack_force": "rack force",
+}
+"""``cycle.csv`` column → the words a legend or axis label uses for it (the loads and
+reactions that figures compare; the columns' meanings are in
+:data:`~feeder.study.columns.COLUMNS`)."""
+
+
+def words(column: str) -> str:
+    """The words for a ``cycle.csv`` column (:data:`WORDS`; another column's name with spaces
+    for its underscores)."""
+    return WORDS.get(column, column.replace("_", " "))
 
 
 def display_unit(unit: str) -> tuple[float, str]:
