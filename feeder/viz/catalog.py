@@ -1,6 +1,6 @@
 """What the figures show, without drawing anything (no matplotlib): the time histories of a
-cycle, the words for each quantity, the unit an engineer reads for each SI unit, and the one
-format of the elevation.
+cycle, their file names (named for the payload), the words for each quantity, the unit an
+engineer reads for each SI unit, and the one format of the elevation.
 
 :mod:`feeder.viz.report` names and ships the figures from here before matplotlib is loaded;
 :mod:`feeder.viz.figures` draws them.
@@ -9,6 +9,7 @@ format of the elevation.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 from ..study.columns import COLUMNS
@@ -54,6 +55,18 @@ def words(column: str) -> str:
     return WORDS.get(column, column.replace("_", " "))
 
 
+PAYLOAD = "{payload}"
+"""Where a figure's name holds the payload's (:func:`file_name`)."""
+
+
+def file_name(figure: str, payload: str) -> str:
+    """The file name of the figure ``figure`` for a payload named ``payload``:
+    ``fig08_{payload}_speed.png`` is ``fig08_charge_speed.png`` for the charge (the payload's
+    name in lower case, runs of other characters than letters and digits as one ``_``)."""
+    slug = re.sub(r"[^a-z0-9]+", "_", payload.lower()).strip("_") or "payload"
+    return figure.replace(PAYLOAD, slug)
+
+
 def display_unit(unit: str) -> tuple[float, str]:
     """(factor, unit) that turns a value in the SI ``unit`` into the unit a figure shows."""
     return DISPLAY_UNITS.get(unit, (1.0, unit))
@@ -71,7 +84,7 @@ class CycleFigure:
     """One time history of a cycle.
 
     Attributes:
-        file: File name.
+        file: File name, :data:`PAYLOAD` standing for the payload's name (:func:`file_name`).
         title: Title (the elevation is appended).
         quantity: Axis label without the unit.
         curves: (legend, ``cycle.csv`` column) pairs; all columns share one unit.
@@ -97,7 +110,7 @@ def _vector(file: str, title: str, name: str, quantity: str = "force") -> CycleF
 
 CYCLE_FIGURES: tuple[CycleFigure, ...] = (
     CycleFigure(
-        "fig08_projectile_speed.png",
+        "fig08_{payload}_speed.png",
         "Payload CG speed (cf. paper Fig. 8)",
         "speed |v_G|",
         (("|v_G|", "projectile_speed"),),

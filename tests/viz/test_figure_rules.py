@@ -8,6 +8,7 @@ charge feeder's file names."""
 from __future__ import annotations
 
 import math
+import struct
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ from matplotlib.axis import Axis
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from feeder.motion.cycle import feeding_cycle
 from feeder.motion.laws import CycleSpec
 from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
@@ -23,7 +25,15 @@ from feeder.study.sweep import elevation_sweep
 from feeder.viz.analysis import analysis_figures, simulation_figures
 from feeder.viz.axes import ROUND_OFF, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
-from feeder.viz.report import FigureData, draw, study_figure_names
+from feeder.viz.report import (
+    FIGURE_DPI,
+    FigureData,
+    FigureWorkers,
+    draw,
+    kinematics_figures,
+    png_bytes,
+    study_figure_names,
+)
 
 from ..conftest import REPO
 
@@ -285,6 +295,30 @@ def test_sweep_legends_are_words_with_units(sweep):
             texts += [t.get_text() for t in ax.get_legend().get_texts()]
     assert "piston force [kN]" in texts and "cap-side pressure [bar]" in texts
     assert not [text for text in texts if "_" in text]
+
+
+def test_the_charge_feeders_figures_are_named_for_the_charge(feeder, charge_feeder):
+    cycle = feeding_cycle(charge_feeder, 0.2, CycleSpec(rate=100.0))
+    assert "fig10_charge_position.png" in kinematics_figures(charge_feeder, cycle)
+    charge = FigureData.of_cycle(charge_feeder, cycle)
+    names = list(FigureWorkers(1).writers(charge, study_figure_names()))
+    assert "fig08_charge_speed.png" in names and not [n for n in names if "projectile" in n]
+    assert "payload" not in " ".join(names)
+    projectile = FigureData.of_cycle(feeder, feeding_cycle(feeder, 0.2, CycleSpec(rate=100.0)))
+    names = list(FigureWorkers(1).writers(projectile, study_figure_names()))
+    assert {"fig08_projectile_speed.png", "fig10_projectile_position.png"} <= set(names)
+    # a figure drawn by its file name is the one drawn by its catalogue name
+    assert (
+        draw("fig10_charge_position.png", charge).axes[0].get_title()
+        == draw("fig10_{payload}_position.png", charge).axes[0].get_title()
+    )
+
+
+def test_figures_are_written_at_150_dpi_or_more():
+    fig = Figure(figsize=(8.0, 4.0))
+    fig.subplots().plot([0.0, 1.0])
+    width, height = struct.unpack(">II", png_bytes(fig)[16:24])  # the PNG header's IHDR
+    assert FIGURE_DPI >= 150 and (width, height) == (8 * FIGURE_DPI, 4 * FIGURE_DPI)
 
 
 @pytest.mark.parametrize(
