@@ -2,7 +2,7 @@
 simulate``): the drive loads, every joint's reaction, the cut forces, the distance to a singular
 pose, the motion, the force elements, and the run's energy balance and drift. Each figure is a
 stack of panels against time that follows :mod:`feeder.viz.axes` (a panel at round-off level is
-a one-line note); each function returns a :class:`matplotlib.figure.Figure`; saving it is the
+a note); each function returns a :class:`matplotlib.figure.Figure`; saving it is the
 caller's."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import pinocchio as pin
 from matplotlib.figure import Figure
 
 from ..chain.dynamics.inverse import ChainLoads
-from ..chain.kinematics.tree import tree_motion
+from ..chain.kinematics.tree import frame_placements, tree_motion
 from ..study.analyze import Analysis
 from ..study.simulate import Simulation
 from .axes import (
@@ -35,7 +35,7 @@ NOTE_HEIGHT = 0.6
 """Height of a panel left out for its note [in]."""
 
 MIN_REACH = 1e-3
-"""Smallest mechanism size [m] taken for the moments' round-off level (a mechanism whose joints
+"""Smallest mechanism size [m] taken for the moments' round-off level (a mechanism whose frames
 all sit at the world origin has none)."""
 
 
@@ -127,12 +127,15 @@ def loads_figure(analysis: Analysis) -> Figure:
 
 def reach(model: pin.Model, q: np.ndarray) -> float:
     """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
-    joint origin from the world origin, at least :data:`MIN_REACH`. A reaction moment's terms
-    are a force times a lever arm up to this (world axes)."""
-    origins = tree_motion(model, q).origin[1:]
-    return max(
-        max((float(np.linalg.norm(o, axis=1).max()) for o in origins), default=0.0), MIN_REACH
+    frame's origin (joints, links, cut frames) from the world origin, at least
+    :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this
+    (world axes)."""
+    motion = tree_motion(model, q)
+    distances = (
+        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
+        for f in range(model.nframes)
     )
+    return max(max(distances, default=0.0), MIN_REACH)
 
 
 def reactions_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:

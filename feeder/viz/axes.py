@@ -21,12 +21,14 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 ROUND_OFF = 1e3 * np.finfo(float).eps
-"""Relative round-off level (2.2e-13): a value whose size is at most this times the size of the
-terms it is computed from is round-off. Measured: joint reaction moments of planar mechanisms
-that are zero in exact arithmetic come out at 15 ε of the largest force times the mechanism's
-size, the device's Lagrange equations differ from Pinocchio by 8 ε of the peak load; a
-thousand ε keeps a margin of 60 over those sums of tens of terms and stays four decades below
-the 1e-9 to which the loads' own consistency checks hold (feeder.chain.dynamics.inverse)."""
+"""Relative round-off level (2.2e-13): a value at most this times the size of the terms it is
+computed from is round-off. Measured: the reaction moments that are zero in exact arithmetic
+(the four-bar's and slider-crank's passive joints, a trammel's, the released four-bar's) come
+out at most 3 ε times the largest force times the mechanism's size, and the device's Lagrange
+equations differ from Pinocchio by at most 8 ε of the peak load. A thousand ε leaves a margin
+of a hundred over those, and stays more than three decades below the 1e-9 to which the loads'
+own consistency checks hold (:data:`feeder.chain.dynamics.inverse.CONSISTENCY`): nothing the
+computation resolves is drawn as zero."""
 
 STYLES = ("-", "--", "-.", ":")
 """Line styles of the curves of a panel, in turn with the colours: curves that meet stay apart."""
@@ -165,9 +167,10 @@ class FullTicks(ticker.Formatter):
 
 
 def _decimals(values: np.ndarray, most: int = 12) -> int:
-    """The fewest decimals that write every value to within 1e-9 of the smallest gap."""
+    """The fewest decimals that write every value to within 1e-9 of the smallest gap between
+    them (of 1 for a single value)."""
     gaps = np.diff(np.unique(values))
-    gap = float(gaps.min()) if gaps.size else float(np.abs(values).max(initial=1.0)) or 1.0
+    gap = float(gaps.min()) if gaps.size else 1.0
     for decimals in range(most):
         if np.all(np.abs(np.round(values, decimals) - values) <= 1e-9 * gap):
             return decimals
@@ -186,7 +189,6 @@ def label_ticks(fig: Figure) -> None:
         ):
             if axis.get_scale() == "log":
                 limits(*_decades(*interval))
-                axis.set_major_locator(ticker.LogLocator(base=10.0))
                 axis.set_minor_formatter(ticker.NullFormatter())
             else:
                 axis.set_major_formatter(FullTicks())
