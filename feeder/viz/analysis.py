@@ -1,27 +1,103 @@
 """Figures of a user mechanism's analysis (``feeder analyze``) and forward run (``feeder
 simulate``): the drive loads, every joint's reaction, the cut forces, the distance to a singular
-pose, the motion, the force elements, and the run's energy balance and drift. Each function
-returns a :class:`matplotlib.figure.Figure`; saving it is the caller's."""
+pose, the motion, the force elements, and the run's energy balance and drift. Each figure is a
+stack of panels against time that follows :mod:`feeder.viz.axes` (a panel at round-off level is
+a note); each function returns a :class:`matplotlib.figure.Figure`; saving it is the
+caller's."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
-from matplotlib.axes import Axes
+import pinocchio as pin
 from matplotlib.figure import Figure
 
 from ..chain.dynamics.inverse import ChainLoads
+from ..chain.kinematics.tree import frame_placements, tree_motion
 from ..study.analyze import Analysis
 from ..study.simulate import Simulation
+from .axes import (
+    Curve,
+    distinct_curves,
+    draw_curves,
+    label_ticks,
+    leave_out,
+    log_curves,
+    zero_note,
+)
+
+PANEL_HEIGHT = 2.6
+"""Height of a drawn panel [in]."""
+
+NOTE_HEIGHT = 0.6
+"""Height of a panel left out for its note [in]."""
+
+MIN_REACH = 1e-3
+"""Smallest mechanism size [m] taken for the moments' round-off level (a mechanism whose frames
+all sit at the world origin has none)."""
 
 
-def _finish(ax: Axes, ylabel: str, title: str) -> None:
-    ax.set_xlabel("time t [s]")
-    ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=10)
-    ax.grid(True, linewidth=0.4, alpha=0.6)
-    if ax.get_legend_handles_labels()[0]:
+@dataclass(frozen=True)
+class Panel:
+    """One panel of a figure against time.
+
+    Attributes:
+        title: Panel title (also what its note, if it is left out, is about).
+        ylabel: Axis label with its unit.
+        unit: The series' unit, for the notes.
+        series: (legend, values (N,)) pairs, one quantity.
+        scale: Size of the terms the series are computed from [unit], for their round-off
+            level (:func:`~feeder.viz.axes.round_off`).
+        log: A log axis for positive series; values below round-off are drawn at it.
+        reference: A value marked by a dashed grey line, or None.
+    """
+
+    title: str
+    ylabel: str
+    unit: str
+    series: tuple[tuple[str, np.ndarray], ...]
+    scale: float = 0.0
+    log: bool = False
+    reference: float | None = None
+
+    def curves(self) -> list[Curve]:
+        """The curves that show the series (:mod:`feeder.viz.axes`)."""
+        shown = log_curves if self.log else distinct_curves
+        return shown(self.series, self.unit, self.scale)
+
+
+def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
+    """``panels`` one above the other against the times ``t`` [s], sharing the time axis: its
+    label and tick labels under the lowest drawn panel; a panel whose curves are all zero is a
+    note (:func:`~feeder.viz.axes.leave_out`)."""
+    curves = [panel.curves() for panel in panels]
+    drawn = [not all(curve.zero for curve in panel) for panel in curves]
+    heights = [PANEL_HEIGHT if shown else NOTE_HEIGHT for shown in drawn]
+    fig = Figure(figsize=(8.0, sum(heights) + 0.5))
+    grid = {"height_ratios": heights}
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False, gridspec_kw=grid)[:, 0]
+    for ax, panel, panel_curves, shown in zip(axes, panels, curves, drawn, strict=True):
+        if not shown:
+            leave_out(ax, zero_note(panel.title, panel_curves, panel.unit))
+            continue
+        draw_curves(ax, t, panel_curves)
+        if panel.log:
+            ax.set_yscale("log")
+        if panel.reference is not None:
+            ax.axhline(panel.reference, color="0.5", linestyle="--", linewidth=0.8)
+        ax.set_ylabel(panel.ylabel)
+        ax.set_title(panel.title, fontsize=10)
+        ax.grid(True, linewidth=0.4, alpha=0.6)
         ax.legend(loc="best", fontsize=8)
-    ax.label_outer()  # panels sharing the time axis: its label and ticks on the bottom one only
+    lowest = [ax for ax, shown in zip(axes, drawn, strict=True) if shown]
+    if lowest:
+        lowest[-1].xaxis.set_tick_params(labelbottom=True)
+        lowest[-1].set_xlabel("time t [s]")
+    label_ticks(fig)
+    fig.tight_layout()
+    return fig
 
 
 def _unit(analysis: Analysis, joint: str) -> str:
@@ -30,64 +106,90 @@ def _unit(analysis: Analysis, joint: str) -> str:
 
 def loads_figure(analysis: Analysis) -> Figure:
     """The actuated joints' generalized forces and the velocity gain against time."""
-    t = analysis.motion.t
-    fig = Figure(figsize=(8.0, 6.0))
-    top, bottom = fig.subplots(2, 1, sharex=True)
-    units = {_unit(analysis, name) for name in analysis.loads.actuators}
-    for name, values in analysis.loads.actuators.items():
-        top.plot(t, values, label=f"{name} [{_unit(analysis, name)}]", linewidth=1.3)
-    _finish(top, f"drive load [{', '.join(sorted(units))}]", "Actuator loads (inverse dynamics)")
-    bottom.semilogy(t, analysis.gain, color="C3", linewidth=1.2)
-    bottom.axhline(1.0, color="0.5", linestyle="--", linewidth=0.8)
-    _finish(bottom, "velocity gain [–]", "Distance to a singular pose (gain → ∞ at a toggle)")
-    fig.tight_layout()
-    return fig
+    units = {name: _unit(analysis, name) for name in analysis.loads.actuators}
+    shared = ", ".join(sorted(set(units.values())))
+    loads = Panel(
+        "Actuator loads (inverse dynamics)",
+        f"drive load [{shared}]",
+        shared,
+        tuple((f"{name} [{units[name]}]", v) for name, v in analysis.loads.actuators.items()),
+    )
+    gain = Panel(
+        "Distance to a singular pose (gain → ∞ at a toggle; dashed: 1)",
+        "velocity gain [–]",
+        "",
+        (("velocity gain", analysis.gain),),
+        log=True,
+        reference=1.0,
+    )
+    return stacked_figure(analysis.motion.t, [loads, gain])
 
 
-def reactions_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
-    """Magnitude of every joint's reaction force and moment against time (two panels)."""
+def reach(model: pin.Model, q: np.ndarray) -> float:
+    """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
+    frame's origin (joints, links, cut frames) from the world origin, at least
+    :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this
+    (world axes)."""
+    motion = tree_motion(model, q)
+    distances = (
+        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
+        for f in range(model.nframes)
+    )
+    return max(max(distances, default=0.0), MIN_REACH)
+
+
+def reactions_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:
+    """Magnitude of every joint's reaction force and moment against time (two panels); ``size``
+    is the mechanism's [m] (:func:`reach`)."""
     return _wrench_figure(
         t,
         loads.joints,
+        size,
         "Joint reaction forces (parent on child)",
         "Joint reaction moments about each joint's origin",
     )
 
 
-def closures_figure(t: np.ndarray, loads: ChainLoads) -> Figure:
+def closures_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:
     """Magnitude of each cut's force and moment (on the body of its first frame) against time;
-    statically indeterminate components are the minimum-norm choice (the summary says which)."""
-    return _wrench_figure(t, loads.closures, "Closure (cut) forces", "Closure (cut) moments")
+    statically indeterminate components are the minimum-norm choice (the summary says which);
+    ``size`` is the mechanism's [m] (:func:`reach`)."""
+    return _wrench_figure(t, loads.closures, size, "Closure (cut) forces", "Closure (cut) moments")
 
 
-def _wrench_figure(t: np.ndarray, wrenches: dict, force_title: str, moment_title: str) -> Figure:
-    """|force| and |moment| of each named wrench against time, two panels."""
-    fig = Figure(figsize=(8.0, 6.0))
-    forces, moments = fig.subplots(2, 1, sharex=True)
-    for name, wrench in wrenches.items():
-        forces.plot(t, np.linalg.norm(wrench.force, axis=1), label=name, linewidth=1.2)
-        moments.plot(t, np.linalg.norm(wrench.moment, axis=1), label=name, linewidth=1.2)
-    _finish(forces, "|force| [N]", force_title)
-    _finish(moments, "|moment| [N·m]", moment_title)
-    fig.tight_layout()
-    return fig
+def _wrench_figure(
+    t: np.ndarray, wrenches: dict, size: float, force_title: str, moment_title: str
+) -> Figure:
+    """|force| and |moment| of each named wrench against time, two panels. A moment's terms are
+    the largest force times the mechanism's ``size`` [m]: its round-off scale, so that moments
+    that are all round-off are recognised as such."""
+    forces = tuple((name, np.linalg.norm(w.force, axis=1)) for name, w in wrenches.items())
+    moments = tuple((name, np.linalg.norm(w.moment, axis=1)) for name, w in wrenches.items())
+    largest_force = max((float(f.max(initial=0.0)) for _, f in forces), default=0.0)
+    return stacked_figure(
+        t,
+        [
+            Panel(force_title, "|force| [N]", "N", forces),
+            Panel(moment_title, "|moment| [N·m]", "N·m", moments, scale=largest_force * size),
+        ],
+    )
 
 
 def analysis_figures(analysis: Analysis) -> dict[str, Figure]:
     """Every figure of an analysis, by file name."""
     t = analysis.motion.t
+    size = reach(analysis.chain.model, analysis.q)
     return {
         "actuator_loads.png": loads_figure(analysis),
-        "joint_reactions.png": reactions_figure(t, analysis.loads),
-        "closure_forces.png": closures_figure(t, analysis.loads),
+        "joint_reactions.png": reactions_figure(t, analysis.loads, size),
+        "closure_forces.png": closures_figure(t, analysis.loads, size),
     }
 
 
 def motion_figure(simulation: Simulation) -> Figure:
     """The one-coordinate joints' values and rates against time (two panels)."""
     run, model = simulation.run, simulation.chain.model
-    fig = Figure(figsize=(8.0, 6.0))
-    values, rates = fig.subplots(2, 1, sharex=True)
+    values, rates = [], []
     for j in range(1, model.njoints):
         joint = model.joints[j]
         if joint.nv != 1:
@@ -95,52 +197,82 @@ def motion_figure(simulation: Simulation) -> Figure:
         q = run.q[:, joint.idx_q]
         if joint.nq == 2:
             q = np.unwrap(np.arctan2(run.q[:, joint.idx_q + 1], q))
-        values.plot(run.t, q, label=model.names[j], linewidth=1.2)
-        rates.plot(run.t, run.v[:, joint.idx_v], label=model.names[j], linewidth=1.2)
-    _finish(values, "joint value [rad or m]", "Joint coordinates (forward run from rest)")
-    _finish(rates, "joint rate [rad/s or m/s]", "Joint rates")
-    fig.tight_layout()
-    return fig
+        values.append((model.names[j], q))
+        rates.append((model.names[j], run.v[:, joint.idx_v]))
+    return stacked_figure(
+        run.t,
+        [
+            Panel(
+                "Joint coordinates (forward run from rest)",
+                "joint value [rad or m]",
+                "rad or m",
+                tuple(values),
+            ),
+            Panel("Joint rates", "joint rate [rad/s or m/s]", "rad/s or m/s", tuple(rates)),
+        ],
+    )
 
 
-def balance_figure(simulation: Simulation) -> Figure:
-    """The energy, the work of the non-conservative forces, their balance and the drift."""
+def balance_figure(simulation: Simulation, size: float) -> Figure:
+    """The energy, the work of the non-conservative forces, their balance and the drift;
+    ``size`` is the mechanism's [m] (:func:`reach`). The energy's terms are its largest |value|
+    (the balance subtracts energies that large); the drift's are the mechanism's size (lengths)
+    or a radian (angles)."""
     run = simulation.run
-    fig = Figure(figsize=(8.0, 7.5))
-    energy, balance, drift = fig.subplots(3, 1, sharex=True)
-    energy.plot(run.t, run.energy - run.energy[0], label="E − E(0)", linewidth=1.3)
-    energy.plot(run.t, run.work, label="W (non-conservative work)", linewidth=1.0, linestyle="--")
-    _finish(energy, "energy [J]", "Energy (kinetic, gravitational, elastic) and work")
-    balance.plot(run.t, run.energy - run.energy[0] - run.work, color="C3", linewidth=1.0)
-    _finish(balance, "E − E(0) − W [J]", "Energy balance (zero for an exact run)")
-    drift.semilogy(run.t, np.maximum(run.residual, 1e-18), color="C2", linewidth=1.0)
-    _finish(drift, "residual [m, rad]", "Closure drift before projection (floor 1e-18)")
-    fig.tight_layout()
-    return fig
+    energy = float(np.abs(run.energy).max(initial=0.0))
+    change = run.energy - run.energy[0]
+    return stacked_figure(
+        run.t,
+        [
+            Panel(
+                "Energy (kinetic, gravitational, elastic) and work",
+                "energy [J]",
+                "J",
+                (("E − E(0)", change), ("W (non-conservative work)", run.work)),
+                scale=energy,
+            ),
+            Panel(
+                "Energy balance (zero for an exact run)",
+                "E − E(0) − W [J]",
+                "J",
+                (("E − E(0) − W", change - run.work),),
+                scale=energy,
+            ),
+            Panel(
+                "Closure drift before projection",
+                "residual [m, rad]",
+                "m, rad",
+                (("closure residual", run.residual),),
+                scale=max(size, 1.0),
+                log=True,
+            ),
+        ],
+    )
 
 
 def elements_figure(simulation: Simulation) -> Figure:
     """Each force element's force against time."""
     run = simulation.run
-    fig = Figure(figsize=(8.0, 4.0))
-    ax = fig.subplots()
-    for name, values in run.loads.elements.items():
-        ax.plot(run.t, values, label=name, linewidth=1.2)
-    _finish(ax, "force [N] (tension +) or resistance [N·m, N]", "Force elements")
-    fig.tight_layout()
-    return fig
+    forces = Panel(
+        "Force elements",
+        "force [N] (tension +) or resistance [N·m, N]",
+        "N or N·m",
+        tuple(run.loads.elements.items()),
+    )
+    return stacked_figure(run.t, [forces])
 
 
 def simulation_figures(simulation: Simulation) -> dict[str, Figure]:
     """Every figure of a forward run, by file name."""
     run = simulation.run
+    size = reach(simulation.chain.model, run.q)
     figures = {
         "motion.png": motion_figure(simulation),
-        "energy_balance.png": balance_figure(simulation),
-        "joint_reactions.png": reactions_figure(run.t, run.loads),
+        "energy_balance.png": balance_figure(simulation, size),
+        "joint_reactions.png": reactions_figure(run.t, run.loads, size),
     }
     if run.loads.closures:
-        figures["closure_forces.png"] = closures_figure(run.t, run.loads)
+        figures["closure_forces.png"] = closures_figure(run.t, run.loads, size)
     if run.loads.elements:
         figures["force_elements.png"] = elements_figure(simulation)
     return figures

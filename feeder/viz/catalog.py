@@ -1,5 +1,6 @@
 """What the figures show, without drawing anything (no matplotlib): the time histories of a
-cycle, the unit an engineer reads for each SI unit, and the one format of the elevation.
+cycle, their file names (named for the payload), the words for each quantity, the unit an
+engineer reads for each SI unit, and the one format of the elevation.
 
 :mod:`feeder.viz.report` names and ships the figures from here before matplotlib is loaded;
 :mod:`feeder.viz.figures` draws them.
@@ -8,6 +9,7 @@ cycle, the unit an engineer reads for each SI unit, and the one format of the el
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 from ..study.columns import COLUMNS
@@ -22,6 +24,47 @@ DISPLAY_UNITS = {
     "rad": (180 / math.pi, "deg"),
 }
 """SI unit → (factor, the unit figures show); any other unit (N·m, m/s, s) is shown as it is."""
+
+
+WORDS = {
+    "projectile_speed": "payload speed",
+    "piston_force": "piston force",
+    "forearm_torque": "forearm moment",
+    "cylinder_cap_pressure": "cap-side pressure",
+    "cylinder_rod_pressure": "rod-side pressure",
+    "cylinder_frame_force": "cylinder–frame joint force",
+    "piston_cylinder_force": "piston guide side force",
+    "piston_cylinder_moment": "piston guide moment",
+    "piston_arm_force": "piston–arm pin force",
+    "arm_frame_force": "arm–frame joint force",
+    "arm_frame_moment": "arm–frame bearing moment",
+    "forearm_joint_force": "forearm–arm joint force",
+    "forearm_joint_moment": "forearm–arm joint moment",
+    "grip_force": "grip force",
+    "grip_moment": "grip moment",
+    "rack_force": "rack force",
+}
+"""``cycle.csv`` column → the words a legend or axis label uses for it (the loads and
+reactions that figures compare; the columns' meanings are in
+:data:`~feeder.study.columns.COLUMNS`)."""
+
+
+def words(column: str) -> str:
+    """The words for a ``cycle.csv`` column (:data:`WORDS`; another column's name with spaces
+    for its underscores)."""
+    return WORDS.get(column, column.replace("_", " "))
+
+
+PAYLOAD = "{payload}"
+"""Where a figure's name holds the payload's (:func:`file_name`)."""
+
+
+def file_name(figure: str, payload: str) -> str:
+    """The file name of the figure ``figure`` for a payload named ``payload``:
+    ``fig08_{payload}_speed.png`` is ``fig08_charge_speed.png`` for the charge (the payload's
+    name in lower case, runs of other characters than letters and digits as one ``_``)."""
+    slug = re.sub(r"[^a-z0-9]+", "_", payload.lower()).strip("_") or "payload"
+    return figure.replace(PAYLOAD, slug)
 
 
 def display_unit(unit: str) -> tuple[float, str]:
@@ -41,7 +84,7 @@ class CycleFigure:
     """One time history of a cycle.
 
     Attributes:
-        file: File name.
+        file: File name, :data:`PAYLOAD` standing for the payload's name (:func:`file_name`).
         title: Title (the elevation is appended).
         quantity: Axis label without the unit.
         curves: (legend, ``cycle.csv`` column) pairs; all columns share one unit.
@@ -67,7 +110,7 @@ def _vector(file: str, title: str, name: str, quantity: str = "force") -> CycleF
 
 CYCLE_FIGURES: tuple[CycleFigure, ...] = (
     CycleFigure(
-        "fig08_projectile_speed.png",
+        "fig08_{payload}_speed.png",
         "Payload CG speed (cf. paper Fig. 8)",
         "speed |v_G|",
         (("|v_G|", "projectile_speed"),),

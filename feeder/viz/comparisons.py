@@ -1,6 +1,8 @@
 """Figures that compare: several cycles on shared axes, sweeps of peaks against elevation, and
 the hand-derived equations against Pinocchio. Units, margins and the elevation's format follow
-:mod:`feeder.viz.figures`; every function returns a :class:`matplotlib.figure.Figure`."""
+:mod:`feeder.viz.figures`, the axes :mod:`feeder.viz.axes` (round-off drawn as zero, equal
+curves drawn once, legends in words); every function returns a
+:class:`matplotlib.figure.Figure`."""
 
 from __future__ import annotations
 
@@ -15,10 +17,16 @@ from ..exceptions import InputError
 from ..paper.printed import printed_equations
 from ..study.cycle_study import CycleStudy
 from ..study.sweep import ElevationSweep
-from .catalog import UNITS, display_unit
-from .figures import mark_stages, set_margins
-
-_EQUAL = 1e-18  # where a log-scale difference plot draws samples that are exactly equal
+from .axes import (
+    STYLES,
+    distinct_curves,
+    draw_curves,
+    leave_out,
+    log_curves,
+    zero_note,
+)
+from .catalog import UNITS, display_unit, words
+from .figures import finish, mark_stages
 
 
 def _grid(panels: int, columns: int, width: float, height: float) -> tuple[Figure, np.ndarray]:
@@ -62,15 +70,19 @@ def cycles_figure(
     boundaries = next(iter(studies.values())).dynamics.kinematics.spec.boundaries
     for ax, (name, title) in zip(axes, panels, strict=True):
         factor, unit = _one_unit(title, [name])
-        for label, table in tables.items():
-            ax.plot(table["t"], table[name] * factor, label=label, linewidth=1.2)
+        series = [(label, table[name] * factor) for label, table in tables.items()]
+        curves = distinct_curves(series, unit)
+        if all(curve.zero for curve in curves):
+            leave_out(ax, zero_note(title, curves, unit))
+            continue
+        draw_curves(ax, tables[next(iter(tables))]["t"], curves)
         mark_stages(ax, boundaries)
         ax.set_title(title, pad=14, fontsize=10)
-        ax.set_ylabel(f"{name} [{unit}]" if unit else name, fontsize=8)
+        ax.set_ylabel(f"{words(name)} [{unit}]" if unit else words(name), fontsize=8)
         ax.set_xlabel("time t [s]")
         ax.grid(True, linewidth=0.4, alpha=0.6)
-    axes[0].legend(loc="upper left", fontsize=8)
-    set_margins(fig, left=0.75, top=0.55, bottom=0.5, wspace=0.85, hspace=0.95)
+        ax.legend(loc="upper left", fontsize=7)
+    finish(fig, left=0.75, top=0.55, bottom=0.5, wspace=0.85, hspace=0.95)
     return fig
 
 
@@ -108,17 +120,30 @@ def sweep_figure(
         InputError: A panel whose quantities have different units, or names no column.
     """
     fig, axes = _grid(len(panels), columns, 5.0, 4.0)
-    styles = ("-", "--", ":", "-.")
     for ax, (panel, names) in zip(axes, panels, strict=True):
         factor, unit = _one_unit(panel, names)
-        for k, sweep in enumerate(sweeps.values()):
-            for colour, name in enumerate(names):
+        runs = [
+            (
+                sweep,
+                distinct_curves(
+                    [(f"{words(n)} [{unit}]", np.abs(sweep.peaks[n]) * factor) for n in names],
+                    unit,
+                ),
+            )
+            for sweep in sweeps.values()
+        ]
+        every = [curve for _, curves in runs for curve in curves]
+        if all(curve.zero for curve in every):
+            leave_out(ax, zero_note(panel, every, unit))
+            continue
+        for k, (sweep, curves) in enumerate(runs):
+            for curve in curves:
                 ax.plot(
                     np.degrees(sweep.elevations),
-                    np.abs(sweep.peaks[name]) * factor,
-                    label=name if k == 0 else None,
-                    color=f"C{colour}",
-                    linestyle=styles[k % len(styles)],
+                    curve.values,
+                    label=curve.label if k == 0 else None,
+                    color=f"C{curve.members[0]}",
+                    linestyle=STYLES[k % len(STYLES)],
                 )
         ax.set_title(panel, fontsize=10)
         ax.set_xlabel("elevation ε [deg]")
@@ -128,14 +153,14 @@ def sweep_figure(
     top = 0.75 if title else 0.4
     if len(sweeps) > 1:
         handles = [
-            Line2D([], [], color="0.2", linestyle=styles[k % len(styles)], label=label)
+            Line2D([], [], color="0.2", linestyle=STYLES[k % len(STYLES)], label=label)
             for k, label in enumerate(sweeps)
         ]
         fig.legend(handles=handles, loc="upper right", ncols=len(handles), fontsize=8)
         top = 0.75
     if title:
         fig.suptitle(title)
-    set_margins(fig, left=0.75, top=top, bottom=0.55, wspace=0.85)
+    finish(fig, left=0.75, top=top, bottom=0.55, wspace=0.85)
     return fig
 
 
@@ -148,8 +173,9 @@ def cross_check_figure(study: CycleStudy) -> Figure:
 
 def cross_check(params, table: Mapping[str, np.ndarray], boundaries: Sequence[float]) -> Figure:
     """The cross-check figure from a cycle's columns: top, each load by the three
-    computations; below, the relative difference of Pinocchio and the corrected equations per
-    quantity, on a log scale.
+    computations (curves equal to round-off drawn once, :mod:`feeder.viz.axes`); below, the
+    size of the difference between Pinocchio and the corrected equations on a log scale, or a
+    note where it is round-off at every sample.
 
     Args:
         params: The device's parameters (for the equations as printed).
@@ -162,31 +188,48 @@ def cross_check(params, table: Mapping[str, np.ndarray], boundaries: Sequence[fl
         for prefix in "qva"
     )
     printed = printed_equations(params, q, v, a)
-    fig = Figure(figsize=(12, 7.5))
-    axes = fig.subplots(2, 2)
-    quantities = (
+    panels = []
+    for name, hand, as_printed, label in (
         ("piston_force", "lagrange_piston_force", printed.piston_force, "piston force"),
         ("forearm_torque", "lagrange_forearm_torque", printed.forearm_torque, "forearm moment"),
-    )
-    for col, (name, hand, as_printed, label) in enumerate(quantities):
+    ):
         factor, unit = display_unit(UNITS[name])
+        loads = distinct_curves(
+            [
+                ("Pinocchio", table[name] * factor),
+                ("Lagrange, corrected", table[hand] * factor),
+                ("Lagrange, as printed", as_printed * factor),
+            ],
+            unit,
+        )
+        # the difference's terms are the load itself: its round-off scale
+        difference = log_curves(
+            [("|Pinocchio − Lagrange, corrected|", np.abs(table[name] - table[hand]) * factor)],
+            unit,
+            scale=float(np.abs(table[name]).max()) * factor,
+        )
+        panels.append((label, unit, loads, difference))
+    drawn = any(not diff[0].zero for *_, diff in panels)
+    fig = Figure(figsize=(12, 4.0 + (3.75 if drawn else 1.25)))
+    axes = fig.subplots(2, 2, gridspec_kw={"height_ratios": (1.0, 1.0 if drawn else 0.15)})
+    for col, (label, unit, loads, difference) in enumerate(panels):
         top, bottom = axes[0, col], axes[1, col]
-        top.plot(t, table[name] * factor, label="Pinocchio", linewidth=1.6)
-        top.plot(t, table[hand] * factor, "--", label="Lagrange, corrected", linewidth=1.2)
-        top.plot(t, as_printed * factor, ":", label="Lagrange, as printed", linewidth=1.2)
+        draw_curves(top, t, loads)
         top.set_ylabel(f"{label} [{unit}]")
-        top.legend(loc="upper left", fontsize=8)
-        scale = float(np.abs(table[name]).max())
-        relative = np.abs(table[name] - table[hand]) / scale
-        bottom.semilogy(t, np.maximum(relative, _EQUAL), linewidth=0.8, label="difference")
-        bottom.axhline(np.finfo(float).eps, color="C3", linestyle="--", linewidth=0.8)
-        bottom.plot([], [], color="C3", linestyle="--", linewidth=0.8, label="machine ε")
-        bottom.set_ylim(_EQUAL / 10.0, 1.0)
-        bottom.set_ylabel(f"|Pinocchio − corrected| / max|{name}|", fontsize=8)
-        bottom.legend(loc="upper right", fontsize=8, title=f"equal samples at {_EQUAL:g}")
-        for ax in (top, bottom):
+        top.legend(loc="best", fontsize=8)
+        shown = [top]
+        if difference[0].zero:
+            what = f"Pinocchio − Lagrange, corrected ({label})"
+            leave_out(bottom, zero_note(what, difference, unit))
+        else:
+            draw_curves(bottom, t, difference, linewidth=0.8)
+            bottom.set_yscale("log")
+            bottom.set_ylabel(f"|difference| [{unit}]")
+            bottom.legend(loc="upper right", fontsize=8)
+            shown.append(bottom)
+        for ax in shown:
             mark_stages(ax, boundaries)
             ax.set_xlabel("time t [s]")
             ax.grid(True, linewidth=0.4, alpha=0.6)
-    set_margins(fig, left=0.85, top=0.35, bottom=0.55, wspace=0.95, hspace=0.85)
+    finish(fig, left=0.85, top=0.35, bottom=0.55, wspace=0.95, hspace=0.85)
     return fig

@@ -17,7 +17,7 @@ from ..device.urdf_writer import barrel_length
 from ..motion.cycle import CycleKinematics
 from ..motion.workspace import Workspace
 from .catalog import elevation_text
-from .figures import set_margins
+from .figures import finish
 
 MM = 1e3
 """Metres → millimetres: drawings are dimensioned in mm."""
@@ -67,7 +67,7 @@ def workspace_figure(space: Workspace, device: str) -> Figure:
     ax.set_title(f"Workspace of the {device} feeder (cf. paper Fig. 4)")
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
-    set_margins(fig, left=0.85, top=0.45)
+    finish(fig, left=0.85, top=0.45)
     return fig
 
 
@@ -176,7 +176,7 @@ def device_side_view(
     )
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
-    set_margins(fig, left=0.85, top=0.45)
+    finish(fig, left=0.85, top=0.45)
     return fig
 
 
@@ -213,5 +213,5 @@ def loop_figure(feeder: Feeder, samples: int = 400) -> Figure:
     right.legend(loc="lower left", fontsize=8)
     for ax in (left, right):
         ax.grid(True, linewidth=0.4, alpha=0.6)
-    set_margins(fig, top=0.45, wspace=0.9)
+    finish(fig, top=0.45, wspace=0.9)
     return fig

@@ -3,10 +3,12 @@ every figure shares.
 
 Every figure shows a quantity in the unit an engineer reads
 (:func:`~feeder.viz.catalog.display_unit`: mm, kN, bar, deg; N·m and m/s as they are), one unit
-per axis, the elevation in one format (:func:`~feeder.viz.catalog.elevation_text`), and has
-fixed margins (:func:`set_margins`: no ``tight_layout``, whose
-text measuring costs as much as drawing the figure). A time history marks the stage boundaries;
-a vector's magnitude is drawn over its components, never under them. Every function returns a
+per axis, the elevation in one format (:func:`~feeder.viz.catalog.elevation_text`), follows the
+axis rules of :mod:`feeder.viz.axes` (round-off drawn as zero, equal curves drawn once, tick
+labels that carry their whole value) and has fixed margins (:func:`finish`: no
+``tight_layout``, whose text measuring costs as much as drawing the figure). A time history
+marks the stage boundaries; a vector's magnitude is drawn over its components, never under
+them. Every function returns a
 :class:`matplotlib.figure.Figure` (no pyplot state, so any backend, notebooks included, is left
 alone); writing it is :mod:`feeder.viz.report`'s.
 """
@@ -21,12 +23,13 @@ from matplotlib.figure import Figure
 
 from ..motion.cycle import CycleKinematics
 from ..study.cycle_study import CycleStudy
+from .axes import STYLES, distinct_curves, label_ticks, leave_out, zero_note
 from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
 
 
-def set_margins(
+def finish(
     fig: Figure,
     left: float = 0.8,
     right: float = 0.2,
@@ -35,7 +38,9 @@ def set_margins(
     wspace: float = 0.9,
     hspace: float = 0.9,
 ) -> None:
-    """Fixed margins and gaps between panels, in inches (the figure's size may vary)."""
+    """The last step of every figure: its ticks labelled (:func:`~feeder.viz.axes.label_ticks`)
+    and fixed margins and gaps between panels, in inches (the figure's size may vary)."""
+    label_ticks(fig)
     width, height = fig.get_size_inches()
     columns, rows = (max(1, n) for n in _grid_shape(fig))
     panel_width = (width - left - right - (columns - 1) * wspace) / columns
@@ -108,17 +113,22 @@ def time_history(
     factor, shown = display_unit(unit)
     fig = Figure(figsize=(8.0, 4.2))
     ax = fig.subplots()
-    for label, values in series:
-        emphasis = label == magnitude
+    curves = distinct_curves([(label, np.asarray(v) * factor) for label, v in series], shown)
+    if all(curve.zero for curve in curves):
+        leave_out(ax, zero_note(title, curves, shown))
+        finish(fig)
+        return fig
+    for k, curve in enumerate(curves):
+        emphasis = any(series[m][0] == magnitude for m in curve.members)
         ax.plot(
             t,
-            np.asarray(values) * factor,
-            label=label,
+            curve.values,
+            label=curve.label,
             linewidth=2.0 if emphasis else 1.2,
-            color="k" if emphasis else None,
+            color="k" if emphasis else f"C{k}",
+            linestyle="-" if emphasis else STYLES[k % len(STYLES)],
             zorder=3 if emphasis else 2,
         )
-    ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     mark_stages(ax, boundaries)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"{quantity} [{shown}]" if shown else quantity)
@@ -127,7 +137,7 @@ def time_history(
     legend = len(series) > 1
     if legend:
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
-    set_margins(fig, right=LEGEND_WIDTH if legend else 0.2)
+    finish(fig, right=LEGEND_WIDTH if legend else 0.2)
     return fig
 
 

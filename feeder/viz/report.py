@@ -36,13 +36,13 @@ from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
 from ..study.sweep import cached_feeder, local_workers, sweeps_of
 from ..study.sweep_table import read_table
-from .catalog import CYCLE_FIGURES
+from .catalog import CYCLE_FIGURES, file_name
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-FIGURE_DPI = 120
-"""Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 960 × 504."""
+FIGURE_DPI = 150
+"""Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 1200 × 630."""
 
 PNG_COMPRESSION = 1
 """zlib level of the PNG files (0–9): 1 encodes a figure three times faster than the default 6
@@ -88,12 +88,16 @@ class FigureData:
         """The data of a cycle's kinematics alone."""
         return cls(feeder.params, cycle.elevation, cycle.spec, kinematic_columns(cycle))
 
+    def file_name(self, figure: str) -> str:
+        """The file name of ``figure`` (one of :func:`study_figure_names`) for this payload."""
+        return file_name(figure, self.params.payload_name)
+
     def coordinates(self) -> np.ndarray:
         """q = [φ1, r2, φ3, φ4] at every sample, (N, 4)."""
         return np.column_stack([self.columns[f"q_{c}"] for c in ("phi1", "r2", "phi3", "phi4")])
 
 
-KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_projectile_position.png")
+KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
 
 _COST = {"lagrange_cross_check.png": 3.0, "device_side_view.png": 1.5}
@@ -102,7 +106,9 @@ _COST = {"lagrange_cross_check.png": 3.0, "device_side_view.png": 1.5}
 
 def study_figure_names() -> tuple[str, ...]:
     """The figures of ``feeder cycle``: the side view, Figs. 4, 8, 10–15, the arm-pivot
-    reaction, the cylinder pressures, the rack force and the cross-check."""
+    reaction, the cylinder pressures, the rack force and the cross-check. Each name is a file
+    name in which ``{payload}`` stands for the payload's (:meth:`FigureData.file_name`: the
+    charge feeder's speed figure is ``fig08_charge_speed.png``)."""
     return (
         "device_side_view.png",
         *KINEMATICS_FIGURES,
@@ -112,7 +118,8 @@ def study_figure_names() -> tuple[str, ...]:
 
 
 def draw(name: str, data: FigureData) -> Figure:
-    """The figure ``name`` (one of :func:`study_figure_names`) of a cycle.
+    """The figure ``name`` (one of :func:`study_figure_names`, or its file name for the data's
+    payload) of a cycle.
 
     Raises:
         InputError: An unknown name, or a figure that needs columns the data lack (a full
@@ -122,20 +129,21 @@ def draw(name: str, data: FigureData) -> Figure:
     from .drawings import device_side_view, workspace_figure
     from .figures import cycle_figure, payload_position_figure
 
+    name = {data.file_name(figure): figure for figure in study_figure_names()}.get(name, name)
     boundaries = data.spec.boundaries
     t = data.columns["t"]
     cycle = {spec.file: spec for spec in CYCLE_FIGURES}
     try:
         if name in cycle:
             return cycle_figure(cycle[name], data.columns, boundaries, data.elevation)
-        if name == "fig10_projectile_position.png":
+        if name == "fig10_{payload}_position.png":
             position = np.column_stack([data.columns[f"projectile_{a}"] for a in "xyz"])
             return payload_position_figure(t, position, boundaries, data.elevation)
         if name == "lagrange_cross_check.png":
             return cross_check(data.params, data.columns, boundaries)
     except KeyError as exc:
         raise InputError(
-            f"figure {name} needs the column {exc}: draw it from a full study"
+            f"figure {data.file_name(name)} needs the column {exc}: draw it from a full study"
         ) from exc
     feeder = cached_feeder(data.params)
     if name == "fig04_workspace.png":
@@ -144,19 +152,20 @@ def draw(name: str, data: FigureData) -> Figure:
         return workspace_figure(space, data.params.name)
     if name == "device_side_view.png":
         return device_side_view(feeder, t, data.coordinates(), boundaries, data.elevation)
-    raise InputError(f"no figure named {name!r}; the figures: {', '.join(study_figure_names())}")
+    files = ", ".join(map(data.file_name, study_figure_names()))
+    raise InputError(f"no figure named {name!r}; the figures: {files}")
 
 
 def study_figures(study: CycleStudy) -> dict[str, Figure]:
     """Every figure of the standard study, by file name, drawn here."""
     data = FigureData.of_study(study)
-    return {name: draw(name, data) for name in study_figure_names()}
+    return {data.file_name(name): draw(name, data) for name in study_figure_names()}
 
 
 def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figure]:
     """Fig. 4 (the workspace, ramming poses every 10°) and Fig. 10 (payload position)."""
     data = FigureData.of_cycle(feeder, cycle)
-    return {name: draw(name, data) for name in KINEMATICS_FIGURES}
+    return {data.file_name(name): draw(name, data) for name in KINEMATICS_FIGURES}
 
 
 def png_bytes(fig: Figure, dpi: int = FIGURE_DPI) -> bytes:
@@ -240,15 +249,16 @@ class FigureWorkers:
             self._pool = None
 
     def writers(self, data: FigureData, names: Sequence[str]) -> dict[str, Writer]:
-        """Start drawing ``names`` and return a writer per file name, in the order of
-        ``names``: each waits for its figure and writes it atomically."""
+        """Start drawing ``names`` (of :func:`study_figure_names`) and return a writer per file
+        name (:meth:`FigureData.file_name`), in the order of ``names``: each waits for its
+        figure and writes it atomically."""
         if self._pool is None:
-            return {name: partial(_draw_and_write, name, data) for name in names}
+            return {data.file_name(name): partial(_draw_and_write, name, data) for name in names}
         futures: dict[str, Future] = {}
         for share in _shares(names, self.workers):
             future = self._pool.submit(_render, share, data)
             futures |= dict.fromkeys(share, future)
-        return {name: partial(_write_drawn, name, futures[name]) for name in names}
+        return {data.file_name(name): partial(_write_drawn, name, futures[name]) for name in names}
 
 
 def _draw_and_write(name: str, data: FigureData, path: Path) -> Path:
@@ -265,7 +275,8 @@ def write_figures(
     directory: str | Path,
     workers: int | None = None,
 ) -> list[Path]:
-    """Draw ``names`` of a cycle and write them into ``directory`` (which must exist)."""
+    """Draw ``names`` of a cycle and write them into ``directory`` (which must exist), each
+    under its file name (:meth:`FigureData.file_name`)."""
     directory = Path(directory)
     with FigureWorkers(workers) as pool:
         return [writer(directory / name) for name, writer in pool.writers(data, names).items()]
