@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import re
 
 from feeder.study.columns import COLUMNS, VECTORS
@@ -40,3 +41,42 @@ def test_mechanisms_guide_python_example_runs(monkeypatch):
     block = re.search(r"## From Python\n+```python\n(.*?)```", guide, flags=re.S).group(1)
     monkeypatch.chdir(REPO)  # the example's paths are relative to the repository
     exec(compile(block, "docs/MECHANISMS.md", "exec"), {})
+
+
+def _pictures_script():
+    """docs/pictures.py, imported from its file (it is a script, not a module of the package)."""
+    spec = importlib.util.spec_from_file_location("pictures", REPO / "docs" / "pictures.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_readme_pictures_are_current():
+    """Every picture in the README is one docs/pictures.py makes, and was made from the files
+    as they are now (the fingerprint it carries is recomputed from them): after a change to the
+    drawing code, the model or the inputs, run ``python docs/pictures.py``."""
+    pictures = _pictures_script()
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    shown = set(re.findall(r"\]\(docs/([\w.]+\.png)\)", readme))
+    assert shown == set(pictures.PICTURES)
+    stale = [
+        name for name in sorted(shown) if pictures.stamped(name) != pictures.fingerprint(name)
+    ]
+    assert not stale, f"run `python docs/pictures.py {' '.join(stale)}`: made from older files"
+
+
+def test_picture_fingerprints_see_their_sources(tmp_path):
+    """A fingerprint changes when a file it covers does (a copy of the viewer picture's sources
+    with one drawing module edited)."""
+    pictures = _pictures_script()
+    for pattern in pictures.PICTURES["viewer.png"]:
+        for path in REPO.glob(pattern):
+            copy = tmp_path / path.relative_to(REPO)
+            copy.parent.mkdir(parents=True, exist_ok=True)
+            copy.write_bytes(path.read_bytes())
+    pictures.ROOT = tmp_path
+    before = pictures.fingerprint("viewer.png")
+    assert before == pictures.fingerprint("viewer.png")
+    with (tmp_path / "feeder" / "viz" / "scene.py").open("a", encoding="utf-8") as source:
+        source.write("# an edit\n")
+    assert pictures.fingerprint("viewer.png") != before
