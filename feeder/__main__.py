@@ -25,6 +25,7 @@ line, and leaves no file half-written (:mod:`feeder.outputs`).
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 import shlex
 import sys
@@ -698,13 +699,31 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
         print(warnings.formatwarning(message, category, filename, lineno, line), file=sys.stderr)
 
 
+def _check_command(parser: argparse.ArgumentParser, argv: Sequence[str]) -> None:
+    """Refuse an unknown command in one line, with the nearest known one (argparse lists all
+    of them, without a suggestion)."""
+    if not argv or argv[0].startswith("-"):
+        return
+    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if argv[0] in commands.choices:
+        return
+    near = difflib.get_close_matches(argv[0], list(commands.choices), n=1, cutoff=0.6)
+    hint = f"did you mean `feeder {near[0]}`? " if near else ""
+    raise InputError(
+        f"no command {argv[0]!r}; {hint}commands: {', '.join(commands.choices)} "
+        "(feeder --help)"
+    )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
-            args = _parser().parse_args(argv)
+            parser = _parser()
+            _check_command(parser, argv)
+            args = parser.parse_args(argv)
             args.argv = argv
             return args.run(args)
     except FeederError as exc:

@@ -46,8 +46,8 @@ def check_finite(name: str, value: float | Iterable[float] | np.ndarray) -> np.n
     if kind == "b":
         raise InputError(f"{name} must be numeric, got the truth value(s) {value!r}")
     if not np.all(np.isfinite(array)):
-        bad = array.flat[int(np.argmin(np.isfinite(array).ravel()))]
-        raise InputError(f"{name} must be finite, got {bad!r}")
+        bad = float(array.flat[int(np.argmin(np.isfinite(array).ravel()))])
+        raise InputError(f"{name} must be finite, got {bad}")
     return array
 
 

@@ -573,3 +573,11 @@ def test_sweep_command_writes_its_table(tmp_path, capsys):
     table = (out / "sweep_peaks.csv").read_text(encoding="utf-8").splitlines()
     assert len(table) == 3  # a header and the two elevations
     assert "wrote" in capsys.readouterr().out
+
+
+def test_a_misspelt_command_gets_the_nearest_one(capsys):
+    assert main(["simualte", "model.urdf"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "did you mean `feeder simulate`?" in err
+    assert main(["xyzzy"]) == 2
+    assert "did you mean" not in capsys.readouterr().err

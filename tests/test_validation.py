@@ -90,3 +90,13 @@ def test_check_path_accepts_text_and_paths(tmp_path):
 def test_truth_values_are_not_numbers(feeder, call):
     with pytest.raises(InputError, match="truth value"):
         call(feeder)
+
+
+def test_a_bad_number_is_shown_as_the_user_typed_it():
+    """``--elevation nan`` once said ``got np.float64(nan)``."""
+    from feeder.validation import check_finite
+
+    for value, shown in ((float("nan"), "got nan"), (np.array([1.0, np.inf]), "got inf")):
+        with pytest.raises(InputError, match=shown) as error:
+            check_finite("elevation [deg]", value)
+        assert "np." not in str(error.value)

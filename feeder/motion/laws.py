@@ -9,13 +9,15 @@ rest-to-rest law h(s) = 10 s³ − 15 s⁴ + 6 s⁵ (zero velocity and accelerat
 
 from __future__ import annotations
 
+import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..device.loop import arm_travel
 from ..device.parameters import FeederParameters
-from ..exceptions import InputError
+from ..exceptions import FeederWarning, InputError
 from ..validation import check_finite
 
 MAX_SAMPLES = 1_000_000
@@ -23,6 +25,21 @@ MAX_SAMPLES = 1_000_000
 7 µs, the whole cycle dynamics ~2 kB and 27 µs, so a million samples need ~2 GB and ~30 s (ten
 million would need 20 GB); that is 250 kHz over the default 4 s cycle, far finer than any result
 needs (1 kHz gives 4001 samples)."""
+
+
+PEAK_TOLERANCE = 1e-3
+"""Largest relative miss of a load's peak that a sampling may cause without a warning. A peak
+can fall half a step h from the nearest sample; a load that turns like a sine over a stage of
+duration T then misses its peak by at most 1 − cos(π h / T): below 0.1 % when a stage holds at
+least 71 samples (measured at −4°: 3.6e-5 for the piston force at 71 Hz against 1 kHz; 5.2 %
+at 1 Hz)."""
+
+
+def peak_miss_bound(rate: float, shortest_stage: float) -> float:
+    """The bound 1 − cos(π h / T) on a peak's relative miss at ``rate`` [Hz] (h = 1/rate) for
+    the shortest stage T [s] (:data:`PEAK_TOLERANCE`); 1 when a stage holds a single step."""
+    phase = math.pi / (rate * shortest_stage)
+    return 1.0 - math.cos(phase) if phase < math.pi / 2.0 else 1.0
 
 
 @dataclass(frozen=True)
@@ -59,6 +76,16 @@ class CycleSpec:
             )
         object.__setattr__(self, "durations", tuple(float(d) for d in durations))
         object.__setattr__(self, "rate", float(rate))
+        miss = peak_miss_bound(self.rate, min(self.durations))
+        if miss > PEAK_TOLERANCE:
+            needed = math.ceil(math.pi / math.acos(1.0 - PEAK_TOLERANCE) / min(self.durations))
+            warnings.warn(
+                f"sampling at {self.rate:g} Hz is too coarse for the {min(self.durations):g} s "
+                f"stage: a load's peak may be missed by up to {miss:.1%} (it can fall between "
+                f"samples); sample at {needed} Hz or more for {PEAK_TOLERANCE:.1%}",
+                FeederWarning,
+                stacklevel=3,
+            )
 
     @property
     def boundaries(self) -> np.ndarray:

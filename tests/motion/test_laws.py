@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from feeder.exceptions import InputError
-from feeder.motion.laws import MAX_SAMPLES, CycleSpec, rest_to_rest
+from feeder.device.feeder import load_feeder
+from feeder.dynamics.cycle import cycle_dynamics
+from feeder.exceptions import FeederWarning, InputError
+from feeder.motion.laws import MAX_SAMPLES, CycleSpec, peak_miss_bound, rest_to_rest
 
 LAW_ROUND_OFF = 1e-12
 """A polynomial of degree ≤ 5 with coefficients ≤ 60 evaluated on [0, 1] in double precision."""
@@ -65,3 +69,25 @@ def test_rest_to_rest_law_starts_and_ends_at_rest():
     np.testing.assert_allclose((plus[1] - minus[1]) / (2 * STEP), ddh, atol=DIFFERENCE_TOLERANCE)
     # Symmetric about s = 1/2: h(s) + h(1 − s) = 1.
     np.testing.assert_allclose(h + rest_to_rest(1.0 - s)[0], 1.0, rtol=0, atol=LAW_ROUND_OFF)
+
+
+@pytest.mark.parametrize("rate", [5.0, 10.0, 35.0])
+def test_coarse_sampling_warns_with_a_bound_that_holds(rate):
+    """A cycle sampled too coarsely to resolve its peaks says so, and the miss it states is an
+    upper bound of the true one: the peak piston force and forearm moment against a 1 kHz
+    cycle computed independently."""
+    device = load_feeder()
+    with pytest.warns(FeederWarning, match="too coarse .* missed by up to"):
+        spec = CycleSpec(rate=rate)
+    coarse = cycle_dynamics(device, math.radians(-4.0), spec, forward=False).loads
+    fine = cycle_dynamics(device, math.radians(-4.0), forward=False).loads
+    for name in ("piston_force", "forearm_torque"):
+        peak = np.abs(getattr(fine, name)).max()
+        miss = 1.0 - np.abs(getattr(coarse, name)).max() / peak
+        assert 0.0 <= miss + 1e-12 <= peak_miss_bound(rate, 1.0)  # 1e-12: equal peaks' round-off
+
+
+@pytest.mark.parametrize("rate", [71.0, 1000.0])
+def test_fine_enough_sampling_is_silent(rate, recwarn):
+    CycleSpec(rate=rate)
+    assert not [w for w in recwarn if "too coarse" in str(w.message)]
