@@ -28,7 +28,9 @@ import argparse
 import difflib
 import math
 import shlex
+import signal
 import sys
+import threading
 import warnings
 from collections.abc import Sequence
 from contextlib import suppress
@@ -49,6 +51,18 @@ its 1e-4 rad check (3.8e-5 rad at 500 Hz, 1.2e-4 rad at 400 Hz: the table in
 
 INTERRUPTED = 130
 """Exit status after Ctrl-C (SIGINT): 128 + the signal's number, as shells report it."""
+
+TERMINATED = 128 + signal.SIGTERM
+"""Exit status after SIGTERM (``kill``, a job scheduler's stop): 143, as shells report it."""
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the program is, so that it stops as after Ctrl-C: worker pools
+    shut down, half-written outputs removed (a KeyboardInterrupt for every cleanup path)."""
+
+
+def _terminate(signum, frame) -> None:
+    raise _Terminated
 
 
 class _Once(argparse.Action):
@@ -718,6 +732,8 @@ def _check_command(parser: argparse.ArgumentParser, argv: Sequence[str]) -> None
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
@@ -729,9 +745,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except FeederError as exc:
         print(f"feeder: error: {exc}", file=sys.stderr)
         return 2
+    except _Terminated:
+        print("feeder: terminated (SIGTERM); no output was left half-written", file=sys.stderr)
+        return TERMINATED
     except KeyboardInterrupt:
         print("feeder: interrupted (Ctrl-C); no output was left half-written", file=sys.stderr)
         return INTERRUPTED
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

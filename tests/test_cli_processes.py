@@ -165,3 +165,33 @@ def test_ctrl_c_stops_the_viewer_cleanly():
     viewer.send_signal(signal.SIGINT)
     status, _, err = finish(viewer)
     assert status == 0 and "Traceback" not in err, err
+
+
+@pytest.mark.parametrize("moment", [".feeder-run.lock", "*.png"])
+def test_sigterm_stops_the_run_and_its_workers(tmp_path, moment):
+    """``kill PID`` (SIGTERM to the command alone, not its group) once its figure workers run
+    (after the lock) or once its first figure is written: status 143 and one line, no process
+    of the run left (the workers once lived on, holding the caller's pipes), and no folder that
+    looks complete unless it is."""
+    out = tmp_path / "results"
+    run = start("cycle", "--elevation", "10", "--out", str(out), group=True)
+    wait_for(lambda: any(out.glob(moment)), moment)
+    run.send_signal(signal.SIGTERM)
+    status, _, err = finish(run)
+    assert status == 143, err
+    assert len(err.strip().splitlines()) == 1 and "terminated (SIGTERM)" in err, err
+    if out.exists():
+        check_complete(out)
+    wait_for(lambda: not group_alive(run.pid), "the workers to end")
+
+
+def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
+    """``kill PID`` on a running sweep: status 143, one line, none of its workers left."""
+    out = tmp_path / "sweep"
+    run = start("sweep", "--elevations", "-4", "70", "0.5", "--out", str(out), group=True)
+    wait_for(lambda: (out / "sweep_peaks.csv").exists(), "the first rows of the table")
+    run.send_signal(signal.SIGTERM)
+    status, _, err = finish(run)
+    assert status == 143, err
+    assert len(err.strip().splitlines()) == 1 and "terminated (SIGTERM)" in err, err
+    wait_for(lambda: not group_alive(run.pid), "the workers to end")

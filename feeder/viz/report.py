@@ -190,8 +190,11 @@ def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
 
 def _ignore_interrupt() -> None:
     """In a worker: leave Ctrl-C to the parent (the terminal sends SIGINT to the whole process
-    group; the parent stops the pool, and a worker's own traceback would only add noise)."""
+    group; the parent stops the pool, and a worker's own traceback would only add noise), and
+    let SIGTERM end it at once (a forked worker inherits the command line's SIGTERM handler,
+    meant for the parent only)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _warm_up() -> None:
