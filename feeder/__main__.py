@@ -129,18 +129,19 @@ def cmd_errata(args: argparse.Namespace) -> int:
 def cmd_urdf(args: argparse.Namespace) -> int:
     """Write the URDF file of the given parameter set, or of every built-in device."""
     from .device.urdf_writer import urdf_string, write_urdfs
-    from .files import write_text
+    from .files import path_in, write_text
 
     if args.params is None and args.device is None:
         paths = write_urdfs(args.out)
     else:
         params = _params(args)
         text = urdf_string(params)
+        path = path_in(args.out, f"{params.name}_feeder.urdf", "the URDF file")
         try:
             args.out.mkdir(parents=True, exist_ok=True)  # as write_urdfs does
         except OSError as exc:
             raise InputError(f"cannot write the URDF file into {args.out}: {exc}") from exc
-        paths = [write_text(args.out / f"{params.name}_feeder.urdf", text)]
+        paths = [write_text(path, text)]
     for path in paths:
         print(f"wrote {path}")
     return 0

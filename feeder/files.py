@@ -24,6 +24,18 @@ LOCK_ATTEMPTS = 3
 (each such race needs another run to finish in that instant: three tries are plenty)."""
 
 
+def path_in(folder: str | Path, name: str, what: str) -> Path:
+    """``folder / name``, if ``name`` is a plain file name: not empty, ``.`` or ``..``, and no
+    folder in it (so the path cannot lie outside ``folder``).
+
+    Raises:
+        InputError: Any other name (the message names ``what``).
+    """
+    if not name or name in (".", "..") or Path(name).name != name or "\\" in name:
+        raise InputError(f"{what} {name!r} is not a file name in {folder}: rename it")
+    return Path(folder) / name
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:
     """A temporary path beside ``path``; renamed onto ``path`` if the block completes, removed

@@ -442,6 +442,37 @@ def test_bad_params_file_names_the_field(tmp_path, capsys, heavier_file):
     assert not out.exists()
 
 
+def test_a_parameter_set_name_cannot_lead_outside_the_urdf_folder(tmp_path, capsys):
+    """A name that is a path is refused where the file is read: nothing is written anywhere."""
+    assert main(["parameters", "--format", "toml", "--out", str(tmp_path / "p.toml")]) == 0
+    path = tmp_path / "p.toml"
+    path.write_text(
+        path.read_text(encoding="utf-8").replace('name = "projectile"', 'name = "../../x"'),
+        encoding="utf-8",
+    )
+    inner = tmp_path / "w" / "a" / "inner"
+    assert main(["urdf", "--out", str(inner), "--params", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "name must be letters, digits" in err and str(path) in err
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["p.toml"]
+
+
+def test_urdf_writes_only_inside_its_folder(tmp_path, capsys, monkeypatch):
+    """Even a parameter set that escaped the name checks (of the file and of the URDF writer,
+    both replaced here) cannot make feeder urdf write outside --out."""
+    import dataclasses
+
+    from feeder.device import PROJECTILE_FEEDER, parameter_file, urdf_writer
+
+    escaped = dataclasses.replace(PROJECTILE_FEEDER, name="../x")
+    monkeypatch.setattr(parameter_file, "read_parameters", lambda path: escaped)
+    monkeypatch.setattr(urdf_writer, "urdf_string", lambda params: "<robot/>")
+    inner = tmp_path / "w" / "inner"
+    assert main(["urdf", "--out", str(inner), "--params", str(tmp_path / "p.toml")]) == 2
+    assert "is not a file name in" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_urdf_of_one_device(tmp_path):
     assert main(["urdf", "--out", str(tmp_path / "new"), "--device", "charge"]) == 0
     assert [p.name for p in (tmp_path / "new").iterdir()] == ["charge_feeder.urdf"]
