@@ -473,6 +473,25 @@ def test_urdf_writes_only_inside_its_folder(tmp_path, capsys, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_parameters_out_replaces_only_a_table_it_wrote(tmp_path, capsys, heavier_file):
+    """A Markdown table that feeder parameters wrote is replaced (PARAMETERS.md is regenerated
+    so); a user's file or an edited parameter file (TOML) is refused and left as it was."""
+    table = tmp_path / "table.md"
+    for arguments in (["--device", "charge"], ["--params", str(heavier_file)], []):
+        assert main(["parameters", *arguments, "--out", str(table)]) == 0
+    assert table.read_text(encoding="utf-8") == (REPO / "PARAMETERS.md").read_text("utf-8")
+    notes = tmp_path / "notes.md"
+    notes.write_text("# Parameters\n\nmine\n", encoding="utf-8")
+    edited = heavier_file.read_text(encoding="utf-8")
+    for target, format_ in ((notes, "markdown"), (heavier_file, "toml"), (tmp_path, "toml")):
+        capsys.readouterr()
+        assert main(["parameters", "--format", format_, "--out", str(target)]) == 2
+        err = capsys.readouterr().err
+        assert "is not a parameter table that feeder parameters wrote" in err, err
+    assert notes.read_text(encoding="utf-8") == "# Parameters\n\nmine\n"
+    assert heavier_file.read_text(encoding="utf-8") == edited
+
+
 def test_urdf_of_one_device(tmp_path):
     assert main(["urdf", "--out", str(tmp_path / "new"), "--device", "charge"]) == 0
     assert [p.name for p in (tmp_path / "new").iterdir()] == ["charge_feeder.urdf"]
