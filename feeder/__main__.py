@@ -209,12 +209,20 @@ def cmd_cycle(args: argparse.Namespace) -> int:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Peak loads over elevations × parameter variants × devices; resumable."""
+    from functools import partial
+
     from .study.grid import elevation_range
     from .study.sweep import run_sweep
-    from .viz.report import write_sweep_figures
+    from .viz.report import png_bytes, sweep_figures, write_png
+
+    def figures(table: Path) -> dict[str, partial]:
+        return {
+            name: partial(write_png, png=png_bytes(fig))
+            for name, fig in sweep_figures(table).items()
+        }
 
     elevations = None if args.elevations is None else elevation_range(*args.elevations)
-    table = run_sweep(
+    outputs = run_sweep(
         args.grid,
         args.out,
         devices=args.device,
@@ -223,9 +231,17 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         workers=args.workers,
         progress=True,
         parquet=args.parquet,
+        figures=figures if args.figures else None,
+        command=_command(args),
     )
-    paths = write_sweep_figures(table, args.out) if args.figures else []
-    print(f"wrote {table}" + (f" and {len(paths)} figures" if paths else ""))
+    cases = outputs.kept + outputs.computed
+    print(
+        f"{cases} case{'' if cases == 1 else 's'}: {outputs.kept} kept from the earlier table, "
+        f"{outputs.computed} computed"
+    )
+    count = sum(path.suffix == ".png" for path in outputs.files)
+    drawn = f" and {count} figure{'' if count == 1 else 's'}" if count else ""
+    print(f"wrote {outputs.table.name}{drawn} in {outputs.table.parent}")
     return 0
 
 
@@ -534,7 +550,9 @@ def _parser() -> argparse.ArgumentParser:
         type=_path,
         required=True,
         metavar="DIR",
-        help="output folder, required (a sweep already there is resumed)",
+        help="output folder, required: new, empty, or one an earlier feeder run wrote (the "
+        "manifest feeder-run.json records the run); a sweep already there is resumed, the "
+        "outputs of another run are replaced",
     )
     sweep.add_argument(
         "--grid",

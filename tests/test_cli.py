@@ -458,15 +458,14 @@ def test_a_parameter_set_name_cannot_lead_outside_the_urdf_folder(tmp_path, caps
 
 
 def test_urdf_writes_only_inside_its_folder(tmp_path, capsys, monkeypatch):
-    """Even a parameter set that escaped the name checks (of the file and of the URDF writer,
-    both replaced here) cannot make feeder urdf write outside --out."""
+    """A parameter set whose name is a path (possible in Python, e.g. a retrofit's name, not in
+    a file: the reader is replaced here) cannot make feeder urdf write outside --out."""
     import dataclasses
 
-    from feeder.device import PROJECTILE_FEEDER, parameter_file, urdf_writer
+    from feeder.device import PROJECTILE_FEEDER, parameter_file
 
     escaped = dataclasses.replace(PROJECTILE_FEEDER, name="../x")
     monkeypatch.setattr(parameter_file, "read_parameters", lambda path: escaped)
-    monkeypatch.setattr(urdf_writer, "urdf_string", lambda params: "<robot/>")
     inner = tmp_path / "w" / "inner"
     assert main(["urdf", "--out", str(inner), "--params", str(tmp_path / "p.toml")]) == 2
     assert "is not a file name in" in capsys.readouterr().err
@@ -616,10 +615,29 @@ def test_simulate_bad_input_exits_with_message(tmp_path, capsys, extra, message)
     assert not (tmp_path / "x").exists()
 
 
-def test_sweep_command_writes_its_table(tmp_path, capsys):
+def test_sweep_command_follows_the_output_folder_rule(tmp_path, capsys):
+    """A folder of other files is refused (docs/ with its tracked figure); a sweep's own folder
+    is resumed (and says what it kept), and any feeder run takes it over."""
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    (docs / "sweep_projectile.png").write_text("tracked", encoding="utf-8")
+    sweep = ["sweep", "--elevations", "60", "70", "10", "--workers", "1"]
+    assert main([*sweep, "--out", str(docs)]) == 2
+    assert "no feeder run wrote" in capsys.readouterr().err
+    assert [p.name for p in docs.iterdir()] == ["sweep_projectile.png"]
+    assert (docs / "sweep_projectile.png").read_text(encoding="utf-8") == "tracked"
     out = tmp_path / "sweep"
-    arguments = ["--out", str(out), "--elevations", "60", "70", "10", "--workers", "1"]
-    assert main(["sweep", *arguments, "--no-figures"]) == 0
+    assert main([*sweep, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "2 cases: 0 kept from the earlier table, 2 computed" in printed
+    assert f"wrote sweep_peaks.csv and 1 figure in {out}\n" in printed
+    sweep[2] = "50"
+    assert main([*sweep, "--out", str(out), "--no-figures"]) == 0
+    printed = capsys.readouterr().out
+    assert "3 cases: 2 kept from the earlier table, 1 computed" in printed
     table = (out / "sweep_peaks.csv").read_text(encoding="utf-8").splitlines()
-    assert len(table) == 3  # a header and the two elevations
-    assert "wrote" in capsys.readouterr().out
+    assert len(table) == 4  # a header and the three elevations
+    assert sorted(p.name for p in out.iterdir()) == ["feeder-run.json", "sweep_peaks.csv"]
+    cycle = ["cycle", "--elevation", "10", "--rate", "100", "--no-forward", "--no-figures"]
+    assert main([*cycle, "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["cycle.csv", "feeder-run.json"]

@@ -41,7 +41,6 @@ of gravity are Table I's coordinate differences.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -112,11 +111,6 @@ piston's centre of gravity (d2) and the piston ahead of the cylinder pivot (r2_m
 lever to the pin (d3 = 0 puts the pin on the arm pivot: no moment, a singular loop); the arm
 beam (a); the payload's centre of gravity ahead of the forearm hinge (e5: the tray's length);
 the payload's and the drives' sizes."""
-
-
-NAME = re.compile(r"\w[\w.-]*")
-"""A parameter set's name: letters, digits, ``_``, ``-`` and ``.``, not starting with ``.`` or
-``-``. It names files (``<name>_feeder.urdf``), so it must not be able to name a folder."""
 
 
 def _length(unit: str, source: str):
@@ -219,24 +213,18 @@ class FeederParameters:
     def check(self) -> None:
         """Raise unless every number is usable (the travel: :func:`~.loop.check_device`).
 
-        Checked, in this order: the name (:data:`NAME`); every number finite; every link
-        inertia physical; the lengths in :data:`POSITIVE_LENGTHS` positive and the CG distances
-        l1, l3 not negative (c, d, e, f, h5, z5 are offsets of either sign, L1, L2 a position);
-        0 < rod diameter < bore diameter; each range (r2, φ1, φ3, elevation) with min < max;
-        0 < φ4 limit and |swing| ≤ φ4 limit. The geometry over the whole arm travel (every
-        pose reachable, away from the toggle) is the loop's to check:
-        :func:`feeder.device.loop.check_device` runs both.
+        Checked, in this order: every number finite; every link inertia physical; the lengths
+        in :data:`POSITIVE_LENGTHS` positive and the CG distances l1, l3 not negative (c, d,
+        e, f, h5, z5 are offsets of either sign, L1, L2 a position); 0 < rod diameter < bore
+        diameter; each range (r2, φ1, φ3, elevation) with min < max; 0 < φ4 limit and
+        |swing| ≤ φ4 limit. The geometry over the whole arm travel (every pose reachable, away
+        from the toggle) is the loop's to check: :func:`feeder.device.loop.check_device` runs
+        both.
 
         Raises:
-            InputError: A name that is not :data:`NAME`, a non-finite or out-of-range number,
-                an empty range.
+            InputError: A non-finite or out-of-range number, an empty range.
             InertiaError: A non-physical link inertia (names the link).
         """
-        if not isinstance(self.name, str) or not NAME.fullmatch(self.name):
-            raise InputError(
-                f"parameters {self.name!r}: name must be letters, digits, '_', '-' or '.', "
-                "not starting with '.' or '-' (it names files): rename it"
-            )
         for f_ in fields(self):
             if f_.type == "float":  # annotations are strings (from __future__ import annotations)
                 check_number(f"parameters {self.name!r}: {f_.name}", getattr(self, f_.name))
