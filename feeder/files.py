@@ -1,27 +1,83 @@
-"""Writing files so that nothing half-written ever looks complete, and one writer at a time.
+"""Writing files so that nothing half-written ever looks complete, one writer at a time, and
+output folders that hold one run's files and say so.
 
 Every output is written to a temporary name in its own folder and renamed into place only when
 it is complete (a rename within one folder is atomic on POSIX): a run that fails or is
 interrupted leaves the previous file, or none, never a truncated one. A folder that a run fills
 is locked for that run (:func:`exclusive_lock`, the kernel's ``flock``: released by the kernel
-when the process ends, however it ends, so a killed run leaves no stale lock). This module
-imports nothing from feeder but its exceptions, so every layer may use it.
+when the process ends, however it ends, so a killed run leaves no stale lock).
+
+An output folder (:class:`OutputFolder`) holds the outputs of one run:
+
+* It is checked before anything is computed, and nothing is created then: not empty, not a
+  file, and a new folder, an empty one, or one that an earlier feeder run wrote (it has a
+  manifest). Any other folder is refused: its files could pass for this run's.
+* For the run it is created and locked: a second run on the same folder is refused at once. A
+  run that fails or is interrupted removes the folder if it created it (a resumable run, the
+  sweep, keeps what it wrote, for the next run to resume).
+* The manifest :data:`MANIFEST` says which command, feeder version and parameters made the
+  outputs, when, and the SHA-256 of each output. It is written first marked incomplete (listing
+  the previous run's files with their hashes), updated as each output lands, and marked complete
+  once every output is in place; then the previous run's outputs that this run did not rewrite
+  are removed, each only if its SHA-256 is still the one its manifest recorded (a file changed
+  since, or a manifest that names a file it did not write, keeps the file, with a warning). So
+  the folder never mixes two runs without its manifest saying so.
+
+This module imports nothing from feeder but its exceptions and input checks, so every layer
+may use it.
 """
 
 from __future__ import annotations
 
 import contextlib
 import fcntl
+import hashlib
+import importlib.metadata
+import json
 import os
 import secrets
-from collections.abc import Iterator
+import warnings
+from collections.abc import Callable, Iterator, Mapping
+from datetime import UTC, datetime
 from pathlib import Path
 
-from .exceptions import InputError, OutputBusyError
+from .exceptions import FeederWarning, InputError, OutputBusyError
+from .validation import check_path
+
+MANIFEST = "feeder-run.json"
+"""The manifest of the run that wrote an output folder (JSON)."""
+
+LOCK = ".feeder-run.lock"
+"""The lock file of an output folder while a run writes it (removed when the run ends)."""
+
+Writer = Callable[[Path], object]
+"""Writes one output file, atomically, at the path it is given."""
 
 LOCK_ATTEMPTS = 3
 """Tries to take a lock whose file the previous holder removed between our open and our lock
 (each such race needs another run to finish in that instant: three tries are plenty)."""
+
+
+def path_in(folder: str | Path, name: str, what: str) -> Path:
+    """``folder / name``, if ``name`` is a plain file name: not empty, ``.`` or ``..``, and no
+    folder in it (so the path cannot lie outside ``folder``).
+
+    Raises:
+        InputError: Any other name (the message names ``what``).
+    """
+    if not _plain(name):
+        raise InputError(f"{what} {name!r} is not a file name in {folder}: rename it")
+    return Path(folder) / name
+
+
+def _plain(name: object) -> bool:
+    """Whether ``name`` is a file name without a folder (nor ``.``, ``..``, empty)."""
+    return (
+        isinstance(name, str)
+        and name not in ("", ".", "..")
+        and Path(name).name == name
+        and "\\" not in name
+    )
 
 
 @contextlib.contextmanager
@@ -133,3 +189,205 @@ def _remove_if_free(path: Path) -> None:
         pass  # another run holds it, or it is gone: not this run's to remove
     finally:
         os.close(handle)
+
+
+class OutputFolder:
+    """The output folder of one run: checked now, created and locked in a ``with`` block, and
+    written through :meth:`write` (or :meth:`begin`, :meth:`put` for each output, :meth:`finish`).
+
+    Args:
+        path: The folder.
+        resumable: Keep the outputs written so far (and the incomplete manifest) when the run
+            fails or is interrupted, for the next run to resume (default: a failed run removes
+            the folder it created).
+
+    Raises:
+        InputError: An empty path, a path that is a file or lies under one, or a folder that
+            holds files but no feeder manifest (or a manifest that cannot be read).
+    """
+
+    def __init__(self, path: str | Path, resumable: bool = False):
+        self.path = check_path("the output folder", path)
+        self.resumable = resumable
+        self.previous: dict[str, str | None] = self._previous_files()  # the checks, first
+        """The outputs the earlier run's manifest lists: name → SHA-256 it recorded."""
+        self._created = False
+        self._lock = None
+        self._manifest: dict[str, object] | None = None
+        self._files: dict[str, str] = {}
+        self._tried: set[str] = set()
+
+    def __enter__(self) -> OutputFolder:
+        try:
+            self.path.mkdir(parents=True)  # raises if it exists: of two runs, one created it
+            self._created = True
+        except FileExistsError:
+            self._created = False
+        except OSError as exc:
+            raise InputError(
+                f"cannot create the output folder {self.path}: {exc.strerror or exc}"
+            ) from exc
+        lock = exclusive_lock(self.path / LOCK, f"the output folder {self.path}")
+        try:
+            lock.__enter__()
+        except BaseException:
+            self._remove_if_created()
+            raise
+        self._lock = lock
+        try:
+            self.previous = self._previous_files()  # again, now that no other run can change it
+        except BaseException as error:
+            self.__exit__(type(error), error, error.__traceback__)  # unlock, then clean up
+            raise
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        self._lock.__exit__(None, None, None)
+        self._lock = None
+        if kind is not None and not (self.resumable and self._files):
+            self._remove_if_created()
+
+    def write(self, outputs: Mapping[str, Writer], record: Mapping[str, object]) -> list[Path]:
+        """Write every output (name → writer) and the manifest; remove the previous run's
+        outputs that were not rewritten. Returns the paths, in the order of ``outputs``.
+
+        Args:
+            outputs: File name (in this folder) → function writing that file atomically.
+            record: What the run computed and from what (JSON-serialisable), for the manifest.
+
+        Raises:
+            InputError: Not inside the ``with`` block, or a file cannot be written.
+        """
+        self.begin(record)
+        paths = [self.put(name, writer) for name, writer in outputs.items()]
+        self.finish()
+        return paths
+
+    def begin(self, record: Mapping[str, object]) -> None:
+        """Start the run: the manifest, marked incomplete, lists the previous run's outputs.
+
+        Raises:
+            InputError: Not inside the ``with`` block.
+        """
+        if self._lock is None:
+            raise InputError(f"write into the output folder {self.path} inside its with block")
+        self._manifest = {
+            "complete": False,
+            **record,
+            "feeder_version": importlib.metadata.version("feeder"),
+            "started": _now(),
+            "finished": None,
+        }
+        self._files = {}
+        self._write_manifest(self.previous)
+
+    def put(self, name: str, writer: Writer) -> Path:
+        """Write (or rewrite) the output ``name`` with ``writer`` and record its SHA-256 in the
+        incomplete manifest; returns its path.
+
+        Raises:
+            InputError: Not begun, a name that is not a file name, or a file that cannot be
+                written.
+        """
+        if self._manifest is None or self._lock is None:
+            raise InputError(f"begin the run in the output folder {self.path} before writing")
+        path = path_in(self.path, name, "the output")
+        if name in (MANIFEST, LOCK):
+            raise InputError(f"the output {name!r} is the output folder's own file: rename it")
+        self._tried.add(name)  # removed after a failure even if written but not yet recorded
+        writer(path)
+        self._files[name] = _sha256(path)
+        left = {n: h for n, h in self.previous.items() if n not in self._files}
+        self._write_manifest(self._files | left)
+        return path
+
+    def finish(self) -> None:
+        """Mark the manifest complete, listing this run's outputs only; then remove each of the
+        previous run's outputs that this run did not rewrite, if it is still the file that run
+        wrote (its SHA-256 is the one recorded), else keep it and warn."""
+        if self._manifest is None or self._lock is None:
+            raise InputError(f"begin the run in the output folder {self.path} before finishing")
+        self._manifest |= {"complete": True, "finished": _now()}
+        self._write_manifest(self._files)
+        for name, recorded in self.previous.items():
+            path = self.path / name
+            if name in self._files or not path.is_file():
+                continue
+            if recorded is not None and _sha256(path) == recorded:
+                path.unlink(missing_ok=True)
+            else:
+                warnings.warn(
+                    f"kept {path}: an earlier run's manifest lists it, but not with its present "
+                    "SHA-256 (changed since, or not feeder's); delete it if it is not yours",
+                    FeederWarning,
+                    stacklevel=2,
+                )
+        self.previous = dict(self._files)  # for a second write in the same block
+
+    def _previous_files(self) -> dict[str, str | None]:
+        """The outputs an earlier run listed in this folder's manifest, with their SHA-256
+        ({} for a new or empty folder); raises if the folder is not an output folder."""
+        if not self.path.exists():
+            parent = next(p for p in self.path.parents if p.exists())
+            if not parent.is_dir():
+                raise InputError(
+                    f"cannot create the output folder {self.path}: {parent} is a file"
+                )
+            return {}
+        if not self.path.is_dir():
+            raise InputError(f"the output folder {self.path} is a file")
+        manifest = self.path / MANIFEST
+        if not manifest.is_file():
+            others = sorted(p.name for p in self.path.iterdir() if p.name != LOCK)
+            if others:
+                raise InputError(
+                    f"the output folder {self.path} holds files that no feeder run wrote "
+                    f"({', '.join(others[:3])}{', …' if len(others) > 3 else ''}): choose a new "
+                    "or empty folder"
+                )
+            return {}
+        try:
+            files = json.loads(manifest.read_text(encoding="utf-8"))["files"]
+            if not isinstance(files, dict):
+                raise TypeError(f"its files are {files!r}, not a table of names")
+            if not all(h is None or isinstance(h, str) for h in files.values()):
+                raise TypeError("its hashes are not text")
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise InputError(
+                f"the output folder {self.path} has a {MANIFEST} that is not a feeder manifest "
+                f"({exc}): choose a new or empty folder"
+            ) from exc
+        if not all(_plain(name) and name not in (MANIFEST, LOCK) for name in files):
+            raise InputError(
+                f"the manifest {manifest} lists files outside its folder: {list(files)}; "
+                "choose a new or empty folder"
+            )
+        return files
+
+    def _write_manifest(self, files: Mapping[str, str | None]) -> None:
+        manifest = {**self._manifest, "files": dict(files)}
+        write_text(self.path / MANIFEST, json.dumps(manifest, indent=2, ensure_ascii=False) + "\n")
+
+    def _remove_if_created(self) -> None:
+        """After a failed run: remove the folder if this run created it (its files only)."""
+        if not self._created:
+            return
+        for name in [*self._tried, MANIFEST]:
+            (self.path / name).unlink(missing_ok=True)
+        try:
+            self.path.rmdir()
+        except OSError:
+            pass  # something else was put there meanwhile: leave it
+        self._created = False
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _now() -> str:
+    return datetime.now(UTC).isoformat(timespec="seconds")

@@ -2,30 +2,16 @@
 
 This is the last step of the data flow (parameters → model → kinematics → dynamics →
 cross-check → study → figures → files); the command line calls it. An output folder holds the
-outputs of one run, written by one run at a time:
-
-* :class:`OutputFolder` checks the path before anything is computed, and creates nothing: not
-  empty, not a file, and a new folder, an empty one, or one that an earlier feeder run wrote
-  (it has a manifest). Any other folder is refused: its files could pass for this run's.
-* For the run it creates the folder and locks it (:func:`~feeder.files.exclusive_lock`): a
-  second run on the same folder is refused at once. A run that fails or is interrupted removes
-  the folder if it created it.
-* Every file is written atomically (:mod:`feeder.files`). The manifest :data:`MANIFEST` says
-  which command, feeder version and parameter set (with its SHA-256) made the outputs, when,
-  and the SHA-256 of each output. It is written first marked incomplete (listing this run's
-  files and the previous run's), then complete once every output is in place; then the
-  previous run's outputs that this run did not rewrite are removed. So the folder never mixes
-  two runs without its manifest saying so.
+outputs of one run, written by one run at a time (:class:`~feeder.files.OutputFolder`: checked
+before anything is computed, locked, every file atomic, a manifest :data:`MANIFEST` with the
+SHA-256 of each output, the previous run's outputs removed only if they are still the files it
+wrote).
 """
 
 from __future__ import annotations
 
-import hashlib
-import importlib.metadata
-import json
 import math
-from collections.abc import Callable, Mapping
-from datetime import UTC, datetime
+from collections.abc import Mapping
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -35,8 +21,9 @@ import numpy as np
 from .chain.model.closure import ClosedChain
 from .device.feeder import Feeder
 from .device.parameter_file import parameters_sha256
-from .exceptions import InputError
-from .files import exclusive_lock, write_text
+from .files import LOCK as LOCK  # re-exported: the output folder's names, for its users
+from .files import MANIFEST as MANIFEST
+from .files import OutputFolder, Writer, write_text
 from .motion.cycle import CycleKinematics
 from .study.analyze import Analysis
 from .study.columns import kinematic_columns
@@ -44,7 +31,6 @@ from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
 from .study.simulate import Simulation
 from .study.view import MechanismView, analysis_view, simulation_view
-from .validation import check_path
 from .viz.report import (
     FigureData,
     FigureWorkers,
@@ -56,160 +42,6 @@ from .viz.report import (
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-MANIFEST = "feeder-run.json"
-"""The manifest of the run that wrote an output folder (JSON)."""
-
-LOCK = ".feeder-run.lock"
-"""The lock file of an output folder while a run writes it (removed when the run ends)."""
-
-Writer = Callable[[Path], object]
-"""Writes one output file, atomically, at the path it is given."""
-
-
-class OutputFolder:
-    """The output folder of one run: checked now, created and locked in a ``with`` block.
-
-    Args:
-        path: The folder.
-
-    Raises:
-        InputError: An empty path, a path that is a file or lies under one, or a folder that
-            holds files but no feeder manifest (or a manifest that cannot be read).
-    """
-
-    def __init__(self, path: str | Path):
-        self.path = check_path("the output folder", path)
-        self._created = False
-        self._lock = None
-        self._written: tuple[str, ...] = ()
-        self._previous_files()  # the checks, before anything exists
-
-    def __enter__(self) -> OutputFolder:
-        try:
-            self.path.mkdir(parents=True)  # raises if it exists: of two runs, one created it
-            self._created = True
-        except FileExistsError:
-            self._created = False
-        except OSError as exc:
-            raise InputError(
-                f"cannot create the output folder {self.path}: {exc.strerror or exc}"
-            ) from exc
-        lock = exclusive_lock(self.path / LOCK, f"the output folder {self.path}")
-        try:
-            lock.__enter__()
-        except BaseException:
-            self._remove_if_created(())
-            raise
-        self._lock = lock
-        try:
-            self._previous_files()  # again, now that no other run can change the folder
-        except BaseException as error:
-            self.__exit__(type(error), error, error.__traceback__)  # unlock, then clean up
-            raise
-        return self
-
-    def __exit__(self, kind, error, traceback) -> None:
-        self._lock.__exit__(None, None, None)
-        self._lock = None
-        if kind is not None:
-            self._remove_if_created(self._written)
-
-    def write(self, outputs: Mapping[str, Writer], record: Mapping[str, object]) -> list[Path]:
-        """Write every output (name → writer) and the manifest; remove the previous run's
-        outputs that were not rewritten. Returns the paths, in the order of ``outputs``.
-
-        Args:
-            outputs: File name (in this folder) → function writing that file atomically.
-            record: What the run computed and from what (JSON-serialisable), for the manifest.
-
-        Raises:
-            InputError: Not inside the ``with`` block, or a file cannot be written.
-        """
-        if self._lock is None:
-            raise InputError(f"write into the output folder {self.path} inside its with block")
-        previous = self._previous_files()
-        started = _now()
-        self._written = tuple(outputs) + (MANIFEST,)
-        listed = dict.fromkeys([*outputs, *previous])
-        self._write_manifest(record, started, None, dict.fromkeys(listed))
-        paths = []
-        for name, writer in outputs.items():
-            writer(self.path / name)
-            paths.append(self.path / name)
-        hashes = {name: _sha256(self.path / name) for name in outputs}
-        self._write_manifest(record, started, _now(), hashes)
-        for name in previous:
-            if name not in outputs:
-                (self.path / name).unlink(missing_ok=True)
-        return paths
-
-    def _previous_files(self) -> list[str]:
-        """The outputs an earlier run listed in this folder's manifest ([] for a new or empty
-        folder); raises if the folder is not an output folder."""
-        if not self.path.exists():
-            parent = next(p for p in self.path.parents if p.exists())
-            if not parent.is_dir():
-                raise InputError(
-                    f"cannot create the output folder {self.path}: {parent} is a file"
-                )
-            return []
-        if not self.path.is_dir():
-            raise InputError(f"the output folder {self.path} is a file")
-        manifest = self.path / MANIFEST
-        if not manifest.is_file():
-            others = sorted(p.name for p in self.path.iterdir() if p.name != LOCK)
-            if others:
-                raise InputError(
-                    f"the output folder {self.path} holds files that no feeder run wrote "
-                    f"({', '.join(others[:3])}{', …' if len(others) > 3 else ''}): choose a new "
-                    "or empty folder"
-                )
-            return []
-        try:
-            files = json.loads(manifest.read_text(encoding="utf-8"))["files"]
-            if not isinstance(files, dict):
-                raise TypeError(f"its files are {files!r}, not a table of names")
-            names = list(files)
-        except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise InputError(
-                f"the output folder {self.path} has a {MANIFEST} that is not a feeder manifest "
-                f"({exc}): choose a new or empty folder"
-            ) from exc
-        if any(
-            Path(name).name != name or name in ("", ".", "..", MANIFEST, LOCK) for name in names
-        ):
-            raise InputError(f"the manifest {manifest} lists files outside its folder: {names}")
-        return names
-
-    def _write_manifest(
-        self,
-        record: Mapping[str, object],
-        started: str,
-        finished: str | None,
-        files: Mapping[str, str | None],
-    ) -> None:
-        manifest = {
-            "complete": finished is not None,
-            **record,
-            "feeder_version": importlib.metadata.version("feeder"),
-            "started": started,
-            "finished": finished,
-            "files": dict(files),
-        }
-        write_text(self.path / MANIFEST, json.dumps(manifest, indent=2, ensure_ascii=False) + "\n")
-
-    def _remove_if_created(self, names: tuple[str, ...]) -> None:
-        """After a failed run: remove the folder if this run created it (its files only)."""
-        if not self._created:
-            return
-        for name in names:
-            (self.path / name).unlink(missing_ok=True)
-        try:
-            self.path.rmdir()
-        except OSError:
-            pass  # something else was put there meanwhile: leave it
-        self._created = False
 
 
 def run_record(feeder: Feeder, cycle: CycleKinematics, command: str | None) -> dict[str, object]:
@@ -389,15 +221,3 @@ def _write(
         return directory.write(outputs, record)
     with OutputFolder(directory) as folder:
         return folder.write(outputs, record)
-
-
-def _sha256(path: Path) -> str:
-    digest = hashlib.sha256()
-    with path.open("rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
-def _now() -> str:
-    return datetime.now(UTC).isoformat(timespec="seconds")

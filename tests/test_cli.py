@@ -442,6 +442,55 @@ def test_bad_params_file_names_the_field(tmp_path, capsys, heavier_file):
     assert not out.exists()
 
 
+def test_a_parameter_set_name_cannot_lead_outside_the_urdf_folder(tmp_path, capsys):
+    """A name that is a path is refused where the file is read: nothing is written anywhere."""
+    assert main(["parameters", "--format", "toml", "--out", str(tmp_path / "p.toml")]) == 0
+    path = tmp_path / "p.toml"
+    path.write_text(
+        path.read_text(encoding="utf-8").replace('name = "projectile"', 'name = "../../x"'),
+        encoding="utf-8",
+    )
+    inner = tmp_path / "w" / "a" / "inner"
+    assert main(["urdf", "--out", str(inner), "--params", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "name must be letters, digits" in err and str(path) in err
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["p.toml"]
+
+
+def test_urdf_writes_only_inside_its_folder(tmp_path, capsys, monkeypatch):
+    """A parameter set whose name is a path (possible in Python, e.g. a retrofit's name, not in
+    a file: the reader is replaced here) cannot make feeder urdf write outside --out."""
+    import dataclasses
+
+    from feeder.device import PROJECTILE_FEEDER, parameter_file
+
+    escaped = dataclasses.replace(PROJECTILE_FEEDER, name="../x")
+    monkeypatch.setattr(parameter_file, "read_parameters", lambda path: escaped)
+    inner = tmp_path / "w" / "inner"
+    assert main(["urdf", "--out", str(inner), "--params", str(tmp_path / "p.toml")]) == 2
+    assert "is not a file name in" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_parameters_out_replaces_only_a_table_it_wrote(tmp_path, capsys, heavier_file):
+    """A Markdown table that feeder parameters wrote is replaced (PARAMETERS.md is regenerated
+    so); a user's file or an edited parameter file (TOML) is refused and left as it was."""
+    table = tmp_path / "table.md"
+    for arguments in (["--device", "charge"], ["--params", str(heavier_file)], []):
+        assert main(["parameters", *arguments, "--out", str(table)]) == 0
+    assert table.read_text(encoding="utf-8") == (REPO / "PARAMETERS.md").read_text("utf-8")
+    notes = tmp_path / "notes.md"
+    notes.write_text("# Parameters\n\nmine\n", encoding="utf-8")
+    edited = heavier_file.read_text(encoding="utf-8")
+    for target, format_ in ((notes, "markdown"), (heavier_file, "toml"), (tmp_path, "toml")):
+        capsys.readouterr()
+        assert main(["parameters", "--format", format_, "--out", str(target)]) == 2
+        err = capsys.readouterr().err
+        assert "is not a parameter table that feeder parameters wrote" in err, err
+    assert notes.read_text(encoding="utf-8") == "# Parameters\n\nmine\n"
+    assert heavier_file.read_text(encoding="utf-8") == edited
+
+
 def test_urdf_of_one_device(tmp_path):
     assert main(["urdf", "--out", str(tmp_path / "new"), "--device", "charge"]) == 0
     assert [p.name for p in (tmp_path / "new").iterdir()] == ["charge_feeder.urdf"]
@@ -566,13 +615,32 @@ def test_simulate_bad_input_exits_with_message(tmp_path, capsys, extra, message)
     assert not (tmp_path / "x").exists()
 
 
-def test_sweep_command_writes_its_table(tmp_path, capsys):
+def test_sweep_command_follows_the_output_folder_rule(tmp_path, capsys):
+    """A folder of other files is refused (docs/ with its tracked figure); a sweep's own folder
+    is resumed (and says what it kept), and any feeder run takes it over."""
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    (docs / "sweep_projectile.png").write_text("tracked", encoding="utf-8")
+    sweep = ["sweep", "--elevations", "60", "70", "10", "--workers", "1"]
+    assert main([*sweep, "--out", str(docs)]) == 2
+    assert "no feeder run wrote" in capsys.readouterr().err
+    assert [p.name for p in docs.iterdir()] == ["sweep_projectile.png"]
+    assert (docs / "sweep_projectile.png").read_text(encoding="utf-8") == "tracked"
     out = tmp_path / "sweep"
-    arguments = ["--out", str(out), "--elevations", "60", "70", "10", "--workers", "1"]
-    assert main(["sweep", *arguments, "--no-figures"]) == 0
+    assert main([*sweep, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "2 cases: 0 kept from the earlier table, 2 computed" in printed
+    assert f"wrote sweep_peaks.csv and 1 figure in {out}\n" in printed
+    sweep[2] = "50"
+    assert main([*sweep, "--out", str(out), "--no-figures"]) == 0
+    printed = capsys.readouterr().out
+    assert "3 cases: 2 kept from the earlier table, 1 computed" in printed
     table = (out / "sweep_peaks.csv").read_text(encoding="utf-8").splitlines()
-    assert len(table) == 3  # a header and the two elevations
-    assert "wrote" in capsys.readouterr().out
+    assert len(table) == 4  # a header and the three elevations
+    assert sorted(p.name for p in out.iterdir()) == ["feeder-run.json", "sweep_peaks.csv"]
+    cycle = ["cycle", "--elevation", "10", "--rate", "100", "--no-forward", "--no-figures"]
+    assert main([*cycle, "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["cycle.csv", "feeder-run.json"]
 
 
 def test_a_misspelt_command_gets_the_nearest_one(capsys):

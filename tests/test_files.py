@@ -11,7 +11,7 @@ import pytest
 
 from feeder import files
 from feeder.exceptions import InputError, OutputBusyError
-from feeder.files import atomic_path, exclusive_lock, write_text
+from feeder.files import atomic_path, exclusive_lock, path_in, write_text
 
 LOCK_WAIT = 30.0
 """[s] Longest wait for the killed child process to be reaped."""
@@ -110,3 +110,13 @@ def test_a_lock_file_another_run_holds_is_not_removed(tmp_path):
         files._remove_if_free(path)
         assert path.exists()
     assert not path.exists()
+
+
+@pytest.mark.parametrize("name", ["", ".", "..", "../x", "a/b", "/etc/x", "a\\b"])
+def test_path_in_refuses_names_that_are_not_plain_file_names(tmp_path, name):
+    with pytest.raises(InputError, match="is not a file name in"):
+        path_in(tmp_path, name, "the file")
+
+
+def test_path_in_gives_the_file_in_the_folder(tmp_path):
+    assert path_in(tmp_path, "a.b-c_feeder.urdf", "the file") == tmp_path / "a.b-c_feeder.urdf"

@@ -11,7 +11,7 @@ import math
 import pytest
 
 import feeder as api
-from feeder.exceptions import InputError, OutputBusyError
+from feeder.exceptions import FeederWarning, InputError, OutputBusyError
 from feeder.files import write_text
 from feeder.outputs import LOCK, MANIFEST, OutputFolder, write_kinematics_outputs
 
@@ -120,11 +120,54 @@ def test_an_interrupted_write_is_marked_incomplete_and_cleaned_up_next_time(tmp_
         out.write({**writers(x="new"), "y": interrupted}, RECORD)
     record = manifest(tmp_path)
     assert record["complete"] is False and record["finished"] is None
-    assert set(record["files"]) == {"x", "y", "a", "b", "c"}
+    assert record["files"] == {"x": sha256(tmp_path / "x")} | {
+        name: sha256(tmp_path / name) for name in "abc"
+    }
     assert (tmp_path / "x").read_text() == "new" and not (tmp_path / LOCK).exists()
     with OutputFolder(tmp_path) as out:
         out.write(writers(z="newest"), RECORD)
     assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST, "z"]
+
+
+def test_a_file_whose_hash_does_not_match_its_manifest_is_kept(tmp_path):
+    """A forged manifest (a user's file under a wrong SHA-256, or none), or an output the user
+    changed since: the next run keeps the file, with a warning, and removes only its own."""
+    with OutputFolder(tmp_path) as out:
+        out.write(writers(a="old", b="old"), RECORD)
+    (tmp_path / "b").write_text("edited by the user")
+    (tmp_path / "thesis.tex").write_text("mine")
+    (tmp_path / "notes.txt").write_text("mine too")
+    forged = manifest(tmp_path)
+    forged["files"] |= {"thesis.tex": "0" * 64, "notes.txt": None}
+    (tmp_path / MANIFEST).write_text(json.dumps(forged))
+    with pytest.warns(FeederWarning) as caught, OutputFolder(tmp_path) as out:
+        out.write(writers(z="new"), RECORD)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "b",
+        MANIFEST,
+        "notes.txt",
+        "thesis.tex",
+        "z",
+    ]
+    assert (tmp_path / "thesis.tex").read_text() == "mine"
+    assert (tmp_path / "b").read_text() == "edited by the user"
+    assert sorted(str(w.message).split(":")[0] for w in caught) == [
+        f"kept {tmp_path / name}" for name in ("b", "notes.txt", "thesis.tex")
+    ]
+    assert list(manifest(tmp_path)["files"]) == ["z"]
+
+
+def test_a_resumable_run_keeps_what_it_wrote_when_interrupted(tmp_path):
+    """The sweep's folder: an interrupted run leaves its outputs and an incomplete manifest
+    with their hashes (a later run resumes them), not an emptied folder."""
+    folder = tmp_path / "sweep"
+    with pytest.raises(KeyboardInterrupt), OutputFolder(folder, resumable=True) as out:
+        out.begin(RECORD)
+        out.put("table", lambda path: write_text(path, "rows"))
+        raise KeyboardInterrupt
+    record = manifest(folder)
+    assert record["complete"] is False and record["files"] == {"table": sha256(folder / "table")}
+    assert OutputFolder(folder).previous == record["files"]
 
 
 def test_a_second_run_on_the_folder_is_refused(tmp_path):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 import tomllib
 from dataclasses import fields
 from pathlib import Path
@@ -24,6 +25,11 @@ from .loop import check_device
 from .parameters import FeederParameters, LinkInertia
 
 _INERTIA_KEYS = ("mass", "moments", "source")
+
+NAME = re.compile(r"\w[\w.-]*")
+"""A parameter file's ``name``: letters, digits, ``_``, ``-`` and ``.``, not starting with ``.``
+or ``-``. It names files (``feeder urdf`` writes ``<name>_feeder.urdf``), so it must not be
+able to name a folder."""
 
 
 def parameters_toml(params: FeederParameters) -> str:
@@ -77,8 +83,8 @@ def read_parameters(path: str | Path) -> FeederParameters:
 
     Raises:
         InputError: The file is missing or unreadable, is not TOML, lacks a field or has an
-            unknown one, holds a value of the wrong type, or a parameter set that fails a check;
-            the message names the file and the field.
+            unknown one, holds a value of the wrong type, a name that is not :data:`NAME`, or a
+            parameter set that fails a check; the message names the file and the field.
     """
     path = Path(path)
     if not path.is_file():
@@ -99,6 +105,11 @@ def read_parameters(path: str | Path) -> FeederParameters:
             values[field.name] = _text(path, field.name, value)
         else:
             values[field.name] = _number(path, field.name, value, field.metadata["unit"])
+    if not NAME.fullmatch(values["name"]):
+        raise InputError(
+            f"{path}: name must be letters, digits, '_', '-' or '.', not starting with '.' or "
+            f"'-' (it names files), got {values['name']!r}: rename it"
+        )
     params = FeederParameters(**values)
     try:
         check_device(params)

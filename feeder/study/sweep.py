@@ -9,11 +9,13 @@ peaks (:func:`~feeder.study.peaks.cycle_peaks`). Cases run in batches on a
 cluster's (``scheduler="tcp://HOST:PORT"``, through ``Client.get_executor()``, the optional
 ``cluster`` extra); both take the same batches through the same code.
 
-:func:`run_sweep` writes the table (:mod:`feeder.study.sweep_table`) and resumes: cases already
-in the output folder's table with the same parameters are not computed again, and the table is
-rewritten (atomically) every :data:`CHECKPOINT_SECONDS` while the sweep runs, so an interrupted
-sweep loses at most that much work. :func:`elevation_sweep` is the same in memory, for one
-device.
+:func:`run_sweep` writes the table (:mod:`feeder.study.sweep_table`) into an output folder
+(:class:`~feeder.files.OutputFolder`: new, empty, or one an earlier feeder run wrote; its
+manifest records the sweep) and resumes: cases already in the table of an earlier sweep of that
+folder, with the same parameters, are not computed again, and the table is rewritten
+(atomically, its hash in the manifest) every :data:`CHECKPOINT_SECONDS` while the sweep runs, so
+an interrupted sweep loses at most that much work. :func:`elevation_sweep` is the same in
+memory, for one device.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ import multiprocessing
 import os
 import threading
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,7 +40,7 @@ from ..device.feeder import Feeder, load_feeder
 from ..device.parameters import FeederParameters
 from ..dynamics.cycle import cycle_dynamics
 from ..exceptions import InputError
-from ..files import exclusive_lock
+from ..files import OutputFolder, Writer
 from ..motion.laws import CycleSpec
 from ..validation import check_elevation, check_finite
 from .columns import COLUMNS
@@ -55,10 +57,6 @@ from .sweep_table import (
     write_parquet,
     write_table,
 )
-
-LOCK = ".feeder-sweep.lock"
-"""Lock file of a sweep's folder while a sweep writes it (:func:`~feeder.files.exclusive_lock`:
-a second sweep on the same folder is refused at once instead of interleaving tables)."""
 
 CHECKPOINT_SECONDS = 2.0
 """Longest time [s] between two writes of the table while a sweep runs: what an interruption
@@ -340,6 +338,23 @@ def _grid(
     )
 
 
+@dataclass(frozen=True)
+class SweepOutputs:
+    """What :func:`run_sweep` wrote.
+
+    Attributes:
+        table: The table ``sweep_peaks.csv``.
+        files: Every output, the table first (then its Parquet copy, then the figures).
+        kept: Cases kept from the table of an earlier sweep of the folder.
+        computed: Cases computed by this run.
+    """
+
+    table: Path
+    files: tuple[Path, ...]
+    kept: int
+    computed: int
+
+
 def _reusable(path: Path, cases: Sequence[SweepCase]) -> tuple[dict, list[str] | None]:
     """The rows of a previous run of this sweep in ``path`` by case key, and its columns.
 
@@ -378,14 +393,19 @@ def run_sweep(
     workers: int | None = None,
     progress: bool = True,
     parquet: bool = False,
-) -> Path:
-    """Run a sweep and write its table ``sweep_peaks.csv`` (and ``sweep_peaks.parquet``) into
-    ``out_dir``, resuming a previous run there; returns the CSV's path.
+    figures: Callable[[Path], Mapping[str, Writer]] | None = None,
+    command: str | None = None,
+) -> SweepOutputs:
+    """Run a sweep and write its table ``sweep_peaks.csv`` (and ``sweep_peaks.parquet``, and
+    figures) with a manifest into the output folder ``out_dir``, resuming an earlier sweep
+    there.
 
     Args:
         grid: A grid file (TOML, :mod:`feeder.study.grid`), a :class:`SweepGrid`, or None for
             the default: the projectile feeder, every degree of −4° … 70°, unchanged.
-        out_dir: Output folder (created).
+        out_dir: Output folder: new, empty, or one an earlier feeder run wrote
+            (:class:`~feeder.files.OutputFolder`; the outputs of a run other than a sweep are
+            replaced; an interrupted sweep keeps its table there).
         devices: Built-in device names replacing the grid's.
         elevations: Elevations [deg] replacing the grid's
             (:func:`~feeder.study.grid.elevation_range` makes a range).
@@ -394,67 +414,92 @@ def run_sweep(
         workers: Local worker processes (default: every core; 1: in this process).
         progress: Progress bar on a terminal.
         parquet: Also write the table as Parquet (needs pyarrow: the ``parquet`` extra).
+        figures: Given the finished table's path, the figures to write (file name → writer);
+            default none.
+        command: The command line, for the manifest.
 
     Raises:
         InputError: A bad grid, device, elevation, worker count or scheduler; an output folder
-            that cannot be written or that holds another sweep's table; pyarrow missing.
-        OutputBusyError: Another sweep is writing into the same folder (it holds the lock).
+            that cannot be written, that holds files no feeder run wrote, or that holds another
+            sweep's table; pyarrow missing.
+        OutputBusyError: Another run is writing into the same folder (it holds the lock).
         FeederError: A variant whose device does not assemble (from the grid's check).
     """
     sweep = _grid(grid, devices, elevations)
     if parquet:
         check_parquet()  # before the work, not after it
-    out = Path(out_dir)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the output folder {out}: {exc.strerror or exc}") from exc
-    with exclusive_lock(out / LOCK, f"the sweep folder {out}"):
-        return _run(sweep, out, workers, scheduler, progress, parquet)
+    folder = OutputFolder(out_dir, resumable=True)
+    with folder:
+        return _run(sweep, folder, workers, scheduler, progress, parquet, figures, command)
+
+
+def _record(sweep: SweepGrid, command: str | None, kept: int, todo: int) -> dict[str, object]:
+    """The manifest's description of a sweep: its grid and how many cases were kept."""
+    return {
+        "command": command or "Python API (feeder.run_sweep)",
+        "sweep": {
+            "devices": list(sweep.devices),
+            "variants": [variant.name for variant in sweep.variants],
+            "elevations_deg": [float(e) for e in sweep.elevations_deg],
+            "stage_durations_s": list(sweep.spec.durations),
+            "sample_rate_hz": sweep.spec.rate,
+        },
+        "cases": kept + todo,
+        "cases_kept": kept,
+        "cases_computed": todo,
+    }
 
 
 def _run(
     sweep: SweepGrid,
-    out: Path,
+    folder: OutputFolder,
     workers: int | None,
     scheduler: str | None,
     progress: bool,
     parquet: bool,
-) -> Path:
-    path = out / TABLE
+    figures: Callable[[Path], Mapping[str, Writer]] | None,
+    command: str | None,
+) -> SweepOutputs:
+    path = folder.path / TABLE
     cases = sweep.cases()
     order = {case.key: k for k, case in enumerate(cases)}
-    done, columns = _reusable(path, cases)
+    done, columns = _reusable(path, cases) if TABLE in folder.previous else ({}, None)
+    kept = len(done)
     todo = [case for case in cases if case.key not in done]
+    folder.begin(_record(sweep, command, kept, len(todo)))
+
+    def rows() -> list[Row]:
+        return sorted(done.values(), key=lambda row: order[row_key(row)])
 
     def save() -> None:
         if done and columns is not None:
-            rows = sorted(done.values(), key=lambda row: order[row_key(row)])
-            write_table(path, rows, columns)
+            folder.put(TABLE, lambda table: write_table(table, rows(), columns))
 
-    if todo:
-        saved = time.monotonic()
-        try:
-            with (
-                sweep_executor(workers, scheduler) as (executor, slots),
-                contextlib.closing(run_cases(todo, executor, slots, progress)) as rows,
-            ):
-                for row in rows:
-                    expected = table_columns(row_quantities(row))
-                    if columns is None:
-                        columns = expected
-                    elif columns != expected:
-                        raise InputError(
-                            f"{path} has other columns than this version writes: write to "
-                            "another folder, or delete the table to start afresh"
-                        )
-                    done[row_key(row)] = row
-                    if time.monotonic() - saved > CHECKPOINT_SECONDS:
-                        save()
-                        saved = time.monotonic()
-        finally:
-            save()
+    saved = time.monotonic()
+    try:
+        with (
+            sweep_executor(workers, scheduler) as (executor, slots),
+            contextlib.closing(run_cases(todo, executor, slots, progress)) as computed,
+        ):
+            for row in computed:
+                expected = table_columns(row_quantities(row))
+                if columns is None:
+                    columns = expected
+                elif columns != expected:
+                    raise InputError(
+                        f"{path} has other columns than this version writes: write to "
+                        "another folder, or delete the table to start afresh"
+                    )
+                done[row_key(row)] = row
+                if time.monotonic() - saved > CHECKPOINT_SECONDS:
+                    save()
+                    saved = time.monotonic()
+    finally:
+        save()  # also a resumed sweep with nothing left to compute: its table is this run's
+    files = [path]
     if parquet:
-        rows = sorted(done.values(), key=lambda row: order[row_key(row)])
-        write_parquet(out / PARQUET, rows, columns)
-    return path
+        files.append(folder.put(PARQUET, lambda table: write_parquet(table, rows(), columns)))
+    for name, writer in (figures(path) if figures else {}).items():
+        files.append(folder.put(name, writer))
+    folder.finish()
+    return SweepOutputs(path, tuple(files), kept, len(todo))

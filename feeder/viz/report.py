@@ -301,11 +301,3 @@ def sweep_figures(table: str | Path) -> dict[str, Figure]:
         )
         for device, sweeps in groups.items()
     }
-
-
-def write_sweep_figures(table: str | Path, directory: str | Path) -> list[Path]:
-    """Draw :func:`sweep_figures` and write them into ``directory``, atomically."""
-    directory = Path(directory)
-    return [
-        write_png(directory / name, png_bytes(fig)) for name, fig in sweep_figures(table).items()
-    ]

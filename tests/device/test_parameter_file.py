@@ -102,6 +102,10 @@ def test_an_integer_is_a_number(written):
             r"unknown field 'colour' in table \[payload\]",
         ),
         (r"^name = ", "name = 3 #", "name must be a string"),
+        (r"^name = .*$", 'name = "../../x"', "name must be letters, digits.*got '../../x'"),
+        (r"^name = .*$", 'name = ".hidden"', "name must be letters, digits.*got '.hidden'"),
+        (r"^name = .*$", 'name = "a b"', "name must be letters, digits.*got 'a b'"),
+        (r"^name = .*$", 'name = ""', "name must be letters, digits.*got ''"),
         (r"^L2 = 0\.28 ", "L2 = 0.9 ", "cannot be assembled"),
         (r"^d3 = 0\.19 ", "d3 = ", "not a TOML parameter file"),
     ],
@@ -125,3 +129,8 @@ def test_not_utf8(tmp_path):
     path.write_bytes("name = 'é'".encode("latin-1"))
     with pytest.raises(InputError, match="cannot read the parameter file"):
         read_parameters(path)
+
+
+def test_a_name_with_dots_and_dashes_is_read(written):
+    edit(written, r"^name = .*$", 'name = "mk-2.1_b"')
+    assert read_parameters(written).name == "mk-2.1_b"

@@ -3,28 +3,35 @@ table, on local worker processes and on a Dask cluster (LocalCluster on 127.0.0.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
 import socket
+from functools import partial
 
 import numpy as np
 import pytest
 
 from feeder.dynamics.cycle import cycle_dynamics
 from feeder.exceptions import ElevationError, InputError, OutputBusyError
-from feeder.files import exclusive_lock
+from feeder.files import LOCK, MANIFEST, OutputFolder, exclusive_lock
 from feeder.motion.laws import CycleSpec
 from feeder.study import sweep as sweep_module
 from feeder.study.grid import Variant, make_grid
 from feeder.study.peaks import cycle_peaks
 from feeder.study.sweep import elevation_sweep, run_sweep, sweeps_of
 from feeder.study.sweep_table import PARQUET, TABLE, read_table
-from feeder.viz.report import write_sweep_figures
+from feeder.viz.report import png_bytes, sweep_figures, write_png
 
 SWEEP_SPEC = CycleSpec(rate=100.0)
 """100 Hz: below the forward run's minimum rate, which a sweep does not need; fast."""
 
 ELEVATIONS = (-4.0, 20.0, 70.0)
 REFERENCE = (Variant("reference"),)
+
+
+def sha256(path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def _grid(elevations=ELEVATIONS, variants=REFERENCE, spec=SWEEP_SPEC):
@@ -75,7 +82,7 @@ def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
     """Each row is the case's own cycle reduced to its peaks; a heavier payload needs a larger
     piston force at every elevation (the physics, not the code, says so)."""
     grid = _grid(variants=(Variant("reference"), Variant("heavier", {"mass_factor": 1.2})))
-    path = run_sweep(grid, tmp_path, progress=False)
+    path = run_sweep(grid, tmp_path, progress=False).table
     assert path == tmp_path / TABLE
     rows, columns = read_table(path)
     assert columns[:4] == ["device", "variant", "elevation_deg", "fingerprint"]
@@ -101,7 +108,7 @@ def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
 
 
 def test_resumes_computing_only_the_missing_cases(tmp_path, monkeypatch):
-    first = run_sweep(_grid(elevations=(-4.0, 20.0)), tmp_path, progress=False, workers=1)
+    first = run_sweep(_grid(elevations=(-4.0, 20.0)), tmp_path, progress=False, workers=1).table
     before = first.read_text(encoding="utf-8").splitlines()
     computed = []
     original = sweep_module.case_peaks
@@ -111,14 +118,16 @@ def test_resumes_computing_only_the_missing_cases(tmp_path, monkeypatch):
         return original(case)
 
     monkeypatch.setattr(sweep_module, "case_peaks", counting)
-    run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    outputs = run_sweep(_grid(), tmp_path, progress=False, workers=1)
     assert computed == [("projectile", "reference", 70.0), ("charge", "reference", 70.0)]
+    assert (outputs.kept, outputs.computed) == (4, 2)
     after = first.read_text(encoding="utf-8").splitlines()
     assert len(after) == 1 + 6
     assert set(before) <= set(after)  # the earlier rows, untouched to the last digit
     computed.clear()
-    run_sweep(_grid(), tmp_path, progress=False, workers=1)
-    assert computed == []
+    outputs = run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    assert computed == [] and (outputs.kept, outputs.computed) == (6, 0)
+    assert json.loads((tmp_path / MANIFEST).read_text())["files"] == {TABLE: sha256(first)}
 
 
 def test_an_interrupted_sweep_keeps_what_it_finished(tmp_path, monkeypatch):
@@ -137,9 +146,12 @@ def test_an_interrupted_sweep_keeps_what_it_finished(tmp_path, monkeypatch):
         run_sweep(_grid(), tmp_path, progress=False, workers=1)
     rows, _ = read_table(tmp_path / TABLE)
     assert len(rows) == 2
+    record = json.loads((tmp_path / MANIFEST).read_text())
+    assert record["complete"] is False and record["files"] == {TABLE: sha256(tmp_path / TABLE)}
     monkeypatch.setattr(sweep_module, "case_peaks", original)
-    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False, workers=1))
-    assert len(rows) == 6
+    outputs = run_sweep(_grid(), tmp_path, progress=False, workers=1)
+    rows, _ = read_table(outputs.table)
+    assert len(rows) == 6 and (outputs.kept, outputs.computed) == (2, 4)
 
 
 def test_refuses_a_folder_of_another_sweep(tmp_path):
@@ -151,12 +163,12 @@ def test_refuses_a_folder_of_another_sweep(tmp_path):
 
 
 def test_one_sweep_at_a_time_per_folder(tmp_path):
-    with exclusive_lock(tmp_path / sweep_module.LOCK, "a sweep folder"):
+    with exclusive_lock(tmp_path / LOCK, "a sweep folder"):
         with pytest.raises(OutputBusyError, match="another feeder run"):
             run_sweep(_grid(), tmp_path, progress=False, workers=1)
     assert not (tmp_path / TABLE).exists()
     run_sweep(_grid(elevations=(0.0,)), tmp_path, progress=False, workers=1)
-    assert not (tmp_path / sweep_module.LOCK).exists()
+    assert not (tmp_path / LOCK).exists()
 
 
 def test_refuses_an_unwritable_folder(tmp_path):
@@ -167,10 +179,10 @@ def test_refuses_an_unwritable_folder(tmp_path):
 
 
 def test_overrides_of_devices_and_elevations(tmp_path):
-    path = run_sweep(
+    outputs = run_sweep(
         None, tmp_path, devices=["charge"], elevations=[0.0, 10.0], workers=1, progress=False
     )
-    rows, _ = read_table(path)
+    rows, _ = read_table(outputs.table)
     assert [(r["device"], r["elevation_deg"]) for r in rows] == [("charge", 0.0), ("charge", 10.0)]
 
 
@@ -184,13 +196,40 @@ def test_parquet_copy_holds_the_same_table(tmp_path):
         assert table[name] == [row[name] for row in rows], name
 
 
-def test_command_line_flow_writes_the_table_and_a_figure_per_device(tmp_path):
-    """What the proposed ``feeder sweep`` command does: the table, then its figures."""
-    table = run_sweep(_grid(), tmp_path, progress=False)
-    paths = write_sweep_figures(table, tmp_path)
+def figure_writers(table):
+    """What ``feeder sweep`` passes: the figures of the finished table."""
+    return {name: partial(write_png, png=png_bytes(f)) for name, f in sweep_figures(table).items()}
+
+
+def test_the_table_and_a_figure_per_device_with_their_manifest(tmp_path):
+    outputs = run_sweep(_grid(), tmp_path, progress=False, figures=figure_writers, command="x")
+    paths = outputs.files[1:]
     assert sorted(p.name for p in paths) == ["sweep_charge.png", "sweep_projectile.png"]
     for path in paths:
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000
+    record = json.loads((tmp_path / MANIFEST).read_text())
+    assert record["complete"] is True and record["command"] == "x"
+    assert record["files"] == {path.name: sha256(path) for path in outputs.files}
+    assert record["sweep"]["devices"] == ["projectile", "charge"]
+    assert record["sweep"]["elevations_deg"] == list(ELEVATIONS)
+    assert OutputFolder(tmp_path).previous == record["files"]  # any run takes the folder over
+
+
+def test_refuses_a_folder_of_other_files_and_leaves_them(tmp_path):
+    """A folder that no feeder run wrote, e.g. docs/ holding a tracked sweep_projectile.png."""
+    (tmp_path / "sweep_projectile.png").write_text("the user's picture")
+    with pytest.raises(InputError, match="no feeder run wrote"):
+        run_sweep(_grid(), tmp_path, progress=False, figures=figure_writers)
+    assert [p.name for p in tmp_path.iterdir()] == ["sweep_projectile.png"]
+    assert (tmp_path / "sweep_projectile.png").read_text() == "the user's picture"
+
+
+def test_a_sweep_replaces_another_runs_outputs(tmp_path):
+    """The folder of an earlier feeder run (not a sweep): its outputs are replaced."""
+    with OutputFolder(tmp_path) as out:
+        out.write({"cycle.csv": lambda path: path.write_text("t\n0\n")}, {"command": "c"})
+    outputs = run_sweep(_grid(elevations=(20.0,)), tmp_path, progress=False, workers=1)
+    assert outputs.kept == 0 and sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST, TABLE]
 
 
 @pytest.mark.parametrize("address", ["127.0.0.1:8786", "http://127.0.0.1:8786", "tcp://host"])
@@ -227,11 +266,11 @@ def test_dask_cluster_gives_the_table_of_the_local_run(tmp_path):
         remote = run_sweep(
             grid, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False
         )
-    assert remote.read_text(encoding="utf-8") == local.read_text(encoding="utf-8")
+    assert remote.table.read_text(encoding="utf-8") == local.table.read_text(encoding="utf-8")
 
 
 def test_peak_times_lie_in_the_cycle(tmp_path):
-    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False))
+    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False).table)
     end = float(SWEEP_SPEC.boundaries[-1])
     for row in rows:
         times = [value for name, value in row.items() if name.endswith("_time")]
