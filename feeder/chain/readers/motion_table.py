@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite
+from ...validation import check_finite, check_path
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,13 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
         InputError: Missing or malformed file, a missing column (named), non-finite values,
             times that do not increase.
     """
-    path = Path(path)
+    path = check_path("the motion file", path)
+    if (
+        not isinstance(independent, tuple | list)
+        or not independent
+        or not all(isinstance(name, str) for name in independent)
+    ):
+        raise InputError(f"independent must be a list of joint names, got {independent!r}")
     if not path.is_file():
         raise InputError(f"motion file not found: {path}")
     try:

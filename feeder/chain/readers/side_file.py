@@ -29,7 +29,7 @@ import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_finite
+from ...validation import check_finite, check_path
 from ..model.closure import KINDS, Closure
 from .forces import read_forces
 from .spec import MechanismSpec, format_of
@@ -73,8 +73,9 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
 
     Raises:
         InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
-            closure type.
+            closure type, a path that is not text or a path.
     """
+    path = check_path("the closure file", path)
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
@@ -93,7 +94,8 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
-        model_path, model_format = Path(model), format_of(Path(model))
+        model_path = check_path("the model file", model)
+        model_format = format_of(model_path)
     else:
         given = [key for key in MODEL_KEYS if key in mechanism]
         if len(given) != 1 or not isinstance(mechanism[given[0]], str):
