@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from feeder.exceptions import InputError
 from feeder.study.analyze import analyze, check_mechanism
 
 from ..conftest import REPO
@@ -88,3 +89,14 @@ def test_a_pose_file_picks_the_other_branch(tmp_path):
     other = analyze(folder / "closures.toml", folder / "motion.csv", pose=tmp_path / "pose.csv")
     np.testing.assert_allclose(other.assembled, -default.assembled, atol=1e-9)
     assert not np.allclose(other.q[:, 1], default.q[:, 1], atol=1e-3)
+
+
+@pytest.mark.parametrize("key", ["actuated", "independent"])
+def test_check_refuses_a_joint_the_model_does_not_have(tmp_path, key):
+    folder = REPO / "examples" / "four_bar"
+    text = (folder / "closures.toml").read_text()
+    old = f'{key} = ["crank_joint"]'
+    assert old in text
+    (tmp_path / "closures.toml").write_text(text.replace(old, f'{key} = ["no_such_joint"]'))
+    with pytest.raises(InputError, match=rf"{key} joints: no joint 'no_such_joint'.*correct them"):
+        check_mechanism(tmp_path / "closures.toml", folder / "four_bar.urdf")

@@ -54,7 +54,8 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
     Raises:
         UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
         InertiaError: A non-physical body.
-        ClosureFrameError, InputError: Bad closures; ``spec`` not a :class:`MechanismSpec`.
+        ClosureFrameError, InputError: Bad closures; an actuated or independent joint that is
+            not a one-coordinate joint of the model; ``spec`` not a :class:`MechanismSpec`.
     """
     if not isinstance(spec, MechanismSpec):
         raise InputError(f"spec must be a MechanismSpec (from read_spec(path)), got {spec!r}")
@@ -73,4 +74,12 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
         closures = extra + closures
     if spec.gravity is not None:
         model.gravity = pin.Motion(spec.gravity, np.zeros(3))
-    return ClosedChain(model, closures)
+    chain = ClosedChain(model, closures)
+    for role, names in (("actuated", spec.actuated), ("independent", spec.independent)):
+        try:
+            chain.coordinate_columns(names, role)
+        except InputError as exc:
+            raise InputError(
+                f"the mechanism file's {role} joints: {exc}: correct them there"
+            ) from None
+    return chain

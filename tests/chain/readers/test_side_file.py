@@ -151,8 +151,25 @@ def test_motion_table_and_its_derivatives(tmp_path):
         ("t,q_crank_joint\n0,1\n0,2\n", "increase"),
         ("t,q_crank_joint\n0,1\n0.1,nan\n", "finite"),
         ("t,q_crank_joint\n0,1\n0.1,2\n", "at least 3 rows"),
+        (
+            "t,q_crank_joint,v_crank_joint,a_crank_joint,q_rocker_joint\n0,1,0,0,2\n0.1,1,0,0,2\n",
+            r"column 'q_rocker_joint' is not t nor q_/v_/a_ of the independent joints "
+            r"\['crank_joint'\]: remove it, or make its joint independent",
+        ),
+        ("t,q_crank_joint,q_crank\n0,1,1\n0.1,2,2\n0.2,3,3\n", "column 'q_crank' is not"),
     ],
-    ids=["short", "text", "ragged", "no-t", "no-joint", "time", "nan", "few-to-differentiate"],
+    ids=[
+        "short",
+        "text",
+        "ragged",
+        "no-t",
+        "no-joint",
+        "time",
+        "nan",
+        "few-to-differentiate",
+        "dependent-joint",
+        "misspelt",
+    ],
 )
 def test_motion_table_errors(tmp_path, text, message):
     path = tmp_path / "motion.csv"
