@@ -329,7 +329,7 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx)
+    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces)
     loads = inverse_dynamics(dyn, q, v, a, t=table.t)
     report = mobility(chain, q[0], spec.independent)
