@@ -93,7 +93,14 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
         (MECHANISM + '[[closure]]\nframes = ["a", "b"]\ntype = "ball"\n', "'type' must be one of"),
         ("[other]\n", "unknown sections"),
         (MECHANISM.replace('independent = ["a"]', "independent = []"), "non-empty"),
-        (MECHANISM + '[[closure]]\nframes = ["a", "b"]\naxis = 5\n', "'axis' must be 3 numbers"),
+        (
+            MECHANISM + '[[closure]]\nframes = ["a", "b"]\ntype = "revolute"\naxis = 5\n',
+            "'axis' must be 3 numbers",
+        ),
+        (
+            MECHANISM + '[[closure]]\nframes = ["a", "b"]\n',
+            r"\[\[closure\]\] #1: 'type' is required: one of \['point', 'revolute', 'weld'\]",
+        ),
     ],
     ids=[
         "syntax",
@@ -106,6 +113,7 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
         "section",
         "no-independent",
         "axis",
+        "no-type",
     ],
 )
 def test_side_file_errors_name_the_key(tmp_path, text, message):
