@@ -115,6 +115,10 @@ def write_analysis_outputs(
         "actuated": list(analysis.spec.actuated),
         "independent": list(analysis.spec.independent),
         "samples": int(analysis.motion.t.size),
+        "gravity": {
+            "value": analysis.chain.model.gravity.linear.tolist(),
+            "assumed": analysis.spec.gravity is None,
+        },
     }
     return _write_mechanism(
         directory,
@@ -145,6 +149,10 @@ def write_simulation_outputs(
             "atol": simulation.atol,
         },
         "samples": int(simulation.run.t.size),
+        "gravity": {
+            "value": simulation.chain.model.gravity.linear.tolist(),
+            "assumed": simulation.spec.gravity is None,
+        },
     }
     duration = simulation.run.t[-1] - simulation.run.t[0]
     return _write_mechanism(

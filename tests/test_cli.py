@@ -649,3 +649,22 @@ def test_a_misspelt_command_gets_the_nearest_one(capsys):
     assert err.count("\n") == 1 and "did you mean `feeder simulate`?" in err
     assert main(["xyzzy"]) == 2
     assert "did you mean" not in capsys.readouterr().err
+
+
+def test_analyze_says_an_assumed_gravity_in_the_manifest_and_warns_it_does_no_work(
+    tmp_path, capsys
+):
+    folder = REPO / "examples" / "four_bar"
+    text = (folder / "closures.toml").read_text()
+    lines = [line for line in text.splitlines() if not line.startswith("gravity")]
+    (tmp_path / "closures.toml").write_text("\n".join(lines) + "\n")
+    out = tmp_path / "out"
+    code = main(
+        ["analyze", str(folder / "four_bar.urdf"), "--closures", str(tmp_path / "closures.toml"),
+         "--motion", str(folder / "motion.csv"), "--out", str(out)]
+    )  # fmt: skip
+    assert code == 0
+    assert "feeder: warning: gravity [0.0, 0.0, -9.81] m/s² (assumed" in capsys.readouterr().err
+    manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert manifest["gravity"] == {"value": [0.0, 0.0, -9.81], "assumed": True}
+    assert "(assumed: the mechanism file gives no gravity" in (out / "summary.txt").read_text()

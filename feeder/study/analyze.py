@@ -10,6 +10,7 @@ inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → 
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +28,14 @@ from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
-from ..exceptions import InputError
+from ..exceptions import FeederWarning, InputError
+
+GRAVITY_ROUND_OFF = 1e-9
+"""Largest generalized gravity force, as a fraction of Σ m g (reach of the body's centre of
+gravity), below which gravity counts as doing no work (:func:`warn_if_gravity_idle`). Gravity
+perpendicular to every joint's motion (−z on revolute joints about z) gives exactly zero up to
+round-off (~1e-16 of that scale per body, measured 0 on the four-bar); a mechanism whose plane
+of motion is tilted from gravity by 1e-9 rad feels a gravity it could neglect anyway."""
 
 
 @dataclass(frozen=True)
@@ -76,6 +84,7 @@ class Analysis:
         t = self.motion.t
         lines = [self.report.text(), *self.pose_lines()]
         lines.append(f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s")
+        lines.append(f"  {gravity_text(self.spec, self.chain)}")
         if self.loads.idle_motions:
             lines.append(
                 f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
@@ -97,6 +106,46 @@ class Analysis:
 
     def _prismatic(self, joint: str) -> bool:
         return prismatic(self.chain.model, joint)
+
+
+def gravity_text(spec: MechanismSpec, chain: ClosedChain) -> str:
+    """The gravity the run used [m/s²] and whether the mechanism file gave it or it was assumed
+    (the model's default), as text."""
+    value = np.round(chain.model.gravity.linear, 6).tolist()
+    source = (
+        "assumed: the mechanism file gives no gravity, the model's is used"
+        if spec.gravity is None
+        else "from the mechanism file"
+    )
+    return f"gravity {value} m/s² ({source})"
+
+
+def warn_if_gravity_idle(spec: MechanismSpec, chain: ClosedChain, q: np.ndarray) -> None:
+    """Warn (:class:`~feeder.exceptions.FeederWarning`) when gravity is not zero but does no
+    work on the mechanism: its generalized force (nv,) is zero at every sample of ``q`` (N, nq)
+    to :data:`GRAVITY_ROUND_OFF` (e.g. −z on a mechanism moving in the x–y plane), so every load
+    it would cause is zero."""
+    model, data = chain.model, chain.model.createData()
+    if not np.any(model.gravity.linear):
+        return
+    masses = np.array([inertia.mass for inertia in model.inertias])
+    largest = scale = 0.0
+    for x in q:
+        largest = max(largest, float(np.abs(pin.computeGeneralizedGravity(model, data, x)).max()))
+        centres = [
+            placement.act(inertia.lever)
+            for placement, inertia in zip(data.oMi, model.inertias, strict=True)
+        ]
+        scale = max(scale, float(masses @ np.linalg.norm(centres, axis=1)))
+    scale *= float(np.linalg.norm(model.gravity.linear))
+    if largest <= GRAVITY_ROUND_OFF * max(scale, 1e-300):
+        warnings.warn(
+            f"{gravity_text(spec, chain)} does no work on the mechanism (its generalized force is "
+            "zero at every sample): every load it would cause is 0; give [mechanism] gravity "
+            "along the plane of motion, e.g. [0, -9.81, 0] for one moving in the x-y plane",
+            FeederWarning,
+            stacklevel=3,
+        )
 
 
 def prismatic(model: pin.Model, joint: str) -> bool:
@@ -329,8 +378,9 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx)
+    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces)
     loads = inverse_dynamics(dyn, q, v, a, t=table.t)
+    warn_if_gravity_idle(spec, chain, q)
     report = mobility(chain, q[0], spec.independent)
     return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)

@@ -24,7 +24,15 @@ from ..chain.readers.forces import read_force_file
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import InputError
 from ..validation import check_number
-from .analyze import joint_columns, load_columns, load_peaks, mount_mechanism, pose_lines
+from .analyze import (
+    gravity_text,
+    joint_columns,
+    load_columns,
+    load_peaks,
+    mount_mechanism,
+    pose_lines,
+    warn_if_gravity_idle,
+)
 
 SAMPLES = 1001
 """Default number of output samples over the run (both ends included)."""
@@ -91,7 +99,7 @@ class Simulation:
         lines.append(
             "  force elements: "
             + (", ".join(element.name for element in self.elements) or "none")
-            + f"; gravity {np.round(self.chain.model.gravity.linear, 6).tolist()} m/s²"
+            + f"; {gravity_text(self.spec, self.chain)}"
         )  # fmt: skip
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
         scale = max(float(run.kinetic.max()), float(np.abs(run.work).max()), 1e-300)
@@ -149,6 +157,7 @@ def simulate_mechanism(
     run = simulate(
         dyn, t, assembled, np.zeros(chain.model.nv), method=method, rtol=rtol, atol=atol
     )
+    warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
     return Simulation(
         spec, elements, chain, run, report, reference, assembled, method, float(rtol), float(atol)

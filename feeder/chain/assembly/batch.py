@@ -31,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 import scipy.linalg
 
-from ...exceptions import UnreachablePoseError
+from ...exceptions import SingularPoseError, UnreachablePoseError
 from ..kinematics.rows import closure_kinematics
 from ..kinematics.tree import tree_motion
 from .newton import CONTINUATION_STEP, POSITION_TOLERANCE, RANK_TOLERANCE
@@ -89,7 +89,7 @@ def _positions(partition, q_first, x, kept) -> tuple[np.ndarray, np.ndarray]:
     for c0, c1 in zip(coarse, coarse[1:], strict=False):
         try:
             q[c1] = partition._continue(q[c0], x[c0], x[c1], c1)
-        except UnreachablePoseError as exc:  # maybe only the stride is too long: sample by sample
+        except (UnreachablePoseError, SingularPoseError) as exc:  # the sequential path decides
             raise BatchFallback(str(exc)) from exc
         jacobian[c1], pinv, _ = partition._check_pose(q[c1])  # remembered by _continue
         tangents[c1] = _tangent(partition, jacobian[c1], pinv)

@@ -36,7 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
-from ...validation import check_number, check_samples, check_vector
+from ...validation import check_finite, check_number, check_samples, check_vector
 from ..kinematics.joints import kind_of
 from ..model.closure import ClosedChain
 from .batch import MIN_SAMPLES, BatchFallback, batch_track
@@ -60,9 +60,12 @@ MOUNT_STEP = 0.05
 """Largest step [rad, m] of the independent coordinates when they are moved from the mounted
 pose to the first requested values (the continuation's own step test refuses coarser ones)."""
 
-MAX_SPLIT = 64
-"""Most equal parts a continuation step is split into before the sample is refused as too coarse
-(:meth:`Partition._continue`)."""
+MIN_FRACTION = 2.0**-40
+"""Smallest part of a sample's step that the continuation tries (:meth:`Partition._continue`
+halves a part that fails): ~1e-12 of the step, round-off of the coordinates. Near a dead centre
+the parts that succeed shrink with the distance to it (about half of it each), so the
+continuation creeps up to it until the velocity gain passes :data:`MAX_GAIN`, a gain of 1e3 lying
+~1e-6 of the coordinates short of a four-bar's dead centre: well above this floor."""
 
 RESTARTS = 50
 """Random restarts (seeded) that :meth:`Partition.assemble` tries when Newton from the guess
@@ -122,6 +125,7 @@ class Partition:
         """Idle motions verified at a pose (their number is structural: a pose with as many
         dependent-rank deficiencies needs no new check, one with more is examined again)."""
         self._inputs = []  # (idx_q, continuous) of each independent joint, in the given order
+        self._times: np.ndarray | None = None  # the samples' times [s] (track's), for messages
         for name in self.independent_joints:
             joint = model.joints[model.getJointId(name)]
             self._inputs.append((joint.idx_q, joint.nq == 2))
@@ -236,13 +240,15 @@ class Partition:
         reach = np.linalg.norm(outside, axis=0)
         if np.any(reach > tolerance):
             rank_full = rank_dep + np.linalg.matrix_rank(outside, tol=tolerance)
+            if np.abs(self.chain.residual(q)).max(initial=0.0) <= POSITION_TOLERANCE:
+                self._check_count(self.chain.model.nv - rank_full)
             pairs = zip(self.independent_joints, reach, strict=True)
             names = [name for name, size in pairs if size > tolerance]
             raise SingularPoseError(
                 f"the dependent coordinates cannot follow the independent ones at "
                 f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
                 f"{rank_dep}; moving {', '.join(names)} opens the loops whatever the dependent "
-                "joints do (too many independent joints, or a singular pose)"
+                "joints do (not an admissible choice of independent joints, or a singular pose)"
             )
         deficiency = self.dependent.size - rank_dep
         if deficiency and deficiency != self._idle_count:
@@ -259,6 +265,19 @@ class Partition:
             )
         self._last = (key, (jac, pinv, gain))
         return jac, pinv, gain
+
+    def _check_count(self, freedom: int) -> None:
+        """Raise :class:`InputError` if more joints are independent than the mechanism has
+        degrees of freedom at a closed pose with ``freedom`` of them (a singular pose has more
+        than a regular one, never fewer: so too many here are too many everywhere; an open pose
+        may have fewer, a planar loop's redundant rows counting there)."""
+        count = self.independent.size
+        if count > freedom:
+            raise InputError(
+                f"this mechanism has {freedom} degree{'s' if freedom != 1 else ''} of freedom; "
+                f"{count} independent joints given ({', '.join(self.independent_joints)}): "
+                f"make {freedom} of them independent (the file's 'independent' list)"
+            )
 
     # -- position level ---------------------------------------------------------------------
 
@@ -475,6 +494,7 @@ class Partition:
         dx: np.ndarray | None = None,
         ddx: np.ndarray | None = None,
         branch: Callable[[np.ndarray], bool] | None = None,
+        t: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Follow a trajectory of the independent coordinates on one assembly branch.
 
@@ -492,9 +512,18 @@ class Partition:
                 independent joints.
             dx, ddx: Their rates and accelerations (N, n_independent); zero if omitted.
             branch: Optional condition on the first sample's solution (:meth:`assemble`).
+            t: The samples' times [s] (N,), named in the messages (else the samples' numbers).
 
         Returns:
             q (N, nq), v (N, nv), a (N, nv) and the velocity gain of every sample (N,).
+
+        Raises:
+            SingularPoseError: A sample at or near a singular pose, or the motion reaching one
+                between two samples (a dead centre: the end of the independent joints' travel),
+                named with its time and pose.
+            UnreachablePoseError: The loops do not close at a sample, or a joint leaves its
+                limits.
+            InputError: Bad arrays; more independent joints than degrees of freedom.
         """
         n_ind = self.independent.size
         x = check_samples("x", x, n_ind)
@@ -504,6 +533,11 @@ class Partition:
             raise InputError(
                 f"x, dx, ddx must have one shape, got {x.shape}, {dx.shape}, {ddx.shape}"
             )
+        if t is not None:
+            t = check_finite("t [s]", t)
+            if t.shape != (x.shape[0],):
+                raise InputError(f"t must give one time per sample ({x.shape[0]}), got {t.shape}")
+        self._times = t
         model = self.chain.model
         n = x.shape[0]
         first = self._first(self.chain.check_q(q_start), x[0], branch)
@@ -539,50 +573,63 @@ class Partition:
     ) -> np.ndarray:
         """The next sample's configuration, with independent coordinates ``x`` (those of
         ``previous`` are ``x_previous``): Newton from the tangent predictor, no restarts, the
-        correction small next to the step (else a branch switch is possible). A step whose
-        correction is too large is split into 2, 4, … :data:`MAX_SPLIT` equal steps (a ball joint
-        written as three revolutes, near gimbal lock, curves its coordinates sharply) before the
-        sample is refused."""
-        pieces = 1
-        while True:
-            q, failure = previous, None
-            for k in range(pieces):
-                start = x_previous + (x - x_previous) * (k / pieces)
-                end = x if k + 1 == pieces else x_previous + (x - x_previous) * ((k + 1) / pieces)
-                q, failure = self._step(q, start, end)
-                if failure is not None:
-                    break
-            if failure is None:
-                break
-            if failure.startswith("closure") or pieces >= MAX_SPLIT:
-                raise UnreachablePoseError(f"sample {sample}: {failure.removeprefix('closure ')}")
-            pieces *= 2
-        q = self.wrap(q)
-        self._check_limits(q)
-        self._check_pose(q)
+        correction small next to the step (else a branch switch is possible). A part of the step
+        that fails is halved, one that succeeds doubled (a ball joint written as three revolutes
+        near gimbal lock, or a dead centre, curve the dependent coordinates sharply). A part
+        below :data:`MIN_FRACTION` of the step that still fails is a singular pose: only there
+        do the loops stop closing, or the dependent coordinates jump, for a vanishing step.
+
+        Raises:
+            SingularPoseError: The motion reaches a singular pose on the way (a dead centre: the
+                end of the independent joints' travel; or branches meeting), or a pose near one;
+                the message names the sample, its time and the pose.
+            UnreachablePoseError: The sample is outside a joint's limits.
+        """
+        q, done, part = previous, 0.0, 1.0
+        try:
+            while done < 1.0:
+                end = min(1.0, done + part)
+                start = x_previous + (x - x_previous) * done
+                stop = x if end == 1.0 else x_previous + (x - x_previous) * end
+                trial, closed = self._step(q, start, stop)
+                if closed:
+                    q, done, part = trial, end, min(2.0 * part, 1.0)
+                    continue
+                part /= 2.0
+                if part < MIN_FRACTION:
+                    raise SingularPoseError(
+                        f"the motion reaches a singular pose (a dead centre, or assembly branches "
+                        f"meeting) at {list(self.independent_joints)} = {np.round(start, 6)}, "
+                        f"q = {np.round(q, 6)}, velocity gain {self.gain(q):.3g}: it cannot be "
+                        "followed past there; end the motion before it, or choose other "
+                        "independent joints"
+                    )
+            q = self.wrap(q)
+            self._check_limits(q)
+            self._check_pose(q)
+        except SingularPoseError as exc:
+            raise SingularPoseError(f"{self._where(sample)}: {exc}") from None
         return q
+
+    def _where(self, sample: int) -> str:
+        """The sample's number, and its time when :meth:`track` was given the times."""
+        if self._times is None:
+            return f"sample {sample}"
+        return f"sample {sample} (t = {self._times[sample]:.6g} s)"
 
     def _step(
         self, previous: np.ndarray, x_previous: np.ndarray, x: np.ndarray
-    ) -> tuple[np.ndarray, str | None]:
-        """One predictor–corrector step of :meth:`_continue`; (q, None) or (q, why it failed)."""
+    ) -> tuple[np.ndarray, bool]:
+        """One predictor–corrector step of :meth:`_continue`: (q, whether it succeeded: the loops
+        closed, the hinges the right way up, the correction small next to the step)."""
         step = x - x_previous
         guess = self.with_independent(self._predict(previous, step), x)
         q, norm = newton(self.chain, guess.copy(), self.dependent)
         correction = float(np.abs(pin.difference(self.chain.model, guess, q)).max(initial=0.0))
         size = float(np.abs(step).max(initial=0.0))
-        if norm > POSITION_TOLERANCE or self.chain.reversed_hinges():
-            return q, (
-                f"closure the loop does not close next to the previous sample (residual "
-                f"{norm:.3e}): the end of the mechanism's travel, or samples too far apart"
-            )
-        if correction > CONTINUATION_STEP * max(size, 1e-12) and correction > 1e-9:
-            return q, (
-                f"a step of {size:.3g} of the independent coordinates, split in {MAX_SPLIT}, "
-                f"still moved the dependent ones {correction:.3g} off the tangent: the samples "
-                "are too coarse to stay on one assembly branch (sample more finely)"
-            )
-        return q, None
+        closed = norm <= POSITION_TOLERANCE and not self.chain.reversed_hinges()
+        on_branch = correction <= CONTINUATION_STEP * max(size, 1e-12) or correction <= 1e-9
+        return q, closed and on_branch
 
     def _predict(self, q: np.ndarray, step: np.ndarray) -> np.ndarray:
         """``q`` moved by ``step`` of the independent coordinates along the closure's tangent

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_number
+from ...validation import check_finite, check_number, check_path
 
 TimeFunction = Callable[[float], float]
 """A scalar function of time t [s]."""
@@ -84,9 +84,11 @@ def read_table(path: Path, columns: tuple[str, ...]) -> Table:
     """A CSV table with a header ``t`` and ``columns`` (in that order) [s and SI units].
 
     Raises:
-        InputError: A missing or unreadable file, another header, a value that is not a finite
-            number, fewer than two rows, times that do not increase.
+        InputError: A path that is not text or a path, a missing or unreadable file, another
+            header, a value that is not a finite number, fewer than two rows, times that do not
+            increase.
     """
+    path = check_path("the force table", path)
     try:
         with path.open(encoding="utf-8", newline="") as handle:
             rows = list(csv.reader(handle))

@@ -22,6 +22,7 @@ from pathlib import Path
 import yaml
 
 from ...exceptions import FeederWarning, InputError
+from ...validation import check_path
 from ..model.closure import Closure
 from .joint_types import joint_model
 from .side_file import MechanismSpec
@@ -50,8 +51,11 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
 
     Raises:
         InputError: Unreadable YAML, a missing or mistyped key (named), lists of different
-            lengths, an unknown closure or joint type, no model file.
+            lengths, an unknown closure or joint type, no model file, a path that is not text
+            or a path.
     """
+    path = check_path("the closure file", path)
+    model = None if model is None else check_path("the model file", model)
     try:
         document = yaml.safe_load(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
@@ -98,7 +102,7 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
                 "exist)"
             )
     return MechanismSpec(
-        model=Path(model),
+        model=model,
         model_format="urdf",
         closures=tuple(closures),
         actuated=tuple(motors),

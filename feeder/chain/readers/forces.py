@@ -43,6 +43,7 @@ import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
+from ...validation import check_path
 from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, read_table
 
 KEYS = {
@@ -75,8 +76,10 @@ def read_force_file(path: Path) -> tuple[ForceElement, ...]:
     """The force elements of a TOML file holding only ``[[force]]`` tables.
 
     Raises:
-        InputError: A missing or unreadable file, another section, a bad element.
+        InputError: A path that is not text or a path, a missing or unreadable file, another
+            section, a bad element.
     """
+    path = check_path("the force file", path)
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:

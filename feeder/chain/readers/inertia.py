@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...exceptions import InertiaError
+from ...exceptions import InertiaError, InputError
 
 ROUND_OFF = 1e-9
 """Relative slack [-] of the positivity and triangle tests, against the largest principal moment:
@@ -33,13 +33,26 @@ def check_inertia(link: str, mass: float, inertia: np.ndarray) -> None:
         link: Link name, for the message.
         mass: Mass [kg].
         inertia: (3, 3) rotational inertia about the centre of gravity [kg·m²].
+
+    Raises:
+        InputError: ``mass`` or ``inertia`` not numbers, or ``inertia`` not (3, 3).
     """
+    try:
+        tensor = np.asarray(inertia, dtype=float)
+        number = None if isinstance(mass, str | bytes) else float(mass)
+    except (TypeError, ValueError):
+        tensor, number = np.zeros(0), None
+    if number is None or tensor.shape != (3, 3):
+        raise InputError(
+            f"link '{link}': give the mass as a number [kg] and the inertia as a (3, 3) tensor "
+            f"[kg·m²], got {mass!r} and {type(inertia).__name__} of shape {np.shape(inertia)}"
+        )
+    mass, inertia = number, tensor
     values = np.append(np.ravel(inertia), mass)
     if not np.all(np.isfinite(values)):
         raise InertiaError(link, f"mass or inertia is not finite (mass={mass!r})")
     if mass < 0.0:
         raise InertiaError(link, f"mass must not be negative, got {mass!r} kg")
-    inertia = np.asarray(inertia, dtype=float)
     size = float(np.abs(inertia).max())
     if not np.allclose(inertia, inertia.T, rtol=0.0, atol=1e-12 * max(1.0, size)):
         raise InertiaError(link, "inertia tensor is not symmetric")

@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
+from ...validation import check_path
 from ..model.closure import ClosedChain
 from .extended_urdf import read_extended_urdf
 from .joint_types import replace_joints
@@ -28,16 +29,15 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
         model: The model file, overriding the side-file's (e.g. given on the command line).
 
     Raises:
-        InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
-            closure or joint type.
+        InputError: A path that is not text or a path, missing or malformed file, a missing or
+            mistyped key (named), an unknown closure or joint type.
     """
-    if not isinstance(path, str | Path):
-        raise InputError(f"the closure file must be a path, got {path!r}")
-    path = Path(path)
+    path = check_path("the closure file", path)
+    model = None if model is None else check_path("the model file", model)
     if not path.is_file():
         raise InputError(f"closure file not found: {path}")
     if path.suffix.lower() in (".yaml", ".yml"):
-        return read_extended_urdf(path, None if model is None else Path(model))
+        return read_extended_urdf(path, model)
     return read_toml(path, model)
 
 
@@ -54,8 +54,11 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
     Raises:
         UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
         InertiaError: A non-physical body.
-        ClosureFrameError, InputError: Bad closures.
+        ClosureFrameError, InputError: Bad closures; an actuated or independent joint that is
+            not a one-coordinate joint of the model; ``spec`` not a :class:`MechanismSpec`.
     """
+    if not isinstance(spec, MechanismSpec):
+        raise InputError(f"spec must be a MechanismSpec (from read_spec(path)), got {spec!r}")
     closures = list(spec.closures)
     if spec.model_format == "urdf":
         model = build_model(read_urdf(spec.model), str(spec.model))
@@ -71,4 +74,12 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
         closures = extra + closures
     if spec.gravity is not None:
         model.gravity = pin.Motion(spec.gravity, np.zeros(3))
-    return ClosedChain(model, closures)
+    chain = ClosedChain(model, closures)
+    for role, names in (("actuated", spec.actuated), ("independent", spec.independent)):
+        try:
+            chain.coordinate_columns(names, role)
+        except InputError as exc:
+            raise InputError(
+                f"the mechanism file's {role} joints: {exc}: correct them there"
+            ) from None
+    return chain

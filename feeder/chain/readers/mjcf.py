@@ -18,6 +18,7 @@ import pinocchio as pin
 from lxml import etree
 
 from ...exceptions import UrdfError
+from ...validation import check_path
 from ..model.closure import Closure
 from .inertia import check_inertia
 from .urdf import parse_xml_file
@@ -36,8 +37,10 @@ def check_mjcf(path: Path) -> etree._Element:
     non-negative.
 
     Raises:
+        InputError: ``path`` is not text or a path.
         UrdfError: Missing or malformed file, or one of the above, named.
     """
+    path = check_path("the MJCF file", path)
     root = parse_xml_file(path, "MJCF", "mujoco")
     for element in root.iter(*UNSUPPORTED):
         raise UrdfError(
@@ -86,6 +89,7 @@ def read_mjcf(path: Path) -> tuple[pin.Model, list[Closure]]:
         InertiaError: A built body whose mass or inertia is not physical.
     """
     root = check_mjcf(path)
+    path = Path(path)
     try:
         model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
     except (ValueError, RuntimeError) as exc:

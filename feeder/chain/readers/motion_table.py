@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite
+from ...validation import check_finite, check_path
 
 
 @dataclass(frozen=True)
@@ -34,10 +34,16 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
     """Read a motion table (module docstring) for the ``independent`` joints.
 
     Raises:
-        InputError: Missing or malformed file, a missing column (named), non-finite values,
-            times that do not increase.
+        InputError: Missing or malformed file, a missing column or one the table does not take
+            (named), non-finite values, times that do not increase.
     """
-    path = Path(path)
+    path = check_path("the motion file", path)
+    if (
+        not isinstance(independent, tuple | list)
+        or not independent
+        or not all(isinstance(name, str) for name in independent)
+    ):
+        raise InputError(f"independent must be a list of joint names, got {independent!r}")
     if not path.is_file():
         raise InputError(f"motion file not found: {path}")
     try:
@@ -62,10 +68,12 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
     if np.any(np.diff(t) <= 0.0):
         raise InputError(f"{path}: times must increase")
 
-    x, dx, ddx, differentiated = [], [], [], []
     for joint in independent:
         if f"q_{joint}" not in columns:
             raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
+    _refuse_other_columns(path, header, independent)
+    x, dx, ddx, differentiated = [], [], [], []
+    for joint in independent:
         position = columns[f"q_{joint}"]
         if (f"v_{joint}" not in columns or f"a_{joint}" not in columns) and t.size < 3:
             raise InputError(
@@ -90,3 +98,17 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
         ddx=np.column_stack(ddx),
         differentiated=tuple(dict.fromkeys(differentiated)),
     )
+
+
+def _refuse_other_columns(path: Path, header: list[str], independent: tuple[str, ...]) -> None:
+    """Raise :class:`InputError` for the first column that is neither ``t`` nor a ``q_``,
+    ``v_`` or ``a_`` column of an independent joint: a dependent joint's motion follows from the
+    loops and cannot be prescribed too, and a misspelt column would be ignored."""
+    taken = {"t"} | {f"{kind}_{joint}" for joint in independent for kind in "qva"}
+    for name in header:
+        if name not in taken:
+            raise InputError(
+                f"{path}: column {name!r} is not t nor q_/v_/a_ of the independent joints "
+                f"{list(independent)}: remove it, or make its joint independent in the "
+                "mechanism file"
+            )

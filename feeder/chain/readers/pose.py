@@ -12,6 +12,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
+from ...validation import check_path
 
 
 def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
@@ -21,7 +22,9 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
         InputError: Missing or malformed file, an unknown or multi-coordinate joint, a value
             that is not a finite number, a joint given twice.
     """
-    path = Path(path)
+    path = check_path("the pose file", path)
+    if not isinstance(model, pin.Model):
+        raise InputError(f"model must be a pinocchio.Model, got {model!r}")
     if not path.is_file():
         raise InputError(f"pose file not found: {path}")
     try:

@@ -7,12 +7,13 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     urdf = "four_bar.urdf"          # the model, relative to this file (or "mjcf" / "sdf")
     actuated = ["crank_joint"]      # joints whose generalized forces are the unknown loads
     independent = ["crank_joint"]   # joints whose motion the motion table prescribes
-    gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF)
+    gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF;
+                                    # the summary and the manifest say when it was assumed)
     pose = {crank_joint = 0.7}      # optional: the reference pose [rad, m] that picks the branch
 
     [[closure]]                     # one per cut joint (none for an MJCF with equality
     frames = ["coupler_tip", "rocker_tip"]   # constraints: those are read from the model)
-    type = "revolute"               # point | weld | revolute
+    type = "revolute"               # required: point | weld | revolute
     axis = [0.0, 0.0, 1.0]          # revolute: hinge axis in the frames' axes
     stiffness = [1, 1, 1, 1, 1]     # optional, per row: the split of indeterminate forces
 
@@ -29,7 +30,7 @@ import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_finite
+from ...validation import check_finite, check_path
 from ..model.closure import KINDS, Closure
 from .forces import read_forces
 from .spec import MechanismSpec, format_of
@@ -72,9 +73,10 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         model: The model file, overriding the side-file's (e.g. given on the command line).
 
     Raises:
-        InputError: Missing or malformed file, a missing or mistyped key (named), an unknown
-            closure type.
+        InputError: Missing or malformed file, a missing or mistyped key (named; a closure's
+            ``type`` is required), an unknown closure type, a path that is not text or a path.
     """
+    path = check_path("the closure file", path)
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
@@ -93,7 +95,8 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
-        model_path, model_format = Path(model), format_of(Path(model))
+        model_path = check_path("the model file", model)
+        model_format = format_of(model_path)
     else:
         given = [key for key in MODEL_KEYS if key in mechanism]
         if len(given) != 1 or not isinstance(mechanism[given[0]], str):
@@ -123,7 +126,12 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
             or not all(isinstance(f, str) for f in frames)
         ):
             raise InputError(f"{here}: 'frames' must be two frame names, got {frames!r}")
-        kind = entry.get("type", "point")
+        if "type" not in entry:
+            raise InputError(
+                f"{here}: 'type' is required: one of {sorted(KINDS)} (point: a ball, or a pin in "
+                "a planar loop)"
+            )
+        kind = entry["type"]
         if kind not in KINDS:
             raise InputError(f"{here}: 'type' must be one of {sorted(KINDS)}, got {kind!r}")
         closure = Closure(

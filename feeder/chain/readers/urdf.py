@@ -20,7 +20,8 @@ import numpy as np
 import pinocchio as pin
 from lxml import etree
 
-from ...exceptions import InertiaError, UrdfError
+from ...exceptions import InertiaError, InputError, UrdfError
+from ...validation import check_path
 from ..model.closure import ClosedChain, Closure
 from .bodies import check_bodies
 from .inertia import check_inertia
@@ -81,9 +82,10 @@ def read_urdf(path: str | Path) -> str:
     """Return the text of the URDF file at ``path``.
 
     Raises:
+        InputError: ``path`` is not text or a path.
         UrdfError: The file does not exist or cannot be read.
     """
-    path = Path(path)
+    path = check_path("the URDF file", path)
     if not path.is_file():
         raise UrdfError(f"URDF file not found: {path}")
     try:
@@ -118,7 +120,10 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
             (unknown links, several parents or roots, unknown joint type), a number that is not
             finite, or a moving joint's axis that is not a direction.
         InertiaError: A link whose mass or inertia no rigid body can have.
+        InputError: ``xml`` is not text.
     """
+    if not isinstance(xml, str):
+        raise InputError(f"the URDF must be given as text (str), got {xml!r}")
     root = parse_xml(xml.encode("utf-8"), source, "robot")
     links = [link.get("name") for link in root.findall("link")]
     if not links or None in links or len(set(links)) != len(links):
@@ -221,10 +226,11 @@ def load_closed_chain(
         UrdfError: Missing or malformed file.
         InertiaError: A non-physical link inertia.
         ClosureFrameError: A closure frame that is not in the model.
-        InputError: ``closures`` not closures or name pairs, or a pair of frames on the same
-            body.
+        InputError: ``urdf`` not text or a path, ``closures`` not closures or name pairs, or a
+            pair of frames on the same body.
     """
-    return ClosedChain(build_model(read_urdf(urdf), str(urdf)), closures)
+    xml = read_urdf(urdf)
+    return ClosedChain(build_model(xml, str(urdf)), closures)
 
 
 def mesh_path(uri: str, urdf: str | Path) -> Path:
@@ -233,9 +239,12 @@ def mesh_path(uri: str, urdf: str | Path) -> Path:
     ``PKG/NAME``), ``file:///abs/path``, or a path relative to the URDF's folder.
 
     Raises:
+        InputError: ``uri`` not text, ``urdf`` not text or a path.
         UrdfError: The file does not exist (the message names the URI and where it looked).
     """
-    folder = Path(urdf).parent
+    if not isinstance(uri, str):
+        raise InputError(f"the mesh URI must be text, got {uri!r}")
+    folder = check_path("the URDF file", urdf).parent
     if uri.startswith("package://"):
         rest = uri[len("package://") :].lstrip("/")
         candidates = [folder / rest]

@@ -6,10 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeder.chain import load_closed_chain
+from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
 from feeder.device.feeder import INDEPENDENT_JOINTS
-from feeder.exceptions import SingularPoseError
+from feeder.exceptions import InputError, SingularPoseError
+
+from ...conftest import REPO
 
 
 @pytest.fixture
@@ -30,10 +32,26 @@ def test_too_few_independent_joints(feeder, closed_pose):
 
 
 def test_too_many_independent_joints(feeder, closed_pose):
-    """With r2 given as well, φ1 alone cannot keep the pin closed."""
+    """With r2 given as well, φ1 alone cannot keep the pin closed: the device has 2 degrees of
+    freedom, 3 joints cannot be independent."""
     partition = Partition(feeder.chain, [*INDEPENDENT_JOINTS, "piston_joint"])
-    with pytest.raises(SingularPoseError, match="cannot follow .* rank 2, dependent part rank 1"):
+    with pytest.raises(InputError, match="has 2 degrees of freedom; 3 independent joints given"):
         partition.velocity(closed_pose, np.ones(3))
+
+
+def test_two_independent_joints_on_a_four_bar_are_one_too_many():
+    chain = load_closed_chain(
+        REPO / "examples" / "four_bar" / "four_bar.urdf",
+        [Closure("coupler_tip", "rocker_tip", "revolute")],
+    )
+    closed = Partition(chain, ["crank_joint"]).mount(np.array([0.7, 0.0, 1.5]))
+    partition = Partition(chain, ["crank_joint", "rocker_joint"])
+    with pytest.raises(
+        InputError,
+        match=r"^this mechanism has 1 degree of freedom; 2 independent joints given "
+        r"\(crank_joint, rocker_joint\): make 1 of them independent",
+    ):
+        partition.track(closed, np.array([[0.7, 1.5], [0.8, 1.5]]))
 
 
 def test_fourbar_without_independent_joints(fourbar_urdf):

@@ -93,7 +93,14 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
         (MECHANISM + '[[closure]]\nframes = ["a", "b"]\ntype = "ball"\n', "'type' must be one of"),
         ("[other]\n", "unknown sections"),
         (MECHANISM.replace('independent = ["a"]', "independent = []"), "non-empty"),
-        (MECHANISM + '[[closure]]\nframes = ["a", "b"]\naxis = 5\n', "'axis' must be 3 numbers"),
+        (
+            MECHANISM + '[[closure]]\nframes = ["a", "b"]\ntype = "revolute"\naxis = 5\n',
+            "'axis' must be 3 numbers",
+        ),
+        (
+            MECHANISM + '[[closure]]\nframes = ["a", "b"]\n',
+            r"\[\[closure\]\] #1: 'type' is required: one of \['point', 'revolute', 'weld'\]",
+        ),
     ],
     ids=[
         "syntax",
@@ -106,6 +113,7 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
         "section",
         "no-independent",
         "axis",
+        "no-type",
     ],
 )
 def test_side_file_errors_name_the_key(tmp_path, text, message):
@@ -151,8 +159,25 @@ def test_motion_table_and_its_derivatives(tmp_path):
         ("t,q_crank_joint\n0,1\n0,2\n", "increase"),
         ("t,q_crank_joint\n0,1\n0.1,nan\n", "finite"),
         ("t,q_crank_joint\n0,1\n0.1,2\n", "at least 3 rows"),
+        (
+            "t,q_crank_joint,v_crank_joint,a_crank_joint,q_rocker_joint\n0,1,0,0,2\n0.1,1,0,0,2\n",
+            r"column 'q_rocker_joint' is not t nor q_/v_/a_ of the independent joints "
+            r"\['crank_joint'\]: remove it, or make its joint independent",
+        ),
+        ("t,q_crank_joint,q_crank\n0,1,1\n0.1,2,2\n0.2,3,3\n", "column 'q_crank' is not"),
     ],
-    ids=["short", "text", "ragged", "no-t", "no-joint", "time", "nan", "few-to-differentiate"],
+    ids=[
+        "short",
+        "text",
+        "ragged",
+        "no-t",
+        "no-joint",
+        "time",
+        "nan",
+        "few-to-differentiate",
+        "dependent-joint",
+        "misspelt",
+    ],
 )
 def test_motion_table_errors(tmp_path, text, message):
     path = tmp_path / "motion.csv"
