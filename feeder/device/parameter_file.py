@@ -2,9 +2,12 @@
 
 ``feeder parameters --format toml`` writes it (:func:`parameters_toml`); ``--params FILE`` on
 every command reads it (:func:`read_parameters`). A user with the real drawings edits the
-numbers there instead of the package source. SI units as in :class:`FeederParameters`: metres,
-kilograms, kg·m² and radians (each angle's value in degrees is in its comment). Every field is
-required and no other is allowed, so that a mistyped name is an error rather than a default.
+numbers there instead of the package source. Units: metres, kilograms and kg·m² as in
+:class:`FeederParameters`, and angles in degrees, under their field's name with ``_deg`` added
+(``swing_deg = 90.0``; read back into radians). Every number is written with the fewest digits
+that give it back to :data:`DIGITS` (``b = 0.05``, not ``0.04999999999999999``). Every field is
+required and no other is allowed, so that a mistyped name is an error rather than a default
+(a file with angles in radians, as feeder wrote before, names the ``_deg`` field it lacks).
 
 The file is read with the standard library's ``tomllib`` and written here: TOML writers do not
 keep comments, and the units are in the comments.
@@ -32,16 +35,36 @@ or ``-``. It names files (``feeder urdf`` writes ``<name>_feeder.urdf``), so it 
 able to name a folder."""
 
 
+DIGITS = 1e-12
+"""Relative precision [-] to which the file gives each number back: drawings give 3–5 digits,
+and the numbers computed from them (Table I's differences) carry round-off of ~1e-16 that
+twelve digits drop (0.04999999999999999 is written 0.05)."""
+
+
+def decimal(value: float) -> str:
+    """``value`` as the shortest decimal within :data:`DIGITS` of it, a TOML float."""
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= DIGITS * abs(value):
+            break
+    return repr(float(text))  # Python's float repr is a TOML float: 90.0, 0.05, 1e-05
+
+
+def key_of(name: str, unit: str) -> str:
+    """A field's key in the file: an angle's carries ``_deg`` (its value is in degrees)."""
+    return f"{name}_deg" if unit == "rad" else name
+
+
 def parameters_toml(params: FeederParameters) -> str:
     """The parameter file of ``params``: TOML, a comment with the unit and source of each value.
 
-    Reading it back (:func:`read_parameters`) gives ``params`` exactly (floats are written with
-    the shortest digits that round-trip).
+    Reading it back (:func:`read_parameters`) gives ``params`` to :data:`DIGITS`, and reading
+    and writing again gives the same file.
     """
     lines = [
         f"# Parameters of the {params.name} feeder: written by `feeder parameters --format toml`,",
         "# read by `--params FILE` on every feeder command. Edit the numbers, keep every field.",
-        "# SI units, given in each comment: m, kg, kg·m², rad (degrees shown beside radians).",
+        "# Units in each comment: m, kg, kg·m², and degrees for the angles (keys ending _deg).",
         "# Link inertia tables: Table I's moments about axes through the centre of gravity,",
         "# parallel to the link frame (feeder/device/parameters.py explains the frames).",
         "",
@@ -53,8 +76,8 @@ def parameters_toml(params: FeederParameters) -> str:
             tables += [
                 "",
                 f"[{field.name}]",
-                f"mass = {value.mass!r}  # [kg]",
-                f"moments = [{', '.join(repr(float(m)) for m in value.moments)}]  "
+                f"mass = {decimal(value.mass)}  # [kg]",
+                f"moments = [{', '.join(decimal(float(m)) for m in value.moments)}]  "
                 "# [kg·m²] Ixx, Iyy, Izz",
                 f"source = {_string(value.source)}",
             ]
@@ -64,8 +87,9 @@ def parameters_toml(params: FeederParameters) -> str:
             comment = f"  # {source}" if source != "-" else ""
             lines.append(f"{field.name} = {_string(value)}{comment}")
         else:
-            shown = f"[rad] = {math.degrees(value):g}°" if unit == "rad" else f"[{unit}]"
-            lines.append(f"{field.name} = {float(value)!r}  # {shown}; {source}")
+            shown = decimal(math.degrees(value) if unit == "rad" else float(value))
+            label = "deg" if unit == "rad" else unit
+            lines.append(f"{key_of(field.name, unit)} = {shown}  # [{label}]; {source}")
     return "\n".join(lines + tables) + "\n"
 
 
@@ -96,13 +120,17 @@ def read_parameters(path: str | Path) -> FeederParameters:
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path} is not a TOML parameter file: {exc}") from exc
     values = {}
-    _check_keys(path, "", data, [f.name for f in fields(FeederParameters)])
+    keys = {f.name: key_of(f.name, f.metadata.get("unit", "")) for f in fields(FeederParameters)}
+    _check_keys(path, "", data, list(keys.values()))
     for field in fields(FeederParameters):
-        value = data[field.name]
+        key = keys[field.name]
+        value = data[key]
         if field.type == "LinkInertia":
             values[field.name] = _inertia(path, field.name, value)
         elif field.type == "str":
             values[field.name] = _text(path, field.name, value)
+        elif key != field.name:  # an angle, in degrees in the file
+            values[field.name] = math.radians(_number(path, key, value, "deg"))
         else:
             values[field.name] = _number(path, field.name, value, field.metadata["unit"])
     if not NAME.fullmatch(values["name"]):

@@ -8,10 +8,16 @@ import math
 import re
 import tomllib
 
+import numpy as np
 import pytest
 
 from feeder.device import DEVICES, PROJECTILE_FEEDER, FeederParameters, LinkInertia
-from feeder.device.parameter_file import parameters_sha256, parameters_toml, read_parameters
+from feeder.device.parameter_file import (
+    DIGITS,
+    parameters_sha256,
+    parameters_toml,
+    read_parameters,
+)
 from feeder.exceptions import InputError
 
 
@@ -29,34 +35,70 @@ def edit(path, old: str, new: str):
     return path
 
 
+def assert_close(read: FeederParameters, original: FeederParameters) -> None:
+    """Every number within DIGITS (relative) of the original's, every text equal."""
+    for field in dataclasses.fields(FeederParameters):
+        mine, theirs = getattr(read, field.name), getattr(original, field.name)
+        if isinstance(theirs, LinkInertia):
+            assert mine.source == theirs.source
+            np.testing.assert_allclose(
+                [mine.mass, *mine.moments], [theirs.mass, *theirs.moments], rtol=DIGITS, atol=0
+            )
+        elif isinstance(theirs, str):
+            assert mine == theirs
+        else:  # an angle read back through radians(degrees): 2 ulp more
+            assert mine == pytest.approx(theirs, rel=DIGITS, abs=1e-15), field.name
+
+
 @pytest.mark.parametrize("name", sorted(DEVICES))
-def test_round_trip_is_exact(tmp_path, name):
+def test_round_trip_to_the_digits_and_then_exact(tmp_path, name):
+    """Read back: every number within DIGITS; written again: the same file (so one hash per
+    parameter set, however often it is read and written)."""
     path = tmp_path / f"{name}.toml"
-    path.write_text(parameters_toml(DEVICES[name]), encoding="utf-8")
-    assert read_parameters(path) == DEVICES[name]
+    text = parameters_toml(DEVICES[name])
+    path.write_text(text, encoding="utf-8")
+    read = read_parameters(path)
+    assert_close(read, DEVICES[name])
+    assert parameters_toml(read) == text
 
 
 def test_every_number_has_its_unit_in_a_comment():
     """Independent of the writer: every field of the dataclass appears, each number with the
-    unit its metadata names (and every angle with its value in degrees)."""
+    unit its metadata names, and every angle in degrees under its ``_deg`` key."""
     lines = parameters_toml(PROJECTILE_FEEDER).splitlines()
     for field in dataclasses.fields(FeederParameters):
         value = getattr(PROJECTILE_FEEDER, field.name)
         if isinstance(value, float):
-            (line,) = [x for x in lines if x.startswith(f"{field.name} = ")]
-            assert f"# [{field.metadata['unit']}]" in line, line
-            if field.metadata["unit"] == "rad":
-                assert f"{math.degrees(value):g}°" in line
+            unit = field.metadata["unit"]
+            key = f"{field.name}_deg" if unit == "rad" else field.name
+            (line,) = [x for x in lines if x.startswith(f"{key} = ")]
+            assert f"# [{'deg' if unit == 'rad' else unit}]" in line, line
+            written = float(line.split("=", 1)[1].split("#")[0])
+            expected = math.degrees(value) if unit == "rad" else value
+            assert written == pytest.approx(expected, rel=DIGITS, abs=1e-12)
     sections = [x for x in lines if x.startswith("[")]
     assert sections == ["[cylinder]", "[piston]", "[arm]", "[forearm]", "[payload]"]
     assert sum("mass = " in x and "# [kg]" in x for x in lines) == 5
     assert sum("moments = " in x and "# [kg·m²]" in x for x in lines) == 5
 
 
-def test_the_file_is_plain_toml_with_si_values():
+def test_the_file_shows_the_numbers_a_user_types():
+    """Issue 19: ``b = 0.04999999999999999`` and angles in radians, once written for a user to
+    edit; now the shortest decimals and degrees."""
     data = tomllib.loads(parameters_toml(PROJECTILE_FEEDER))
     assert data["payload"]["mass"] == 43.5
-    assert data["swing"] == math.pi / 2  # radians, not degrees
+    assert data["swing_deg"] == 90.0 and data["elevation_min_deg"] == -4.0
+    assert data["b"] == 0.05 and data["d"] == 0.009
+    assert "swing" not in data
+    text = parameters_toml(PROJECTILE_FEEDER)
+    assert not re.search(r"\d{9}", text.split("[cylinder]")[0]), "a long decimal was written"
+
+
+def test_a_file_with_angles_in_radians_is_refused(written):
+    """A parameter file from before the degrees: refused, naming the key it lacks."""
+    edit(written, r"^swing_deg = 90\.0 ", "swing = 1.5707963267948966 ")
+    with pytest.raises(InputError, match="unknown field 'swing'"):
+        read_parameters(written)
 
 
 def test_hash_identifies_the_parameter_set(written):
@@ -72,13 +114,12 @@ def test_an_edit_is_read(written):
     edit(written, r"^d3 = 0\.19 ", "d3 = 0.191 ")
     params = read_parameters(written)
     assert params.payload.mass == 52.2 and params.d3 == 0.191
-    assert dataclasses.replace(params, payload=PROJECTILE_FEEDER.payload, d3=0.19) == (
-        PROJECTILE_FEEDER
-    )
+    assert_close(dataclasses.replace(params, payload=PROJECTILE_FEEDER.payload, d3=0.19),
+                 PROJECTILE_FEEDER)  # fmt: skip
 
 
 def test_an_integer_is_a_number(written):
-    edit(written, r"^phi3_load = 0\.0 ", "phi3_load = 0 ")
+    edit(written, r"^phi3_load_deg = 0\.0 ", "phi3_load_deg = 0 ")
     assert read_parameters(written).phi3_load == 0.0
 
 
