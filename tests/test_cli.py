@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from feeder.__main__ import _parser, main
+from feeder.cli import main, parser
 from feeder.study.csv import read_csv
 
 from .conftest import REPO
@@ -315,7 +315,7 @@ def parser_actions(parser):
 
 
 def test_every_option_states_its_default_or_that_it_is_required():
-    for name, action in parser_actions(_parser()):
+    for name, action in parser_actions(parser()):
         text = action.help % {"default": action.default}
         assert "default" in text or (action.required and "required" in text), (name, action)
 

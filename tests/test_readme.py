@@ -71,11 +71,11 @@ def test_exactly_two_quick_start_commands_and_ci_runs_the_test_one():
 
 
 def test_main_study_command_names_existing_subcommand():
-    from feeder.__main__ import _parser
+    from feeder.cli import parser
 
     words = shlex.split(quick_start_commands()[0].split("&&")[-1])
     assert words[0] == ".venv/bin/feeder"
-    args = _parser().parse_args(words[1:])
+    args = parser().parse_args(words[1:])
     assert args.elevation == -4.0
 
 
@@ -93,12 +93,12 @@ def test_every_command_uses_the_quick_starts_environment():
 
 
 def test_every_feeder_command_parses():
-    from feeder.__main__ import _parser
+    from feeder.cli import parser
 
     for command in later_commands():
         words = shlex.split(command)
         if words[0] == ".venv/bin/feeder":
-            _parser().parse_args(words[1:])  # argparse exits on a misspelt option
+            parser().parse_args(words[1:])  # argparse exits on a misspelt option
 
 
 @pytest.mark.parametrize("index", range(len(python_blocks())))

@@ -17,8 +17,8 @@ import pinocchio as pin
 import pytest
 from lxml import etree
 
-from feeder.__main__ import main
 from feeder.chain import read_spec
+from feeder.cli import main
 from feeder.exceptions import InputError, UrdfError
 from feeder.outputs import write_analysis_outputs
 from feeder.study.analyze import analyze, joint_columns, q_from_columns

@@ -26,7 +26,8 @@ import psutil
 import pytest
 import umsgpack
 
-from feeder.__main__ import _parser, cmd_view
+from feeder.cli import parser
+from feeder.cli.view import run as cmd_view
 from feeder.dynamics.cycle import cycle_dynamics
 from feeder.exceptions import ElevationError, InputError, ViewerPortError
 from feeder.motion import feeding_cycle
@@ -402,7 +403,7 @@ def view_command(device: str, elevation: float, html: str | None, port: int | No
     argv = ["view", "--device", device, "--elevation", repr(elevation)]
     argv += ["--html", str(html)] if html is not None else []
     argv += ["--port", str(port)] if port is not None else []
-    return cmd_view(_parser().parse_args(argv))
+    return cmd_view(parser().parse_args(argv))
 
 
 @pytest.fixture

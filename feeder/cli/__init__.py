@@ -1,0 +1,122 @@
+"""Command line: ``feeder <command> ...`` (also ``python -m feeder``). Parse, check, call, print.
+
+Commands:
+    cycle       the main study: loads and reactions of a cycle, cycle.csv and Figs. 4, 8, 10–15
+    kinematics  the cycle's kinematics only: cycle.csv (kinematic columns), Figs. 4 and 10
+    view        MeshCat viewer of the cycle, or of any mechanism (MODEL --closures F), on
+                127.0.0.1, or a static HTML page of it
+    parameters  every number of a device with its unit and source (Markdown), or its parameter
+                file (TOML, ``--format toml``)
+    urdf        regenerate the URDF files from the parameter sets
+    errata      the table of the paper's errata measured on the reference cycle (Markdown)
+    sweep       peak loads over elevations × parameter variants × devices, resumable
+    analyze     any closed-chain mechanism: mobility report, or its loads and every reaction
+    simulate    any closed-chain mechanism run forward from rest under gravity and its force
+                elements: states, loads, reactions, drift and energy balance
+
+Each command has a module of its own here: ``add(commands)`` builds its sub-parser from the
+shared option groups (:mod:`feeder.cli.options`), so that every command spells ``--device``,
+``--params``, ``--elevation`` and ``--out`` alike, and ``run(args) -> int`` checks, calls the
+package and prints. Each command
+checks all its input before it creates a file or a folder. Every option may be given once.
+Bad input exits with status 2 and one line that names it; Ctrl-C exits with status 130 and
+SIGTERM with 143, each with one line, and leave no file half-written (:mod:`feeder.outputs`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import signal
+import sys
+import threading
+import warnings
+from collections.abc import Sequence
+
+from ..exceptions import FeederError, FeederWarning, InputError
+from . import analyze, cycle, errata, kinematics, parameters, simulate, sweep, urdf, view
+
+COMMANDS = (cycle, kinematics, view, parameters, urdf, errata, sweep, analyze, simulate)
+"""The commands' modules, in the order ``feeder --help`` lists them."""
+
+
+def parser() -> argparse.ArgumentParser:
+    """The command line's parser: one sub-parser per module of :data:`COMMANDS`."""
+    top = argparse.ArgumentParser(
+        prog="feeder",
+        description="Analysis of the 152 mm SPH M77 ammunition feeding device. SI units, "
+        "elevations in degrees. Every command takes --help.",
+        allow_abbrev=False,
+    )
+    commands = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for module in COMMANDS:
+        module.add(commands)
+    return top
+
+
+INTERRUPTED = 130
+"""Exit status after Ctrl-C (SIGINT): 128 + the signal's number, as shells report it."""
+
+
+TERMINATED = 128 + signal.SIGTERM
+"""Exit status after SIGTERM (``kill``, a job scheduler's stop): 143, as shells report it."""
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the program is, so that it stops as after Ctrl-C: worker pools
+    shut down, half-written outputs removed (a KeyboardInterrupt for every cleanup path)."""
+
+
+def _terminate(signum, frame) -> None:
+    raise _Terminated
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line for the terminal: ``feeder: warning: …`` (the package's own), or
+    Python's usual form for a library's."""
+    if issubclass(category, FeederWarning):
+        print(f"feeder: warning: {message}", file=sys.stderr)
+    else:
+        print(warnings.formatwarning(message, category, filename, lineno, line), file=sys.stderr)
+
+
+def _check_command(parser: argparse.ArgumentParser, argv: Sequence[str]) -> None:
+    """Refuse an unknown command in one line, with the nearest known one (argparse lists all
+    of them, without a suggestion)."""
+    if not argv or argv[0].startswith("-"):
+        return
+    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if argv[0] in commands.choices:
+        return
+    near = difflib.get_close_matches(argv[0], list(commands.choices), n=1, cutoff=0.6)
+    hint = f"did you mean `feeder {near[0]}`? " if near else ""
+    raise InputError(
+        f"no command {argv[0]!r}; {hint}commands: {', '.join(commands.choices)} (feeder --help)"
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
+    try:
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            command_parser = parser()
+            _check_command(command_parser, argv)
+            args = command_parser.parse_args(argv)
+            args.argv = argv
+            return args.run(args)
+    except FeederError as exc:
+        print(f"feeder: error: {exc}", file=sys.stderr)
+        return 2
+    except _Terminated:
+        print("feeder: terminated (SIGTERM); no output was left half-written", file=sys.stderr)
+        return TERMINATED
+    except KeyboardInterrupt:
+        print("feeder: interrupted (Ctrl-C); no output was left half-written", file=sys.stderr)
+        return INTERRUPTED
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)

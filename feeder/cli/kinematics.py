@@ -1,0 +1,49 @@
+"""``feeder kinematics``: the kinematics of one cycle, cycle.csv (kinematic columns), Figs. 4
+and 10."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from .options import (
+    Once,
+    add_command,
+    command_line,
+    elevation_of,
+    params_of,
+    study_options,
+)
+
+if TYPE_CHECKING:
+    pass
+
+
+def add(commands: argparse._SubParsersAction) -> None:
+    """The ``kinematics`` sub-parser."""
+    rate_help = "sample rate [Hz] (default: %(default)g)"
+    kinematics = add_command(commands, "kinematics", run, "kinematics of the feeding cycle")
+    study_options(kinematics)
+    kinematics.add_argument(
+        "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=rate_help
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Kinematics of one cycle: cycle.csv, Fig. 4 (workspace), Fig. 10 (position), summary."""
+    from ..device.feeder import load_feeder
+    from ..motion.cycle import feeding_cycle
+    from ..motion.laws import CycleSpec
+    from ..outputs import OutputFolder, write_kinematics_outputs
+    from ..study.summary import kinematics_summary
+
+    folder = OutputFolder(args.out)
+    params = params_of(args)
+    elevation, spec = elevation_of(args, params), CycleSpec(rate=args.rate)
+    feeder = load_feeder(params)
+    with folder:
+        cycle = feeding_cycle(feeder, elevation, spec)
+        paths = write_kinematics_outputs(feeder, cycle, folder, command_line(args))
+    print(kinematics_summary(feeder, cycle))
+    print(f"wrote {paths[0]} and figures in {folder.path}")
+    return 0

@@ -1,0 +1,179 @@
+"""The command line's shared parts: options given once, the option groups every command spells
+alike (``--device``, ``--params``, ``--elevation``, ``--out``; a user mechanism's MODEL,
+``--closures``, ``--pose``), and the small conversions between arguments and the package."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import shlex
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..device.builtin import DEVICES
+from ..exceptions import InputError
+from ..validation import check_elevation, check_number, check_path
+
+if TYPE_CHECKING:
+    from ..device.parameters import FeederParameters
+
+
+def add_command(
+    commands: argparse._SubParsersAction,
+    name: str,
+    run: Callable[[argparse.Namespace], int],
+    help: str,
+) -> argparse.ArgumentParser:
+    """A sub-parser ``name`` that calls ``run(args)``; the help is also its description."""
+    sub = commands.add_parser(name, help=help, description=help, allow_abbrev=False)
+    sub.set_defaults(run=run)
+    return sub
+
+
+FORWARD_MIN_RATE = 500.0
+"""Lowest sample rate [Hz] at which the force-rule forward run tracks the default stages within
+its 1e-4 rad check (3.8e-5 rad at 500 Hz, 1.2e-4 rad at 400 Hz: the table in
+:mod:`feeder.dynamics.cycle`). Stated in ``feeder cycle --help``."""
+
+
+class Once(argparse.Action):
+    """Store an option's value, or its constant for a flag (``nargs=0``); a second occurrence
+    is an error (argparse would silently keep the last: ``--elevation 10 --elevation 20``)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given", set())
+        if self.dest in given:
+            parser.error(f"{'/'.join(self.option_strings)} given twice: give it once")
+        given.add(self.dest)
+        setattr(namespace, self.dest, self.const if self.nargs == 0 else values)
+
+
+def path_argument(text: str) -> Path:
+    """An argument naming a file or folder (:func:`~feeder.validation.check_path`)."""
+    try:
+        return check_path("the path", text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from exc
+
+
+def params_of(args: argparse.Namespace) -> FeederParameters:
+    """The parameter set of ``--params FILE`` (read and checked) or of ``--device NAME``."""
+    if args.params is not None:
+        from ..device.parameter_file import read_parameters
+
+        return read_parameters(args.params)
+    return DEVICES[args.device or "projectile"]
+
+
+def elevation_of(args: argparse.Namespace, params: FeederParameters) -> float:
+    """The ``--elevation`` option [deg] in radians, checked against the device's range."""
+    degrees = check_number("elevation [deg]", args.elevation)
+    return check_elevation(math.radians(degrees), params.elevation_limits)
+
+
+def command_line(args: argparse.Namespace) -> str:
+    """The command line as typed, for the output folder's manifest."""
+    return shlex.join(["feeder", *args.argv])
+
+
+def write_or_print(text: str, out: Path | None) -> None:
+    from ..files import write_text
+
+    if out is None:
+        print(text, end="")
+    else:
+        print(f"wrote {write_text(out, text)}")
+
+
+def wrote(paths: Sequence[Path], folder: Path) -> str:
+    """One line naming a mechanism run's files (the figures counted) and its folder."""
+    figures = sum(path.suffix == ".png" for path in paths)
+    files = ", ".join(path.name for path in paths if path.suffix != ".png")
+    return f"wrote {files} and {figures} figure{'' if figures == 1 else 's'} in {folder}"
+
+
+def switch(sub: argparse.ArgumentParser, flag: str, dest: str, help: str) -> None:
+    """A flag given at most once: ``--no-X`` turns ``dest`` off (default on), any other turns
+    it on (default off)."""
+    on = not flag.startswith("--no-")
+    sub.add_argument(flag, dest=dest, action=Once, nargs=0, const=on, default=not on, help=help)
+
+
+def device_options(sub: argparse.ArgumentParser, default: str) -> None:
+    """``--device NAME`` or ``--params FILE`` (one of them)."""
+    group = sub.add_mutually_exclusive_group()
+    group.add_argument(
+        "--device",
+        action=Once,
+        choices=sorted(DEVICES),
+        help=f"built-in device (default: {default})",
+    )
+    group.add_argument(
+        "--params",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="parameter file (TOML) instead of a built-in device (default: none): write one "
+        "with `feeder parameters --format toml --out FILE` and edit its numbers",
+    )
+
+
+def study_options(sub: argparse.ArgumentParser, out: bool = True, required: bool = True) -> None:
+    """``--elevation`` (required if ``required``), ``--out`` (required if ``out``) and the
+    device options."""
+    sub.add_argument(
+        "--elevation",
+        action=Once,
+        type=float,
+        required=required,
+        metavar="DEG",
+        help="barrel elevation ε [deg], "
+        + ("required" if required else "required for the device (default: none)")
+        + ", inside the device's range (−4 … 70 for the built-in ones)",
+    )
+    if out:
+        sub.add_argument(
+            "--out",
+            action=Once,
+            type=path_argument,
+            required=True,
+            metavar="DIR",
+            help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
+            "outputs are replaced; the manifest feeder-run.json records the run)",
+        )
+    device_options(sub, "projectile")
+
+
+def mechanism_options(parser: argparse.ArgumentParser, required: bool = True) -> None:
+    """MODEL, ``--closures`` and ``--pose``: a user mechanism, as ``analyze`` and ``simulate``
+    take it (``view`` takes it optionally: without MODEL it shows the device)."""
+    needed = "required" if required else "required with MODEL (default: none)"
+    parser.add_argument(
+        "model",
+        type=path_argument,
+        nargs=None if required else "?",
+        metavar="MODEL",
+        help=f"the mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf), {needed}"
+        if required
+        else "a mechanism's model: URDF (.urdf), MJCF (.xml) or SDF (.sdf) (default: the device)",
+    )
+    parser.add_argument(
+        "--closures",
+        action=Once,
+        type=path_argument,
+        required=required,
+        metavar="FILE",
+        help=f"mechanism file, {needed}: TOML (cut frames and types, actuated and independent "
+        "joints, gravity, force elements, an optional reference pose) or a CAD export's "
+        "Extended-URDF YAML (robot.yaml); see docs/MECHANISMS.md",
+    )
+    parser.add_argument(
+        "--pose",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="reference pose (CSV 'joint,value', rad or m) that picks the assembly branch: the "
+        "closed pose nearest to it (default: the mechanism file's pose, or the model's zero "
+        "pose)",
+    )

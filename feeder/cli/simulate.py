@@ -1,0 +1,110 @@
+"""``feeder simulate``: a user's closed-chain mechanism run forward from rest: states.csv,
+summary, figures, report.html."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from .options import (
+    Once,
+    add_command,
+    command_line,
+    mechanism_options,
+    path_argument,
+    wrote,
+)
+
+if TYPE_CHECKING:
+    pass
+
+
+def add(commands: argparse._SubParsersAction) -> None:
+    """The ``simulate`` sub-parser."""
+    from ..chain.dynamics.forward import ATOL, METHODS, RTOL
+    from ..study.simulate import SAMPLES
+
+    simulate = add_command(
+        commands,
+        "simulate",
+        run,
+        "any closed-chain mechanism run forward from rest: states, loads, reactions, energy",
+    )
+    mechanism_options(simulate)
+    simulate.add_argument(
+        "--duration",
+        action=Once,
+        type=float,
+        required=True,
+        metavar="SECONDS",
+        help="length of the run [s], required",
+    )
+    simulate.add_argument(
+        "--out",
+        action=Once,
+        type=path_argument,
+        required=True,
+        metavar="DIR",
+        help="output folder for states.csv, summary.txt and the figures, required",
+    )
+    simulate.add_argument(
+        "--forces",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="TOML file of more [[force]] elements (default: the mechanism file's only)",
+    )
+    simulate.add_argument(
+        "--samples",
+        action=Once,
+        type=int,
+        default=SAMPLES,
+        metavar="N",
+        help=f"output samples over the run, both ends included (default: {SAMPLES})",
+    )
+    simulate.add_argument(
+        "--method",
+        action=Once,
+        choices=METHODS,
+        default="DOP853",
+        help="SciPy integrator: explicit DOP853 or RK45, implicit Radau or BDF for stiff "
+        "mechanisms (default: DOP853)",
+    )
+    simulate.add_argument(
+        "--rtol",
+        action=Once,
+        type=float,
+        default=RTOL,
+        help=f"relative tolerance of each step (default: {RTOL:g})",
+    )
+    simulate.add_argument(
+        "--atol",
+        action=Once,
+        type=float,
+        default=ATOL,
+        help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """A user's closed-chain mechanism run forward from rest: states.csv, summary, figures."""
+    from ..outputs import OutputFolder, write_simulation_outputs
+    from ..study.simulate import simulate_mechanism
+
+    folder = OutputFolder(args.out)
+    simulation = simulate_mechanism(
+        args.closures,
+        args.duration,
+        model=args.model,
+        pose=args.pose,
+        forces=args.forces,
+        samples=args.samples,
+        method=args.method,
+        rtol=args.rtol,
+        atol=args.atol,
+    )
+    with folder:
+        paths = write_simulation_outputs(simulation, folder, command_line(args))
+    print(simulation.summary())
+    print(wrote(paths, folder.path))
+    return 0

@@ -1,0 +1,119 @@
+"""``feeder sweep``: peak loads over elevations × parameter variants × devices, resumable."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..device.builtin import DEVICES
+from .options import (
+    Once,
+    add_command,
+    command_line,
+    path_argument,
+    switch,
+)
+
+if TYPE_CHECKING:
+    pass
+
+
+def add(commands: argparse._SubParsersAction) -> None:
+    """The ``sweep`` sub-parser."""
+    sweep = add_command(commands, "sweep", run, "peak loads over elevations × variants × devices")
+    sweep.add_argument(
+        "--out",
+        action=Once,
+        type=path_argument,
+        required=True,
+        metavar="DIR",
+        help="output folder, required: new, empty, or one an earlier feeder run wrote (the "
+        "manifest feeder-run.json records the run); a sweep already there is resumed, the "
+        "outputs of another run are replaced",
+    )
+    sweep.add_argument(
+        "--grid",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="grid file (TOML): devices, elevations, rate, variants (default: the projectile "
+        "feeder at every degree of −4 … 70)",
+    )
+    sweep.add_argument(
+        "--device",
+        action="append",
+        choices=sorted(DEVICES),
+        help="built-in device, replacing the grid's (repeatable; default: the grid's)",
+    )
+    sweep.add_argument(
+        "--elevations",
+        action=Once,
+        nargs=3,
+        type=float,
+        metavar=("START", "STOP", "STEP"),
+        help="elevations [deg], STOP included, replacing the grid's (default: -4 70 1)",
+    )
+    sweep.add_argument(
+        "--workers",
+        action=Once,
+        type=int,
+        help="local processes (default: every core; 1: this process)",
+    )
+    sweep.add_argument(
+        "--scheduler",
+        action=Once,
+        metavar="tcp://HOST:PORT",
+        help="run the cases on this Dask cluster (pip install 'feeder[cluster]'; default: "
+        "this machine)",
+    )
+    switch(
+        sweep,
+        "--parquet",
+        "parquet",
+        "also write sweep_peaks.parquet (pip install 'feeder[parquet]'; default: CSV only)",
+    )
+    switch(
+        sweep,
+        "--no-figures",
+        "figures",
+        "the table only (default: one figure of peaks against elevation per device)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Peak loads over elevations × parameter variants × devices; resumable."""
+    from functools import partial
+
+    from ..study.grid import elevation_range
+    from ..study.sweep import run_sweep
+    from ..viz.report import png_bytes, sweep_figures, write_png
+
+    def figures(table: Path) -> dict[str, partial]:
+        return {
+            name: partial(write_png, png=png_bytes(fig))
+            for name, fig in sweep_figures(table).items()
+        }
+
+    elevations = None if args.elevations is None else elevation_range(*args.elevations)
+    outputs = run_sweep(
+        args.grid,
+        args.out,
+        devices=args.device,
+        elevations=elevations,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        progress=True,
+        parquet=args.parquet,
+        figures=figures if args.figures else None,
+        command=command_line(args),
+    )
+    cases = outputs.kept + outputs.computed
+    print(
+        f"{cases} case{'' if cases == 1 else 's'}: {outputs.kept} kept from the earlier table, "
+        f"{outputs.computed} computed"
+    )
+    count = sum(path.suffix == ".png" for path in outputs.files)
+    drawn = f" and {count} figure{'' if count == 1 else 's'}" if count else ""
+    print(f"wrote {outputs.table.name}{drawn} in {outputs.table.parent}")
+    return 0

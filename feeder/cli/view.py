@@ -1,0 +1,138 @@
+"""``feeder view``: the cycle, or a user's mechanism (MODEL ``--closures F``), in MeshCat on
+127.0.0.1 only, or as a static HTML page (``--html FILE``)."""
+
+from __future__ import annotations
+
+import argparse
+from contextlib import suppress
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..exceptions import InputError
+from .options import (
+    Once,
+    add_command,
+    elevation_of,
+    mechanism_options,
+    params_of,
+    path_argument,
+    study_options,
+)
+
+if TYPE_CHECKING:
+    pass
+
+
+def add(commands: argparse._SubParsersAction) -> None:
+    """The ``view`` sub-parser."""
+    view = add_command(
+        commands,
+        "view",
+        run,
+        "animate the cycle, or any mechanism (MODEL --closures F), in the browser (MeshCat, "
+        "127.0.0.1)",
+    )
+    study_options(view, out=False, required=False)
+    mechanism_options(view, required=False)
+    source = view.add_mutually_exclusive_group()
+    source.add_argument(
+        "--motion",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="a mechanism's motion table, analysed as feeder analyze does (default: the "
+        "assembled pose with its static loads)",
+    )
+    source.add_argument(
+        "--run",
+        dest="run_dir",
+        action=Once,
+        type=path_argument,
+        metavar="DIR",
+        help="the output folder of an earlier feeder analyze or feeder simulate of the "
+        "mechanism (default: none)",
+    )
+    view.add_argument(
+        "--reactions",
+        action=Once,
+        nargs="+",
+        metavar="JOINT",
+        help="joints whose reaction force is drawn (default: the few of largest peak force)",
+    )
+    view.add_argument(
+        "--html",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="write a self-contained HTML page (opens offline) instead of serving "
+        "(default: serve until Ctrl-C)",
+    )
+    view.add_argument(
+        "--port",
+        action=Once,
+        type=int,
+        help="web port on 127.0.0.1 (default: a free one)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Animate the cycle or a mechanism in MeshCat (127.0.0.1 only) or write it as a static
+    HTML page."""
+    from ..viz.viewer import check_port, check_writable
+
+    html = None if args.html is None else check_writable(args.html)
+    port = check_port(args.port)
+    if args.model is None:
+        return _view_device(args, html, port)
+    device = [flag for flag, value in (("--elevation", args.elevation), ("--device",
+              args.device), ("--params", args.params)) if value is not None]  # fmt: skip
+    if device:
+        raise InputError(f"{', '.join(device)}: options of the device's view, not of a MODEL's")
+    if args.closures is None:
+        raise InputError("give --closures FILE with MODEL (the mechanism file)")
+    from ..study.view import motion_view, pose_view, run_view
+    from ..viz.viewer import show_mechanism, write_mechanism_html
+
+    if args.motion is not None:
+        view = motion_view(args.closures, args.motion, args.model, args.pose)
+    elif args.run_dir is not None:
+        view = run_view(args.closures, args.run_dir, args.model, args.pose)
+    else:
+        view = pose_view(args.closures, args.model, args.pose)
+    if html is not None:
+        print(f"wrote {write_mechanism_html(view, html, args.reactions, port=port)}")
+        return 0
+    with show_mechanism(view, args.reactions, port=port) as viewer, suppress(KeyboardInterrupt):
+        print(f"{args.model.name} ({view.source}): open {viewer.url}")
+        print("press Ctrl-C to stop the viewer", flush=True)
+        viewer.serve_forever()
+    return 0
+
+
+def _view_device(args: argparse.Namespace, html: Path | None, port: int | None) -> int:
+    """``feeder view --elevation DEG``: the device's cycle."""
+    from ..device.feeder import load_feeder
+    from ..dynamics.cycle import cycle_dynamics
+    from ..viz.viewer import cycle_forces, show_cycle, write_html
+
+    mechanism = [flag for flag, value in (("--closures", args.closures), ("--pose", args.pose),
+                 ("--motion", args.motion), ("--run", args.run_dir), ("--reactions",
+                 args.reactions)) if value is not None]  # fmt: skip
+    if mechanism:
+        raise InputError(f"{', '.join(mechanism)}: options of a MODEL's view; give MODEL")
+    if args.elevation is None:
+        raise InputError("give --elevation DEG for the device's view (or MODEL --closures F)")
+    params = params_of(args)
+    elevation = elevation_of(args, params)
+    feeder = load_feeder(params)
+    dynamics = cycle_dynamics(feeder, elevation, forward=False)
+    cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
+    if html is not None:
+        print(f"wrote {write_html(feeder, cycle, html, forces, port=port)}")
+        return 0
+    # Ctrl-C is how the viewer stops: from the first line printed on, it ends with status 0.
+    with show_cycle(feeder, cycle, forces, port=port) as viewer, suppress(KeyboardInterrupt):
+        print(f"{feeder.params.name} feeder at {args.elevation:g}°: open {viewer.url}")
+        print("press Ctrl-C to stop the viewer", flush=True)
+        viewer.serve_forever()
+    return 0
