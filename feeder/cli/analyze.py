@@ -4,7 +4,6 @@ its motion's loads and every reaction (``--motion``, ``--out``)."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from ..exceptions import InputError
 from .options import (
@@ -16,9 +15,6 @@ from .options import (
     switch,
     wrote,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:

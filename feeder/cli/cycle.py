@@ -4,10 +4,10 @@ the figures and the manifest."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from .options import (
     FORWARD_MIN_RATE,
+    RATE_HELP,
     Once,
     add_command,
     command_line,
@@ -17,13 +17,9 @@ from .options import (
     switch,
 )
 
-if TYPE_CHECKING:
-    pass
-
 
 def add(commands: argparse._SubParsersAction) -> None:
     """The ``cycle`` sub-parser."""
-    rate_help = "sample rate [Hz] (default: %(default)g)"
     cycle = add_command(commands, "cycle", run, "loads and reactions over a feeding cycle")
     study_options(cycle)
     cycle.add_argument(
@@ -32,7 +28,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=float,
         default=1000.0,
         metavar="HZ",
-        help=f"{rate_help}; the force-rule forward run needs ≥ {FORWARD_MIN_RATE:g} Hz with the "
+        help=f"{RATE_HELP}; the force-rule forward run needs ≥ {FORWARD_MIN_RATE:g} Hz with the "
         "default stages (below that, add --no-forward); the loads have no minimum",
     )
     switch(

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from .options import (
     Once,
@@ -13,9 +12,6 @@ from .options import (
     path_argument,
     write_or_print,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:

@@ -4,9 +4,9 @@ and 10."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from .options import (
+    RATE_HELP,
     Once,
     add_command,
     command_line,
@@ -15,17 +15,13 @@ from .options import (
     study_options,
 )
 
-if TYPE_CHECKING:
-    pass
-
 
 def add(commands: argparse._SubParsersAction) -> None:
     """The ``kinematics`` sub-parser."""
-    rate_help = "sample rate [Hz] (default: %(default)g)"
     kinematics = add_command(commands, "kinematics", run, "kinematics of the feeding cycle")
     study_options(kinematics)
     kinematics.add_argument(
-        "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=rate_help
+        "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=RATE_HELP
     )
 
 

@@ -19,6 +19,10 @@ if TYPE_CHECKING:
     from ..device.parameters import FeederParameters
 
 
+RATE_HELP = "sample rate [Hz] (default: %(default)g)"
+"""Help of ``--rate`` (cycle, kinematics)."""
+
+
 def add_command(
     commands: argparse._SubParsersAction,
     name: str,

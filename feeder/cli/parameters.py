@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 from contextlib import suppress
-from typing import TYPE_CHECKING
 
 from ..device.builtin import DEVICES
 from ..exceptions import InputError
@@ -18,9 +17,6 @@ from .options import (
     path_argument,
     write_or_print,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:

@@ -4,7 +4,6 @@ summary, figures, report.html."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from .options import (
     Once,
@@ -14,9 +13,6 @@ from .options import (
     path_argument,
     wrote,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..device.builtin import DEVICES
 from .options import (
@@ -14,9 +13,6 @@ from .options import (
     path_argument,
     switch,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from contextlib import suppress
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..exceptions import InputError
 from .options import (
@@ -18,9 +17,6 @@ from .options import (
     path_argument,
     study_options,
 )
-
-if TYPE_CHECKING:
-    pass
 
 
 def add(commands: argparse._SubParsersAction) -> None:
