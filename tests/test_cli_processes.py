@@ -195,3 +195,43 @@ def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
     assert status == 143, err
     assert len(err.strip().splitlines()) == 1 and "terminated (SIGTERM)" in err, err
     wait_for(lambda: not group_alive(run.pid), "the workers to end")
+
+
+STOP = 5.0
+"""[s] Longest time from Ctrl-C to the end of a sweep and of all its workers: each worker ends
+its batch and the one queued for it (2 × 16 cases of ~42 ms: ~1.5 s; 1.5–2.1 s measured), with
+room for busy CI cores. Before the fix a 740 001-case sweep took 10–12 s, or never ended (a
+Ctrl-C while it submitted its batches left them all to run); that size is now refused."""
+
+
+@pytest.mark.parametrize("moment", [".feeder-run.lock", "sweep_peaks.csv"])
+def test_ctrl_c_at_the_terminal_stops_a_large_sweep_at_once(tmp_path, moment):
+    """A terminal's Ctrl-C (SIGINT to the whole group) as a 74 001-case sweep submits its
+    batches and forks its workers (the lock), or once it computes (its first checkpoint): one
+    line, status 130, and no process of the run left, within :data:`STOP`."""
+    out = tmp_path / "sweep"
+    run = start("sweep", "--elevations", "-4", "70", "0.001", "--out", str(out), group=True)
+    wait_for(lambda: (out / moment).exists(), moment)
+    os.killpg(run.pid, signal.SIGINT)
+    interrupted = time.monotonic()
+    status, _, err = finish(run)
+    wait_for(lambda: not group_alive(run.pid), "the workers to end")
+    assert time.monotonic() - interrupted < STOP
+    assert status == 130, err
+    assert err.strip().splitlines() == [
+        "feeder: interrupted (Ctrl-C); no output was left half-written"
+    ], err
+
+
+def test_a_sweep_of_too_many_cases_is_refused_in_one_line(tmp_path):
+    """−4° … 70° by 0.0001° (740 001 cases, ~4 h on 2 cores) is refused before any work."""
+    out = tmp_path / "sweep"
+    run = start("sweep", "--elevations", "-4", "70", "0.0001", "--out", str(out), group=True)
+    try:
+        status, _, err = finish(run)
+    finally:  # accepted, it would run for hours: never leave it behind
+        if group_alive(run.pid):
+            os.killpg(run.pid, signal.SIGKILL)
+    assert status == 2 and len(err.strip().splitlines()) == 1, err
+    assert "740001 elevations" in err and "use a larger elevation step" in err, err
+    assert not out.exists()

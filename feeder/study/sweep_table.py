@@ -1,14 +1,18 @@
 """The table of a sweep: one row per case, its peaks and their times (``sweep_peaks.csv``).
 
-Tidy: a row is one case (device, variant, elevation), a column one variable. Columns, in order:
+Tidy: a row is one case (device, variant, elevation), a column one variable. Columns, in order
+(:data:`TABLE_COLUMNS`):
 
 * ``device``, ``variant``: names (the grid's);
 * ``elevation_deg``: ε [deg];
-* ``fingerprint``: a hash of the case's parameters and timing
-  (:func:`~feeder.study.grid.fingerprint`): a resumed sweep reuses a row only if it matches;
-* for each quantity of :func:`~feeder.study.peaks.cycle_peaks` (a ``cycle.csv`` column: its unit
-  is the column's, SI, docs/REFERENCE.md): ``<name>``, the value where |value| peaks (signed for
-  the actuator loads and pressures, a magnitude for a reaction), and ``<name>_time`` [s], when.
+* ``case_sha256``: SHA-256 of what defines the case's computation (its key, parameters and
+  timing: :attr:`~feeder.study.grid.SweepCase.sha256`): a resumed sweep reuses a row only if it
+  matches;
+* for each quantity of :data:`QUANTITIES` (a ``cycle.csv`` column: its unit is the column's, SI,
+  docs/REFERENCE.md): ``<name>``, the value where |value| peaks (signed for the actuator loads
+  and pressures, a magnitude for a reaction), and ``<name>_time`` [s], when;
+* ``row_sha256``: SHA-256 of the row's other cells as written (:func:`row_sha256`): a row edited
+  or damaged after it was written no longer matches it.
 
 Floats are written as Python's shortest repr, which reads back as the same float. The same
 table can be written as Parquet (``pyarrow``, the optional ``parquet`` extra).
@@ -17,12 +21,16 @@ table can be written as Parquet (``pyarrow``, the optional ``parquet`` extra).
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
+import json
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..exceptions import InputError
 from ..files import atomic_path
+from .columns import VECTORS
 
 TABLE = "sweep_peaks.csv"
 """File name of the table in a sweep's output folder."""
@@ -30,21 +38,34 @@ TABLE = "sweep_peaks.csv"
 PARQUET = "sweep_peaks.parquet"
 """File name of its Parquet copy."""
 
-TEXT_COLUMNS = ("device", "variant", "fingerprint")
-"""The columns that hold names; every other column holds floats."""
+QUANTITIES = (
+    "piston_force",
+    "cylinder_cap_pressure",
+    "cylinder_rod_pressure",
+    "forearm_torque",
+    "rack_force",
+    *(name for name, *_ in VECTORS),
+)
+"""The quantities whose peaks a row holds, in the order of
+:func:`~feeder.study.peaks.cycle_peaks`."""
 
 KEY_COLUMNS = ("device", "variant", "elevation_deg")
 """The columns that identify a case."""
 
+TABLE_COLUMNS = (
+    *KEY_COLUMNS,
+    "case_sha256",
+    *(column for name in QUANTITIES for column in (name, f"{name}_time")),
+    "row_sha256",
+)
+"""Every column of the table, in file order."""
+
+TEXT_COLUMNS = ("device", "variant", "case_sha256", "row_sha256")
+"""The columns that hold names and hashes; every other column holds floats."""
+
 Row = dict[str, str | float]
-
-
-def table_columns(quantities: Sequence[str]) -> list[str]:
-    """Every column of a table with peaks of ``quantities``, in file order."""
-    columns = ["device", "variant", "elevation_deg", "fingerprint"]
-    for name in quantities:
-        columns += [name, f"{name}_time"]
-    return columns
+"""A row in memory: every column of :data:`TABLE_COLUMNS` but ``row_sha256`` (the checksum
+belongs to the row as written)."""
 
 
 def row_key(row: Mapping[str, str | float]) -> tuple[str, str, float]:
@@ -52,8 +73,27 @@ def row_key(row: Mapping[str, str | float]) -> tuple[str, str, float]:
     return (str(row["device"]), str(row["variant"]), float(row["elevation_deg"]))
 
 
-def write_table(path: str | Path, rows: Sequence[Row], columns: Sequence[str]) -> Path:
-    """Write ``rows`` (each with every one of ``columns``) as CSV, atomically.
+def row_sha256(cells: Sequence[str]) -> str:
+    """SHA-256 of a row's cells as written, every column but ``row_sha256``, in file order
+    (as a JSON list: no separator can be mistaken for a cell's text)."""
+    return hashlib.sha256(json.dumps(list(cells)).encode("utf-8")).hexdigest()
+
+
+def _cells(row: Row) -> list[str]:
+    """The row as written: every cell (a float as its shortest repr), its checksum last.
+
+    Raises:
+        InputError: The row lacks a column.
+    """
+    try:
+        cells = [str(row[name]) for name in TABLE_COLUMNS[:-1]]
+    except KeyError as exc:
+        raise InputError(f"sweep row {row_key(row)} has no column {exc}") from exc
+    return [*cells, row_sha256(cells)]
+
+
+def write_table(path: str | Path, rows: Sequence[Row]) -> Path:
+    """Write ``rows`` as CSV with :data:`TABLE_COLUMNS`, each with its checksum, atomically.
 
     Raises:
         InputError: A row that lacks a column, or the file cannot be written.
@@ -61,12 +101,8 @@ def write_table(path: str | Path, rows: Sequence[Row], columns: Sequence[str]) -
     path = Path(path)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(columns)
-    for row in rows:
-        try:
-            writer.writerow([row[name] for name in columns])  # str(float) is its exact repr
-        except KeyError as exc:
-            raise InputError(f"sweep row {row_key(row)} has no column {exc}") from exc
+    writer.writerow(TABLE_COLUMNS)
+    writer.writerows(_cells(row) for row in rows)
     with atomic_path(path) as temporary:
         temporary.write_text(buffer.getvalue(), encoding="utf-8")
     return path
@@ -80,8 +116,9 @@ def check_parquet() -> None:
         raise InputError("writing Parquet needs pyarrow: pip install 'feeder[parquet]'") from exc
 
 
-def write_parquet(path: str | Path, rows: Sequence[Row], columns: Sequence[str]) -> Path:
-    """Write the same table as Parquet (needs ``pyarrow``), atomically.
+def write_parquet(path: str | Path, rows: Sequence[Row]) -> Path:
+    """Write the same table (the same columns, checksums included) as Parquet (needs
+    ``pyarrow``), atomically.
 
     Raises:
         InputError: pyarrow is not installed (the message says how to install it).
@@ -91,18 +128,70 @@ def write_parquet(path: str | Path, rows: Sequence[Row], columns: Sequence[str])
     import pyarrow.parquet as pq
 
     path = Path(path)
-    table = pa.table({name: [row[name] for row in rows] for name in columns})
+    columns = {name: [row[name] for row in rows] for name in TABLE_COLUMNS[:-1]}
+    columns["row_sha256"] = [_cells(row)[-1] for row in rows]
     with atomic_path(path) as temporary:
-        pq.write_table(table, temporary)
+        pq.write_table(pa.table(columns), temporary)
     return path
 
 
-def read_table(path: str | Path) -> tuple[list[Row], list[str]]:
-    """Read a sweep table: its rows and its columns.
+def _check_header(path: Path, header: Sequence[str]) -> None:
+    """Refuse a table whose columns are not :data:`TABLE_COLUMNS` (another version's table, or
+    one edited as a whole): its rows cannot be checked, and recomputing them all would discard
+    the file without the user deciding it."""
+    if list(header) == list(TABLE_COLUMNS):
+        return
+    missing = [name for name in TABLE_COLUMNS if name not in header]
+    unknown = [name for name in header if name not in TABLE_COLUMNS]
+    if missing or unknown:
+        problem = "; ".join(
+            f"{what} column{'s' if len(names) > 1 else ''} {', '.join(names[:3])}"
+            f"{f' and {len(names) - 3} more' if len(names) > 3 else ''}"
+            for what, names in (("no", missing), ("unknown", unknown))
+            if names
+        )
+    else:
+        problem = "its columns in another order"
+    raise InputError(
+        f"{path} is not a sweep table of this feeder ({problem}): delete it to start afresh, "
+        "or write to another folder"
+    )
+
+
+def _parse(cells: Sequence[str]) -> tuple[Row | None, str]:
+    """A written row's values, or None and why it cannot be trusted."""
+    if len(cells) != len(TABLE_COLUMNS):
+        return None, "unreadable"
+    if row_sha256(cells[:-1]) != cells[-1]:
+        return None, "checksum mismatch"
+    row: Row = {}
+    for name, cell in zip(TABLE_COLUMNS[:-1], cells, strict=False):
+        if name in TEXT_COLUMNS:
+            row[name] = cell
+            continue
+        try:
+            row[name] = float(cell)
+        except ValueError:
+            return None, "unreadable"
+        if not math.isfinite(row[name]):
+            return None, "non-finite value"
+    return row, ""
+
+
+def read_table(path: str | Path) -> tuple[list[Row], list[tuple[int, str]]]:
+    """Read a sweep table: the rows that pass their checks, and the rejected ones.
+
+    A row is rejected when it is unreadable (not one cell per column, or a number that is not
+    one), when its ``row_sha256`` does not match its cells (edited or damaged after it was
+    written), when a value is not finite, or when its case has more than one row (every one of
+    them: which, if any, is right cannot be told).
+
+    Returns:
+        (rows, rejected): the rows in file order; (line number, reason) of each rejected row.
 
     Raises:
-        InputError: A missing file, or one that is not a sweep table (a header with the key
-            columns, then rows of names and numbers of the header's width).
+        InputError: A missing or unreadable file, or one whose header is not
+            :data:`TABLE_COLUMNS` (naming the missing and unknown columns).
     """
     path = Path(path)
     if not path.is_file():
@@ -112,22 +201,19 @@ def read_table(path: str | Path) -> tuple[list[Row], list[str]]:
             lines = list(csv.reader(handle))
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise InputError(f"{path} is not a sweep table: {exc}") from exc
-    if not lines or not set(KEY_COLUMNS + ("fingerprint",)) <= set(lines[0]):
-        raise InputError(f"{path} is not a sweep table: no header with {', '.join(KEY_COLUMNS)}")
-    columns = lines[0]
-    rows = []
+    _check_header(path, lines[0] if lines else [])
+    parsed: dict[tuple[str, str, float], list[tuple[int, Row]]] = {}
+    rejected = []
     for number, cells in enumerate(lines[1:], start=2):
-        if len(cells) != len(columns):
-            raise InputError(
-                f"{path}, line {number}: {len(cells)} cells for {len(columns)} columns"
-            )
-        try:
-            rows.append(
-                {
-                    name: cell if name in TEXT_COLUMNS else float(cell)
-                    for name, cell in zip(columns, cells, strict=True)
-                }
-            )
-        except ValueError as exc:
-            raise InputError(f"{path}, line {number}: {exc}") from exc
-    return rows, columns
+        row, reason = _parse(cells)
+        if row is None:
+            rejected.append((number, reason))
+        else:
+            parsed.setdefault(row_key(row), []).append((number, row))
+    rows = []
+    for copies in parsed.values():
+        if len(copies) == 1:
+            rows.append(copies[0])
+        else:
+            rejected += [(number, "duplicated") for number, _ in copies]
+    return [row for _, row in sorted(rows, key=lambda pair: pair[0])], sorted(rejected)

@@ -117,11 +117,16 @@ def sweep_figure(
         title: Figure title, or None.
 
     Raises:
-        InputError: A panel whose quantities have different units, or names no column.
+        InputError: A panel whose quantities have different units, or names no column, or a
+            quantity that a sweep lacks.
     """
     fig, axes = _grid(len(panels), columns, 5.0, 4.0)
     for ax, (panel, names) in zip(axes, panels, strict=True):
         factor, unit = _one_unit(panel, names)
+        for label, sweep in sweeps.items():
+            missing = [name for name in names if name not in sweep.peaks]
+            if missing:
+                raise InputError(f"panel {panel!r}: sweep {label!r} has no peaks of {missing}")
         runs = [
             (
                 sweep,

@@ -288,10 +288,18 @@ def write_figures(
 def sweep_figures(table: str | Path) -> dict[str, Figure]:
     """Peaks against elevation from a sweep table (``sweep_peaks.csv``): one figure per device,
     a curve style per variant (:func:`~feeder.viz.comparisons.sweep_figure`), by file name
-    ``sweep_<device>.png``."""
+    ``sweep_<device>.png``.
+
+    Raises:
+        InputError: The table is not a sweep table, or has a row that fails its checks
+            (:func:`~feeder.study.sweep_table.read_table`).
+    """
     from .comparisons import sweep_figure
 
-    rows, _ = read_table(table)
+    rows, rejected = read_table(table)
+    if rejected:
+        number, reason = rejected[0]
+        raise InputError(f"{table}, line {number}: {reason}: run the sweep again to recompute it")
     groups: dict[str, dict[str, object]] = {}
     for (device, variant), sweep in sweeps_of(rows).items():
         groups.setdefault(device, {})[variant] = sweep

@@ -3,10 +3,13 @@ table, on local worker processes and on a Dask cluster (LocalCluster on 127.0.0.
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import json
 import math
+import signal
 import socket
+from concurrent.futures import Executor, Future
 from functools import partial
 
 import numpy as np
@@ -17,10 +20,17 @@ from feeder.exceptions import ElevationError, InputError, OutputBusyError
 from feeder.files import LOCK, MANIFEST, OutputFolder, exclusive_lock
 from feeder.motion.laws import CycleSpec
 from feeder.study import sweep as sweep_module
-from feeder.study.grid import Variant, make_grid
+from feeder.study.grid import Variant, elevation_range, make_grid
 from feeder.study.peaks import cycle_peaks
 from feeder.study.sweep import elevation_sweep, run_sweep, sweeps_of
-from feeder.study.sweep_table import PARQUET, TABLE, read_table
+from feeder.study.sweep_table import (
+    PARQUET,
+    QUANTITIES,
+    TABLE,
+    TABLE_COLUMNS,
+    read_table,
+    row_sha256,
+)
 from feeder.viz.report import png_bytes, sweep_figures, write_png
 
 SWEEP_SPEC = CycleSpec(rate=100.0)
@@ -84,8 +94,9 @@ def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
     grid = _grid(variants=(Variant("reference"), Variant("heavier", {"mass_factor": 1.2})))
     path = run_sweep(grid, tmp_path, progress=False).table
     assert path == tmp_path / TABLE
-    rows, columns = read_table(path)
-    assert columns[:4] == ["device", "variant", "elevation_deg", "fingerprint"]
+    rows, rejected = read_table(path)
+    assert rejected == []
+    assert path.read_text(encoding="utf-8").splitlines()[0].split(",") == list(TABLE_COLUMNS)
     assert [(r["device"], r["variant"], r["elevation_deg"]) for r in rows] == [
         case.key for case in grid.cases()
     ]
@@ -95,6 +106,7 @@ def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
             sweep_module.cached_feeder(case.params), case.elevation, SWEEP_SPEC, forward=False
         )
     )
+    assert [peak.name for peak in peaks] == list(QUANTITIES)  # the table's columns
     for peak in peaks:
         assert rows[4][peak.name] == peak.value and rows[4][f"{peak.name}_time"] == peak.time
     sweeps = sweeps_of(rows)
@@ -189,11 +201,13 @@ def test_overrides_of_devices_and_elevations(tmp_path):
 def test_parquet_copy_holds_the_same_table(tmp_path):
     pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow (the parquet extra) not installed")
     run_sweep(_grid(), tmp_path, progress=False, parquet=True)
-    rows, columns = read_table(tmp_path / TABLE)
+    rows, _ = read_table(tmp_path / TABLE)
     table = pq.read_table(tmp_path / PARQUET).to_pydict()
-    assert list(table) == columns
-    for name in columns:
+    assert list(table) == list(TABLE_COLUMNS)
+    for name in TABLE_COLUMNS[:-1]:
         assert table[name] == [row[name] for row in rows], name
+    written = list(csv.reader((tmp_path / TABLE).open(encoding="utf-8")))[1:]
+    assert table["row_sha256"] == [cells[-1] for cells in written]
 
 
 def figure_writers(table):
@@ -276,3 +290,139 @@ def test_peak_times_lie_in_the_cycle(tmp_path):
         times = [value for name, value in row.items() if name.endswith("_time")]
         assert all(0.0 <= t <= end for t in times)
         assert math.isfinite(row["piston_force"])
+
+
+def _edit_table(path, edit) -> None:
+    """Rewrite the table's lines (header first, each a list of cells) through ``edit``."""
+    with path.open(encoding="utf-8", newline="") as handle:
+        lines = edit(list(csv.reader(handle)))
+    with path.open("w", encoding="utf-8", newline="") as handle:
+        csv.writer(handle, lineterminator="\n").writerows(lines)
+
+
+@pytest.mark.parametrize("figures", [figure_writers, None])
+@pytest.mark.parametrize("edit", ["missing", "unknown"])
+def test_a_table_of_other_columns_is_refused_not_resumed(tmp_path, figures, edit):
+    """A table without ``grip_force`` (or with a foreign column) is another version's or was
+    edited as a whole: refused before any work, naming the column and the remedy, and left as
+    it was (recomputing every row would discard the user's file without asking)."""
+    run_sweep(_grid(elevations=(20.0,)), tmp_path, progress=False, workers=1)
+
+    def change(lines):
+        if edit == "unknown":
+            return [[*cells, "note" if k == 0 else "1.0"] for k, cells in enumerate(lines)]
+        dropped = lines[0].index("grip_force")
+        return [cells[:dropped] + cells[dropped + 1 :] for cells in lines]
+
+    _edit_table(tmp_path / TABLE, change)
+    before = sha256(tmp_path / TABLE)
+    named = "no column grip_force" if edit == "missing" else "unknown column note"
+    with pytest.raises(InputError, match=f"{named}\\): delete it to start afresh"):
+        run_sweep(_grid(elevations=(20.0,)), tmp_path, progress=False, workers=1, figures=figures)
+    assert sha256(tmp_path / TABLE) == before
+
+
+def test_the_command_refuses_a_table_of_other_columns_in_one_line(tmp_path, capsys):
+    from feeder.__main__ import main
+
+    arguments = ["sweep", "--elevations", "20", "20", "1", "--workers", "1", "--out"]
+    assert main([*arguments, str(tmp_path), "--no-figures"]) == 0
+    _edit_table(tmp_path / TABLE, lambda lines: [cells[:-2] for cells in lines])
+    capsys.readouterr()
+    assert main([*arguments, str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no columns" in err and "delete it" in err, err
+
+
+def test_rows_that_fail_their_checks_are_recomputed(tmp_path, monkeypatch):
+    """A half-finished table with a NaN peak (its checksum redone, as a buggy run would write
+    it), a duplicated case row and an edited value: those rows are dropped, their cases computed
+    again, the summary says how many and why, and the table ends as a fresh run writes it."""
+    grid = _grid()
+    fresh = run_sweep(grid, tmp_path / "fresh", progress=False, workers=1).table
+    out = tmp_path / "resumed"
+    run_sweep(grid, out, progress=False, workers=1)
+
+    def damage(lines):
+        header = lines[0]
+        force = header.index("piston_force")
+        nan = lines[1][:-1]
+        nan[force] = "nan"
+        lines[1] = [*nan, row_sha256(nan)]
+        lines[5][force] = str(float(lines[5][force]) * 1.01)  # the checksum left as it was
+        return [*lines, lines[3]]  # line 3's case twice
+
+    _edit_table(out / TABLE, damage)
+    computed = []
+    original = sweep_module.case_peaks
+
+    def counting(case):
+        computed.append(case.key)
+        return original(case)
+
+    monkeypatch.setattr(sweep_module, "case_peaks", counting)
+    outputs = run_sweep(grid, out, progress=False, workers=1)
+    cases = grid.cases()
+    assert sorted(computed) == sorted([cases[0].key, cases[2].key, cases[4].key])
+    assert (outputs.kept, outputs.computed) == (3, 3)
+    assert outputs.dropped == {"non-finite value": 1, "duplicated": 2, "checksum mismatch": 1}
+    assert outputs.summary() == (
+        "6 cases: 3 kept from the earlier table, 3 computed (4 earlier rows recomputed: "
+        "1 non-finite value, 2 duplicated, 1 checksum mismatch)"
+    )
+    assert outputs.table.read_text(encoding="utf-8") == fresh.read_text(encoding="utf-8")
+    record = json.loads((out / MANIFEST).read_text())
+    assert record["earlier_rows_dropped"] == outputs.dropped
+
+
+def test_a_row_moved_to_another_case_fails_its_checksum(tmp_path):
+    """The case's hash covers its key: a row whose elevation was changed to another case of the
+    sweep is not taken for that case."""
+    run_sweep(_grid(), tmp_path, progress=False, workers=1)
+
+    def move(lines):
+        lines[1][lines[0].index("elevation_deg")] = "70.0"
+        return lines
+
+    _edit_table(tmp_path / TABLE, move)
+    rows, rejected = read_table(tmp_path / TABLE)
+    assert rejected == [(2, "checksum mismatch")] and len(rows) == 5
+
+
+def test_a_typo_of_a_step_is_refused_before_any_work():
+    """−4° … 70° by 0.0001° is 740 001 cases (~4 h on 2 cores): refused, saying what to do."""
+    with pytest.raises(InputError, match=r"740001 elevations .*use a larger elevation step"):
+        elevation_range(-4.0, 70.0, 0.0001)
+    with pytest.raises(InputError, match=r"100002 cases \(50001 elevations × 1 variants × 2"):
+        make_grid(("projectile", "charge"), elevation_range(0.0, 50.0, 0.001), REFERENCE)
+
+
+class _InterruptedExecutor(Executor):
+    """An executor whose third submit meets a Ctrl-C; its futures never run."""
+
+    def __init__(self):
+        self.futures = []
+
+    def submit(self, fn, /, *args, **kwargs):
+        if len(self.futures) == 2:
+            raise KeyboardInterrupt
+        self.futures.append(Future())
+        return self.futures[-1]
+
+
+def test_ctrl_c_while_submitting_cancels_what_was_submitted():
+    """A large sweep takes seconds to submit its batches: a Ctrl-C meanwhile must cancel the
+    ones already submitted (once, they all ran before the sweep could end)."""
+    executor = _InterruptedExecutor()
+    with pytest.raises(KeyboardInterrupt):
+        list(sweep_module.run_cases(_grid().cases(), executor, slots=1, progress=False))
+    assert len(executor.futures) == 2 and all(f.cancelled() for f in executor.futures)
+
+
+def test_workers_leave_ctrl_c_to_the_sweep():
+    """Workers ignore SIGINT (the terminal sends it to them too; the sweep stops them), and do
+    not keep it blocked from the fork, where it was held back."""
+    with sweep_module.sweep_executor(workers=2) as (executor, _):
+        assert executor.submit(signal.getsignal, signal.SIGINT).result() == signal.SIG_IGN
+        held = executor.submit(signal.pthread_sigmask, signal.SIG_BLOCK, set()).result()
+        assert signal.SIGINT not in held

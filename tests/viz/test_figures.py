@@ -83,6 +83,14 @@ def test_newtons_and_newton_metres_never_share_a_sweep_axis(feeder):
     assert len(sweep_figure({"x": sweep}).axes) == len(SWEEP_PANELS)
 
 
+def test_a_sweep_without_a_panels_quantity_is_refused_by_name(feeder):
+    """Once a KeyError from deep in the drawing."""
+    sweep = elevation_sweep(feeder, np.radians([0.0]), CycleSpec(rate=100.0), progress=False)
+    del sweep.peaks["grip_force"]
+    with pytest.raises(InputError, match=r"sweep 'x' has no peaks of \['grip_force'\]"):
+        sweep_figure({"x": sweep})
+
+
 @pytest.mark.parametrize(
     "degrees, text", [(-4.0, "ε = −4°"), (30.5, "ε = 30.5°"), (-0.001, "ε = 0°"), (70, "ε = 70°")]
 )
