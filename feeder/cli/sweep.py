@@ -104,11 +104,7 @@ def run(args: argparse.Namespace) -> int:
         figures=figures if args.figures else None,
         command=command_line(args),
     )
-    cases = outputs.kept + outputs.computed
-    print(
-        f"{cases} case{'' if cases == 1 else 's'}: {outputs.kept} kept from the earlier table, "
-        f"{outputs.computed} computed"
-    )
+    print(outputs.summary())
     count = sum(path.suffix == ".png" for path in outputs.files)
     drawn = f" and {count} figure{'' if count == 1 else 's'}" if count else ""
     print(f"wrote {outputs.table.name}{drawn} in {outputs.table.parent}")
