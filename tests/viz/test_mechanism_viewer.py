@@ -305,3 +305,47 @@ def test_browser_draws_the_cad_export_with_its_meshes(cassie_page, tmp_path):
         bodies = changed(image, hidden)
         assert bodies.mean() > MIN_BODY_SHARE, f"bodies cover {bodies.mean():.2%}"
     assert WINDOW == (1000, 800)
+
+
+def _four_bar_copy(folder: Path, urdf: str) -> Path:
+    """The four-bar's mechanism file beside a URDF of ``urdf``'s text in ``folder``."""
+    (folder / "four_bar.urdf").write_text(urdf, encoding="utf-8")
+    shutil.copy(FOUR_BAR / "closures.toml", folder / "closures.toml")
+    return folder / "closures.toml"
+
+
+def test_a_model_without_visuals_is_a_stick_figure(tmp_path):
+    """No <visual> at all: a ball at every joint, a rod to every child joint and closure frame,
+    all animated with the joints; the legend says it."""
+    urdf = (FOUR_BAR / "four_bar.urdf").read_text(encoding="utf-8")
+    bare = re.sub(r"<visual>.*?</visual>", "", urdf, flags=re.S)
+    view = pose_view(_four_bar_copy(tmp_path, bare))
+    page = mechanism_html(view)
+    commands = decode_commands(page)
+    drawn = {c["path"].rsplit("/", 1)[1] for c in commands if c["type"] == "set_object"}
+    model = view.chain.model
+    assert {f"joint_{name}" for name in list(model.names)[1:]} <= drawn
+    closure = view.chain.closures[0]
+    assert {f"rod_{closure.frame_a}", f"rod_{closure.frame_b}"} <= drawn
+    assert "stick figure" in page
+
+
+def test_obj_meshes_resolved_beside_the_model(tmp_path):
+    """A relative OBJ path, resolved beside the URDF and embedded in the page."""
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "crank.obj").write_text(
+        "v 0 0 0\nv 0.04 0 0\nv 0 0.02 0\nv 0 0 0.01\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n",
+        encoding="utf-8",
+    )
+    urdf = (FOUR_BAR / "four_bar.urdf").read_text(encoding="utf-8")
+    meshed = urdf.replace('<box size="0.04 0.02 0.01"/>', '<mesh filename="meshes/crank.obj"/>', 1)
+    page = mechanism_html(pose_view(_four_bar_copy(tmp_path, meshed)))
+    meshes = [
+        g
+        for c in decode_commands(page)
+        if c["type"] == "set_object"
+        for g in c["object"].get("geometries", [])
+        if g["type"] == "_meshfile"
+    ]
+    assert [m["format"] for m in meshes] == ["obj"]
+    assert "v 0.04 0 0" in meshes[0]["data"]  # the file's text, not a reference to it
