@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from feeder.cli import main, parser
+from feeder.device.parameter_file import DIGITS
 from feeder.study.csv import read_csv
 
 from .conftest import REPO
@@ -392,10 +393,11 @@ def test_params_file_changes_the_cycle_results(tmp_path, heavier_file):
         runs["builtin_manifest"]["parameters_sha256"]
         != (runs["edited_manifest"]["parameters_sha256"])
     )
-    # The same motion: the file gives the lengths back to DIGITS (1e-12 relative of ≤ 1 m), and
-    # the motion follows them to that order.
+    # The same motion: the file gives the lengths back to DIGITS relative (≤ 1e-12 m on lengths
+    # under 1 m; the angles through degrees to a few ulp), and the motion follows them to that
+    # order (measured: 6e-17).
     for name in ("q_phi1", "q_r2", "q_phi3", "q_phi4", "projectile_x"):
-        np.testing.assert_allclose(heavy[name], base[name], rtol=0, atol=1e-11, err_msg=name)
+        np.testing.assert_allclose(heavy[name], base[name], rtol=0, atol=DIGITS, err_msg=name)
     k = int(np.flatnonzero(base["t"] == 2.0)[0])
 
     def pin_moment(table):

@@ -104,9 +104,6 @@ class Analysis:
         """The assembled pose as text (:func:`pose_lines`)."""
         return pose_lines(self.chain.model, self.reference, self.assembled)
 
-    def _prismatic(self, joint: str) -> bool:
-        return prismatic(self.chain.model, joint)
-
 
 def gravity_text(spec: MechanismSpec, chain: ClosedChain) -> str:
     """The gravity the run used [m/s²] and whether the mechanism file gave it or it was assumed
@@ -153,6 +150,11 @@ def prismatic(model: pin.Model, joint: str) -> bool:
     return kind_of(model.joints[model.getJointId(joint)]) == "prismatic"
 
 
+def load_unit(model: pin.Model, joint: str) -> str:
+    """The unit of a one-coordinate joint's generalized force: N (prismatic) or N·m."""
+    return "N" if prismatic(model, joint) else "N·m"
+
+
 def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
     """The loads as table columns (N,), SI units, world axes: ``tau_<joint>`` of the actuated
     joints (N or N·m along the joint axis); ``<closure>_force_x|y|z`` and
@@ -183,9 +185,7 @@ def element_units(model: pin.Model, elements: Sequence[ForceElement]) -> dict[st
     """The unit of each force element's reported force, by name: N for a spring or a
     cylinder (tension), N·m or N for a joint spring on a revolute or prismatic joint."""
     return {
-        element.name: "N·m"
-        if isinstance(element, JointSpring) and not prismatic(model, element.joint)
-        else "N"
+        element.name: load_unit(model, element.joint) if isinstance(element, JointSpring) else "N"
         for element in elements
     }
 
@@ -202,7 +202,7 @@ def load_peaks(
     lines = []
     for name, values in loads.actuators.items() if drives else ():
         k = int(np.argmax(np.abs(values)))
-        unit = "N" if prismatic(model, name) else "N·m"
+        unit = load_unit(model, name)
         lines.append(
             f"  peak actuator load {name}: max |τ| = {abs(values[k]):.4g} {unit} "
             f"(sign {'+' if values[k] >= 0 else '−'}) at t = {t[k]:.4g} s"

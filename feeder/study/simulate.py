@@ -81,7 +81,7 @@ class Simulation:
         cols["drift"] = run.residual
         cols["energy"] = run.energy
         cols["work"] = run.work
-        cols["energy_balance"] = run.energy - run.energy[0] - run.work
+        cols["energy_balance"] = run.balance()
         return cols
 
     def summary(self) -> str:

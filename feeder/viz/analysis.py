@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 
 from ..chain.dynamics.inverse import ChainLoads
 from ..chain.kinematics.tree import frame_placements, tree_motion
-from ..study.analyze import Analysis
+from ..study.analyze import Analysis, load_unit
 from ..study.simulate import Simulation
 from .axes import (
     Curve,
@@ -101,7 +101,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
 
 
 def _unit(analysis: Analysis, joint: str) -> str:
-    return "N" if analysis._prismatic(joint) else "N·m"
+    return load_unit(analysis.chain.model, joint)
 
 
 def loads_figure(analysis: Analysis) -> Figure:
@@ -179,11 +179,13 @@ def analysis_figures(analysis: Analysis) -> dict[str, Figure]:
     """Every figure of an analysis, by file name."""
     t = analysis.motion.t
     size = reach(analysis.chain.model, analysis.q)
-    return {
+    figures = {
         "actuator_loads.png": loads_figure(analysis),
         "joint_reactions.png": reactions_figure(t, analysis.loads, size),
-        "closure_forces.png": closures_figure(t, analysis.loads, size),
     }
+    if analysis.loads.closures:
+        figures["closure_forces.png"] = closures_figure(t, analysis.loads, size)
+    return figures
 
 
 def motion_figure(simulation: Simulation) -> Figure:
@@ -235,7 +237,7 @@ def balance_figure(simulation: Simulation, size: float) -> Figure:
                 "Energy balance (zero for an exact run)",
                 "E − E(0) − W [J]",
                 "J",
-                (("E − E(0) − W", change - run.work),),
+                (("E − E(0) − W", run.balance()),),
                 scale=energy,
             ),
             Panel(

@@ -117,9 +117,12 @@ def log_curves(
     return curves
 
 
-def draw_curves(ax: Axes, x: np.ndarray, curves: Sequence[Curve], linewidth: float = 1.2) -> None:
-    """Each curve against ``x``, a colour and a line style (:data:`STYLES`) apiece."""
-    for k, curve in enumerate(curves):
+def draw_curves(
+    ax: Axes, x: np.ndarray, curves: Sequence[Curve], linewidth: float = 1.2, first: int = 0
+) -> None:
+    """Each curve against ``x``, a colour and a line style (:data:`STYLES`) apiece, counted
+    from the ``first``-th (for curves of another time grid on the same axes)."""
+    for k, curve in enumerate(curves, start=first):
         ax.plot(
             x,
             curve.values,

@@ -68,14 +68,21 @@ def cycles_figure(
     fig, axes = _grid(len(panels), columns, 6.0, 3.0)
     tables = {label: study.columns() for label, study in studies.items()}
     boundaries = next(iter(studies.values())).dynamics.kinematics.spec.boundaries
+    grids = _time_grids(tables)
     for ax, (name, title) in zip(axes, panels, strict=True):
         factor, unit = _one_unit(title, [name])
-        series = [(label, table[name] * factor) for label, table in tables.items()]
-        curves = distinct_curves(series, unit)
+        groups = [
+            (t, distinct_curves([(label, tables[label][name] * factor) for label in labels], unit))
+            for t, labels in grids
+        ]  # studies are compared sample by sample only on the same time grid
+        curves = [curve for _, group in groups for curve in group]
         if all(curve.zero for curve in curves):
             leave_out(ax, zero_note(title, curves, unit))
             continue
-        draw_curves(ax, tables[next(iter(tables))]["t"], curves)
+        drawn = 0
+        for t, group in groups:
+            draw_curves(ax, t, group, first=drawn)
+            drawn += len(group)
         mark_stages(ax, boundaries)
         ax.set_title(title, pad=14, fontsize=10)
         ax.set_ylabel(f"{words(name)} [{unit}]" if unit else words(name), fontsize=8)
@@ -84,6 +91,19 @@ def cycles_figure(
         ax.legend(loc="upper left", fontsize=7)
     finish(fig, left=0.75, top=0.55, bottom=0.5, wspace=0.85, hspace=0.95)
     return fig
+
+
+def _time_grids(tables: Mapping[str, Mapping[str, np.ndarray]]) -> list[tuple[np.ndarray, list]]:
+    """The tables' time grids, each with the labels of the tables sampled on it, in order."""
+    grids: list[tuple[np.ndarray, list]] = []
+    for label, table in tables.items():
+        for t, labels in grids:
+            if np.array_equal(t, table["t"]):
+                labels.append(label)
+                break
+        else:
+            grids.append((table["t"], [label]))
+    return grids
 
 
 SWEEP_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (

@@ -27,6 +27,7 @@ from .scene import (
     geometry_placements,
     geometry_sphere,
     homogeneous,
+    joint_placements,
     material_css,
     sphere_centres,
     up_of,
@@ -74,7 +75,7 @@ def _placements(
 
     Before the grip (payload = 0) the payload's geometries stay where they are gripped."""
     model = feeder.model
-    out = geometry_placements(model, visual_model, feeder.to_pinocchio(cycle.q))
+    out = geometry_placements(joint_placements(model, feeder.to_pinocchio(cycle.q)), visual_model)
     on_payload = np.array(
         [model.frames[g.parentFrame].name == "projectile" for g in visual_model.geometryObjects]
     )

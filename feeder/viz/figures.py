@@ -24,7 +24,7 @@ from matplotlib.figure import Figure
 from ..motion.cycle import CycleKinematics
 from ..study.cycle_study import CycleStudy
 from .axes import STYLES, distinct_curves, label_ticks, leave_out, zero_note
-from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text
+from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text, file_name
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
 
@@ -160,11 +160,15 @@ def cycle_figure(
 
 
 def cycle_figures(study: CycleStudy) -> dict[str, Figure]:
-    """The time histories of :data:`CYCLE_FIGURES` of a study, by file name."""
+    """The time histories of :data:`CYCLE_FIGURES` of a study, by file name (named for the
+    study's payload: :func:`~feeder.viz.catalog.file_name`)."""
     kinematics = study.dynamics.kinematics
     columns = study.columns()
+    payload = study.feeder.params.payload_name
     return {
-        spec.file: cycle_figure(spec, columns, kinematics.spec.boundaries, kinematics.elevation)
+        file_name(spec.file, payload): cycle_figure(
+            spec, columns, kinematics.spec.boundaries, kinematics.elevation
+        )
         for spec in CYCLE_FIGURES
     }
 

@@ -36,11 +36,13 @@ from .scene import (
     DrawnScene,
     ForceSeries,
     LegendEntry,
+    attached,
     css,
     draw_scene,
     extent_of,
     geometry_placements,
     geometry_sphere,
+    joint_placements,
     material_css,
     sphere_centres,
     up_of,
@@ -185,21 +187,18 @@ def pick_reactions(view: MechanismView, reactions: Sequence[str] | None) -> list
     return list(dict.fromkeys(reactions))
 
 
-def _arrows(view: MechanismView, reactions: list[str]) -> tuple[Arrows, list[str]]:
-    """The drive loads and the picked reactions as arrow series (module docstring), and the
-    actuated joints whose drive load is zero (round-off: not drawn)."""
+def _arrows(
+    view: MechanismView, joints: np.ndarray, peaks: dict[str, float], reactions: list[str]
+) -> tuple[Arrows, list[str]]:
+    """The drive loads and the picked reactions as arrow series (module docstring), from the
+    joints' placements (N, njoints, 4, 4) and the reactions' peaks [N]; and the actuated joints
+    whose drive load is zero (round-off: not drawn)."""
     model, columns = view.chain.model, view.columns
-    data = model.createData()
-    origins = np.empty((len(view.q), model.njoints, 3))
-    rotations = np.empty((len(view.q), model.njoints, 3, 3))
-    for k, q in enumerate(view.q):
-        pin.forwardKinematics(model, data, q)
-        origins[k] = [placement.translation for placement in data.oMi]
-        rotations[k] = [placement.rotation for placement in data.oMi]
+    origins, rotations = joints[:, :, :3, 3], joints[:, :, :3, :3]
     axes = joint_axes(model)
     forces: dict[str, ForceSeries] = {}
     moments: dict[str, ForceSeries] = {}
-    force_scale = max(reaction_peaks(view).values(), default=0.0)
+    force_scale = max(peaks.values(), default=0.0)
     lever = float(np.ptp(origins.reshape(-1, 3), axis=0).max())
     zero = []
     for name in list(model.names)[1:]:
@@ -223,47 +222,40 @@ def _arrows(view: MechanismView, reactions: list[str]) -> tuple[Arrows, list[str
     return Arrows(forces, moments), zero
 
 
-def _cut_tracks(vis, view: MechanismView, radius: float) -> dict[str, np.ndarray]:
-    """Draw a ball at each closure's first frame; return their placements (N, 4, 4)."""
+def _cut_tracks(vis, view: MechanismView, joints: np.ndarray, radius: float) -> dict:
+    """Draw a ball at each closure's first frame; return their placements (N, 4, 4), from the
+    joints' placements (N, njoints, 4, 4)."""
     model = view.chain.model
-    data = model.createData()
     tracks = {}
     material = mg.MeshBasicMaterial(color=_CUT_COLOR, depthTest=False)
     for closure in view.chain.closures:
         node = f"{_CUTS}/{closure.label}"
         vis[node].set_object(mg.Sphere(radius), material)
         vis[node].set_property("renderOrder", ON_TOP)
-        frame = model.getFrameId(closure.frame_a)
-        placements = np.empty((len(view.q), 4, 4))
-        for k, q in enumerate(view.q):
-            pin.forwardKinematics(model, data, q)
-            placements[k] = pin.updateFramePlacement(model, data, frame).homogeneous
-        tracks[node] = placements
+        frame = model.frames[model.getFrameId(closure.frame_a)]
+        tracks[node] = attached(joints, frame.parentJoint, frame.placement)
     return tracks
 
 
 def draw_mechanism(
-    viz: MeshcatVisualizer, view: MechanismView, kind: str, reactions: Sequence[str] | None
+    viz: MeshcatVisualizer, view: MechanismView, kind: str, reactions: list[str]
 ) -> DrawnScene:
     """Draw and animate the mechanism's view in ``viz`` (its visual model loaded from
-    :func:`visual_model`, of ``kind``); return the scales and the legend.
-
-    Raises:
-        InputError: A picked reaction that is not in the table.
-    """
-    picked = pick_reactions(view, reactions)
+    :func:`visual_model`, of ``kind``) with the reactions of ``reactions`` (picked by
+    :func:`pick_reactions`); return the scales and the legend."""
     vis = viz.viewer
     viz.loadViewerModel(rootNodeName=BODIES)
     model = view.chain.model
     geometries = viz.visual_model.geometryObjects
     nodes = [viz.getViewerNodeName(g, pin.GeometryType.VISUAL) for g in geometries]
-    placements = geometry_placements(model, viz.visual_model, view.q)
+    joints = joint_placements(model, view.q)
+    placements = geometry_placements(joints, viz.visual_model)
     centres, radii = zip(*(geometry_sphere(g) for g in geometries), strict=True)
     points = sphere_centres(placements, np.array(centres))
     reach = np.tile(radii, len(view.q))
     tracks = {node: placements[:, k] for k, node in enumerate(nodes)}
-    tracks |= _cut_tracks(vis, view, _CUT_SHARE * extent_of(points, reach))
-    arrows, zero = _arrows(view, picked)
+    tracks |= _cut_tracks(vis, view, joints, _CUT_SHARE * extent_of(points, reach))
+    arrows, zero = _arrows(view, joints, reaction_peaks(view), reactions)
     parts = draw_scene(vis, view.t, tracks, points, reach, arrows, up_of(model.gravity.linear))
     legend = [*_body_legend(model, viz.visual_model, kind)]
     if view.chain.closures:

@@ -60,7 +60,9 @@ ARROW_COLORS = (
 )  # fmt: skip
 """Colours of the arrows, in the order the loads are given: none is a device colour. A scene
 draws at most this many arrows (:func:`draw_scene` says which it left out)."""
-_ARROW_RADIUS, _HEAD_LENGTH, _HEAD_RADIUS = 0.010, 0.06, 0.025  # [m] at ARROW_LENGTH
+_ARROW_RADIUS, _HEAD_RADIUS = 0.010, 0.025  # [m] at ARROW_LENGTH
+HEAD_LENGTH = 0.06
+"""[m] An arrow head's cone at :data:`ARROW_LENGTH` (scaled with an arrow's drawn length)."""
 ON_TOP = 10
 """Render order of arrows and lines: after the bodies, over them."""
 _INVISIBLE = 1e-6  # scale of a zero-length arrow part (a zero scale makes a singular matrix)
@@ -170,17 +172,28 @@ def sphere_centres(placements: np.ndarray, centres: np.ndarray) -> np.ndarray:
     return np.einsum("knij,nj->kni", placements, local)[..., :3].reshape(-1, 3)
 
 
-def geometry_placements(
-    model: pin.Model, visual_model: pin.GeometryModel, q: np.ndarray
-) -> np.ndarray:
-    """World placements (N, n_geometries, 4, 4) of the visual geometries at the poses q (N, nq)."""
-    data, visual_data = model.createData(), pin.GeometryData(visual_model)
-    out = np.empty((len(q), len(visual_model.geometryObjects), 4, 4))
+def joint_placements(model: pin.Model, q: np.ndarray) -> np.ndarray:
+    """World placements (N, njoints, 4, 4) of every joint at the poses q (N, nq): one forward
+    kinematics pass per pose, from which the geometries' and frames' placements follow."""
+    data = model.createData()
+    out = np.empty((len(q), model.njoints, 4, 4))
     for k, q_k in enumerate(q):
         pin.forwardKinematics(model, data, q_k)
-        pin.updateGeometryPlacements(model, data, visual_model, visual_data)
-        out[k] = [placement.homogeneous for placement in visual_data.oMg]
+        out[k] = [placement.homogeneous for placement in data.oMi]
     return out
+
+
+def attached(joints: np.ndarray, joint: int, placement: pin.SE3) -> np.ndarray:
+    """World placements (N, 4, 4) of something fixed at ``placement`` in joint ``joint``'s
+    frame, from the joints' placements (N, njoints, 4, 4) of :func:`joint_placements`."""
+    return joints[:, joint] @ placement.homogeneous
+
+
+def geometry_placements(joints: np.ndarray, visual_model: pin.GeometryModel) -> np.ndarray:
+    """World placements (N, n_geometries, 4, 4) of the visual geometries, from the joints'
+    placements (N, njoints, 4, 4)."""
+    items = visual_model.geometryObjects
+    return np.stack([attached(joints, g.parentJoint, g.placement) for g in items], axis=1)
 
 
 def arrow_length(extent: float) -> float:
@@ -194,7 +207,7 @@ def _arrows(force: np.ndarray, point: np.ndarray, per_metre: float, size: float)
 
     The arrow starts at the point and is ``|force| / per_metre`` long; its head is at most a
     third of it. Shaft and head are MeshCat cylinders along y, of unit height and of height
-    ``size`` × :data:`_HEAD_LENGTH`, scaled by ``shaft_scale`` and ``head_scale``.
+    ``size`` × :data:`HEAD_LENGTH`, scaled by ``shaft_scale`` and ``head_scale``.
 
     Returns:
         ``shaft``, ``head``: rigid placements (n, 4, 4); ``shaft_scale``, ``head_scale``:
@@ -204,7 +217,7 @@ def _arrows(force: np.ndarray, point: np.ndarray, per_metre: float, size: float)
     length = magnitude / per_metre if per_metre > 0.0 else 0.0 * magnitude
     direction = np.where(magnitude[:, None] > 0.0, force, [0.0, 1.0, 0.0])
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    head_length = size * _HEAD_LENGTH
+    head_length = size * HEAD_LENGTH
     head = np.clip(length / (3.0 * head_length), _INVISIBLE, 1.0)
     shaft = np.maximum(length - head * head_length, _INVISIBLE)
     rotations = [y_onto(d) for d in direction]
@@ -370,7 +383,7 @@ def draw_scene(
         material = mg.MeshBasicMaterial(color=color, depthTest=False)
         vis[f"{node}/shaft"].set_object(mg.Cylinder(1.0, size * _ARROW_RADIUS), material)
         vis[f"{node}/head"].set_object(
-            mg.Cylinder(size * _HEAD_LENGTH, radiusTop=0.0, radiusBottom=size * _HEAD_RADIUS),
+            mg.Cylinder(size * HEAD_LENGTH, radiusTop=0.0, radiusBottom=size * _HEAD_RADIUS),
             material,
         )
         for part in ("shaft", "head"):

@@ -164,12 +164,12 @@ class MechanismViewer(SceneViewer):
         *,
         port: int | None = None,
     ):
-        pick_reactions(view, reactions)  # refused before a server starts
+        picked = pick_reactions(view, reactions)  # refused before a server starts
         visuals, kind = visual_model(view)
         title = f"{view.spec.model.name}: {view.source}"
         super().__init__(
             view.chain.model, visuals,
-            partial(draw_mechanism, view=view, kind=kind, reactions=reactions), title, port,
+            partial(draw_mechanism, view=view, kind=kind, reactions=picked), title, port,
         )  # fmt: skip
 
 

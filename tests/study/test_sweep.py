@@ -376,8 +376,8 @@ def test_rows_that_fail_their_checks_are_recomputed(tmp_path, monkeypatch):
 
 
 def test_a_row_moved_to_another_case_fails_its_checksum(tmp_path):
-    """The case's hash covers its key: a row whose elevation was changed to another case of the
-    sweep is not taken for that case."""
+    """A row whose elevation was changed to another case of the sweep is not taken for that
+    case: its checksum (row_sha256) no longer matches its cells."""
     run_sweep(_grid(), tmp_path, progress=False, workers=1)
 
     def move(lines):

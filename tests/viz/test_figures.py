@@ -169,3 +169,29 @@ def test_figure_workers_count_is_checked():
 def _folder(path):
     path.mkdir(parents=True, exist_ok=True)
     return path
+
+
+def test_cycles_on_different_time_grids_each_keep_their_own(feeder):
+    """Two studies sampled at 250 and 500 Hz on one figure: each curve is drawn against its own
+    study's times (the two were once subtracted sample by sample, a broadcasting error)."""
+    from feeder.viz.comparisons import cycles_figure
+
+    fine = run_cycle_study(feeder, ELEVATION, SPEC, forward=False)
+    coarse = run_cycle_study(feeder, ELEVATION, CycleSpec(rate=250.0), forward=False)
+    fig = cycles_figure({"500 Hz": fine, "250 Hz": coarse}, [("piston_force", "Piston force")])
+    lines = {
+        line.get_label(): line for line in fig.axes[0].get_lines() if line.get_label()[0] != "_"
+    }
+    assert {label: len(line.get_xdata()) for label, line in lines.items()} == {
+        "500 Hz": fine.columns()["t"].size,
+        "250 Hz": coarse.columns()["t"].size,
+    }
+
+
+def test_cycle_figures_are_named_for_the_payload(charge_feeder):
+    from feeder.viz.figures import cycle_figures
+
+    study = run_cycle_study(charge_feeder, ELEVATION, CycleSpec(rate=100.0), forward=False)
+    names = cycle_figures(study)
+    assert "fig08_charge_speed.png" in names
+    assert not [name for name in names if "{" in name or "projectile" in name]

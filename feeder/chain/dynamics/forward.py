@@ -11,7 +11,7 @@ gravity terms, and Baumgarte's corrector K_p = ω², K_d = 2ω on the loop resid
 damped: an error decays like e^(−ω t)). The accelerations come from Pinocchio's
 ``constraintDynamics`` on the chain's own constraint models (its proximal solver takes the
 redundant rows of a planar loop); q̇ from q̇ (the rotations' and the unit circles' rates for the
-joints whose q is not a vector: :func:`~feeder.chain.kinematics.joints.configuration_rate`).
+joints whose q is not a vector: :class:`~feeder.chain.kinematics.joints.ConfigurationRate`).
 
 Integration: SciPy's adaptive Runge–Kutta or implicit methods (``DOP853`` by default, ``Radau``
 or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time with the user's
@@ -43,7 +43,7 @@ from ...exceptions import FeederError, InputError, SingularPoseError, Unreachabl
 from ...validation import check_finite, check_number
 from ..assembly.newton import POSITION_TOLERANCE, RANK_TOLERANCE, newton
 from ..assembly.rank import truncated_inverse
-from ..kinematics.joints import angle_columns, angular_difference, configuration_rate
+from ..kinematics.joints import ConfigurationRate, angle_columns, angular_difference
 from .inverse import ChainDynamics, ChainLoads, inverse_dynamics
 
 BAUMGARTE_RATE = 20.0
@@ -118,9 +118,13 @@ class ForwardRun:
         """Largest closure residual over the run before projection [m, rad]."""
         return float(self.residual.max())
 
+    def balance(self) -> np.ndarray:
+        """E(t) − E(t₀) − W(t) [J], (N,): zero for an exact run."""
+        return self.energy - self.energy[0] - self.work
+
     def energy_error(self) -> float:
-        """Largest |E(t) − E(t₀) − W(t)| [J]: zero for an exact run."""
-        return float(np.abs(self.energy - self.energy[0] - self.work).max())
+        """Largest |E(t) − E(t₀) − W(t)| [J] (:meth:`balance`)."""
+        return float(np.abs(self.balance()).max())
 
     def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
         """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,) (a
@@ -152,7 +156,7 @@ class _Equations:
             self.datas.append(constraint.createData())
         pin.initConstraintDynamics(model, self.data, self.constraints, self.datas)
         self.nq, self.nv = model.nq, model.nv
-        self.flat = model.nq == model.nv
+        self.rate = None if model.nq == model.nv else ConfigurationRate(model)
         self.columns = np.array(dyn.columns, dtype=int)
         self.zero = np.zeros(model.nv)
         self.count = 0
@@ -188,17 +192,14 @@ class _Equations:
         self.count += 1
         nq, nv = self.nq, self.nv
         q, v = y[:nq], y[nq : nq + nv]
-        tau, power = self.forces(t, q, v)
-        a = pin.constraintDynamics(
-            self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
-        )
+        a, power = self.accelerations(t, q, v)
         if not math.isfinite(a @ a):  # NaN or inf (or beyond 1e154: as meaningless)
             raise IntegrationError(
                 f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "
                 "that are not finite)"
             )
         out = np.empty(nq + nv + 1)
-        out[:nq] = v if self.flat else configuration_rate(self.model, q, v)
+        out[:nq] = v if self.rate is None else self.rate(q, v)
         out[nq:-1] = a
         out[-1] = power
         return out
@@ -305,7 +306,7 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
             break
         y = solver.y
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
-        unit = equations.flat or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
+        unit = equations.rate is None or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
         if residual > drift_tolerance or not unit:  # loops open, or quaternions off unit length
             y = _project(equations, y)
             projections += 1
@@ -343,11 +344,9 @@ def _results(equations, t, states, steps, projections) -> ForwardRun:
     chain = dyn.chain
     nq, nv = model.nq, model.nv
     residual = np.array([np.abs(chain.residual(y[:nq])).max(initial=0.0) for y in states])
-    count = equations.count
     projected = np.array([_project(equations, y) for y in states])
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]
     a = np.array([equations.accelerations(x, y, z)[0] for x, y, z in zip(t, q, v, strict=True)])
-    equations.count = count
     try:
         loads = inverse_dynamics(dyn, q, v, a, t=t)
     except (InputError, SingularPoseError) as exc:
@@ -369,6 +368,6 @@ def _results(equations, t, states, steps, projections) -> ForwardRun:
         kinetic=kinetic,
         work=work,
         steps=steps,
-        evaluations=count,
+        evaluations=equations.count,
         projections=projections,
     )

@@ -254,30 +254,50 @@ def _quaternion_rate(quaternion: np.ndarray, omega: np.ndarray) -> np.ndarray:
     return 0.5 * np.concatenate([scalar * omega + np.cross(vector, omega), [-(vector @ omega)]])
 
 
-def configuration_rate(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+class ConfigurationRate:
     """q̇ (nq,) of the coefficients of q for the velocity v (nv,) (the table of the module
     docstring; Pinocchio's ``integrate(q, v dt)`` differentiated at dt = 0): v itself for the
-    joints whose q is a vector, the rotation's and the unit circle's rates for the others."""
-    out = np.empty(model.nq)
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        iq, iv, kind = joint.idx_q, joint.idx_v, kind_of(joint)
-        qj, vj = q[iq : iq + joint.nq], v[iv : iv + joint.nv]
-        if joint.nq == joint.nv:
-            out[iq : iq + joint.nq] = vj
-        elif kind == "continuous":
-            out[iq : iq + 2] = vj[0] * np.array([-qj[1], qj[0]])
-        elif kind == "spherical":
-            out[iq : iq + 4] = _quaternion_rate(qj, vj)
-        elif kind == "planar":
-            c, s = qj[2], qj[3]
-            out[iq : iq + 4] = [
-                c * vj[0] - s * vj[1],
-                s * vj[0] + c * vj[1],
-                -s * vj[2],
-                c * vj[2],
-            ]
-        else:  # free flyer: position rate R v_linear, then the quaternion's
-            out[iq : iq + 3] = quaternion_matrix(qj[None, 3:])[0] @ vj[:3]
-            out[iq + 3 : iq + 7] = _quaternion_rate(qj[3:], vj[3:])
-    return out
+    joints whose q is a vector, the rotation's and the unit circle's rates for the others.
+
+    The joints are sorted once (a forward run's right-hand side calls it at every step): the
+    vector ones' coordinates are copied in one indexed assignment, only the others are looped
+    over.
+
+    Args:
+        model: The Pinocchio model.
+    """
+
+    def __init__(self, model: pin.Model):
+        self.nq = model.nq
+        plain_q, plain_v, self.others = [], [], []
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            iq, iv = joint.idx_q, joint.idx_v
+            if joint.nq == joint.nv:
+                plain_q += range(iq, iq + joint.nq)
+                plain_v += range(iv, iv + joint.nv)
+            else:
+                self.others.append((iq, iv, kind_of(joint)))
+        self.plain_q, self.plain_v = np.array(plain_q, int), np.array(plain_v, int)
+
+    def __call__(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        out = np.empty(self.nq)
+        out[self.plain_q] = v[self.plain_v]
+        for iq, iv, kind in self.others:
+            if kind == "continuous":
+                out[iq : iq + 2] = v[iv] * np.array([-q[iq + 1], q[iq]])
+            elif kind == "spherical":
+                out[iq : iq + 4] = _quaternion_rate(q[iq : iq + 4], v[iv : iv + 3])
+            elif kind == "planar":
+                c, s, vj = q[iq + 2], q[iq + 3], v[iv : iv + 3]
+                out[iq : iq + 4] = [
+                    c * vj[0] - s * vj[1],
+                    s * vj[0] + c * vj[1],
+                    -s * vj[2],
+                    c * vj[2],
+                ]
+            else:  # free flyer: position rate R v_linear, then the quaternion's
+                qj, vj = q[iq : iq + 7], v[iv : iv + 6]
+                out[iq : iq + 3] = quaternion_matrix(qj[None, 3:])[0] @ vj[:3]
+                out[iq + 3 : iq + 7] = _quaternion_rate(qj[3:], vj[3:])
+        return out

@@ -12,7 +12,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
-from ...validation import check_path
+from ...validation import check_number, check_path
 
 
 def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
@@ -59,8 +59,7 @@ def pose_from_values(values: list[tuple[str, float, str]], model: pin.Model) -> 
     """
     q = pin.neutral(model)
     for name, value, where in values:
-        if not isinstance(value, int | float) or not np.isfinite(value):
-            raise InputError(f"{where}: {value!r} is not a finite number")
+        value = check_number(f"{where}: the value", value)  # a TOML true is no 1 rad
         if not model.existJointName(name):
             raise InputError(
                 f"{where}: {name!r} is not a joint of the model; joints: {list(model.names)[1:]}"

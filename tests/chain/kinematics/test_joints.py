@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from feeder.chain.kinematics.joints import configuration_rate
+from feeder.chain.kinematics.joints import ConfigurationRate
 
 from .test_tree import every_joint_model
 
@@ -23,5 +23,5 @@ def test_the_rate_is_the_derivative_of_integrate():
         v = rng.uniform(-1.0, 1.0, model.nv)
         ahead, behind = pin.integrate(model, q, h * v), pin.integrate(model, q, -h * v)
         np.testing.assert_allclose(
-            configuration_rate(model, q, v), (ahead - behind) / (2.0 * h), atol=DIFFERENCE
+            ConfigurationRate(model)(q, v), (ahead - behind) / (2.0 * h), atol=DIFFERENCE
         )
