@@ -86,7 +86,7 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
     for run, flag, kinematics, rows in loads.runs:
         chain = dyn.cases[flag].dynamics
         _, terms = closure_wrenches(chain.chain, rows, loads.closure_force[run])
-        joints = chain_reactions(chain.chain, kinematics, terms)
+        joints, _ = chain_reactions(chain.chain, kinematics, terms)
         for name, joint in zip(JOINT_NAMES, PAPER_JOINTS, strict=True):
             for f in fields:
                 wrenches[name][f][run] = getattr(joints[joint], f)

@@ -20,6 +20,7 @@ import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.joints import kind_of
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
@@ -85,6 +86,8 @@ class Analysis:
         lines = [self.report.text(), *self.pose_lines()]
         lines.append(f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s")
         lines.append(f"  {gravity_text(self.spec, self.chain)}")
+        base = self.spec.base.describe() if self.spec.base else "standing level"
+        lines.append(f"  base: {base}")
         if self.loads.idle_motions:
             lines.append(
                 f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
@@ -163,7 +166,10 @@ def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
     parent exerts on the child, about the joint's origin) and their magnitudes
     ``<joint>_force``, ``<joint>_moment``; ``<element>_force`` of each force element (a
     spring's or cylinder's tension [N], positive pulling its frames together; a joint spring's
-    resistance [N·m or N])."""
+    resistance [N·m or N]); the mount's wrench on the mechanism (about the model's origin)
+    ``mount_force_x|y|z``, ``mount_moment_x|y|z`` in the level (world) axes and
+    ``mount_force_vehicle_x|y|z``, ``mount_moment_vehicle_x|y|z`` in the base's axes, moving
+    with it (the axes of every other column; the same on a base at rest)."""
     cols: dict[str, np.ndarray] = {}
     for name, values in loads.actuators.items():
         cols[f"tau_{name}"] = values
@@ -178,6 +184,19 @@ def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
                 cols[f"{name}_{what}_{axis}"] = vector[:, k]
     for name, values in loads.elements.items():
         cols[f"{name}_force"] = values
+    return cols | mount_columns(loads.mount)
+
+
+def mount_columns(mount: MountWrench) -> dict[str, np.ndarray]:
+    """The mount's wrench as table columns (:func:`load_columns`)."""
+    cols: dict[str, np.ndarray] = {}
+    for axes, force, moment in (
+        ("", mount.level_force, mount.level_moment),
+        ("_vehicle", mount.force, mount.moment),
+    ):
+        for what, vector in (("force", force), ("moment", moment)):
+            for k, axis in enumerate("xyz"):
+                cols[f"mount_{what}{axes}_{axis}"] = vector[:, k]
     return cols
 
 
@@ -211,6 +230,16 @@ def load_peaks(
         force = np.linalg.norm(wrench.force, axis=1)
         k = int(np.argmax(force))
         lines.append(f"  peak reaction force in {name}: {force[k]:.4g} N at t = {t[k]:.4g} s")
+    for what, unit, vector in (
+        ("force", "N", loads.mount.level_force),
+        ("moment", "N·m", loads.mount.level_moment),
+    ):
+        size = np.linalg.norm(vector, axis=1)
+        k = int(np.argmax(size))
+        lines.append(
+            f"  peak mount {what} (on the mechanism, about the model's origin): {size[k]:.4g} "
+            f"{unit} at t = {t[k]:.4g} s"
+        )
     units = element_units(model, elements)
     for name, values in loads.elements.items():
         k = int(np.argmax(np.abs(values)))
@@ -379,7 +408,7 @@ def analyze(
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
     q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx, t=table.t)
-    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces)
+    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
     loads = inverse_dynamics(dyn, q, v, a, t=table.t)
     warn_if_gravity_idle(spec, chain, q)
     report = mobility(chain, q[0], spec.independent)

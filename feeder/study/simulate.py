@@ -152,7 +152,7 @@ def simulate_mechanism(
         raise InputError(f"samples must be a whole number ≥ 2, got {samples!r}")
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     elements = spec.forces + (read_force_file(Path(forces)) if forces is not None else ())
-    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, elements)
+    dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, elements, spec.base)
     t = np.linspace(0.0, duration, samples)
     run = simulate(
         dyn, t, assembled, np.zeros(chain.model.nv), method=method, rtol=rtol, atol=atol

@@ -64,7 +64,7 @@ def pose_view(
     spec, chain, _, _, assembled = mount_mechanism(spec_path, model, pose)
     q, zero = assembled[None, :], np.zeros((1, chain.model.nv))
     try:
-        dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces)
+        dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
         loads = inverse_dynamics(dyn, q, zero, zero, t=np.zeros(1))
     except FeederError as exc:
         columns, note = {}, f"no static loads: {exc}"

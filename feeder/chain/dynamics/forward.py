@@ -235,11 +235,18 @@ def simulate(
 
     Raises:
         InputError: Bad times, state or settings, an initial velocity that opens the loops, a
-            force table that does not cover the run, actuation values that are not finite.
+            force table that does not cover the run, actuation values that are not finite, a
+            chain on a moving or tilted base (:class:`ChainDynamics` with a base).
         UnreachablePoseError: An initial configuration that does not close the loops.
         IntegrationError: The integrator failed (a singular pose, unbounded accelerations).
     """
     chain = dyn.chain
+    if dyn.base is not None:
+        raise InputError(
+            "forward runs are on a base at rest: this mechanism's base moves or is tilted "
+            "([base]); its inverse dynamics (feeder analyze) take the base's motion, and a "
+            "slope alone is a tilted gravity ([mechanism] gravity)"
+        )
     t = check_finite("t", t)
     if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0.0):
         raise InputError(f"t must be increasing output times, at least two, got shape {t.shape}")

@@ -25,7 +25,12 @@ The reaction wrench of every joint of the tree is the wrench its parent exerts o
 world axes, moment about the joint's origin: the rate of momentum of the child's subtree less
 gravity, the closure forces and the external wrenches acting on it
 (:mod:`feeder.chain.kinematics.tree`: Newton–Euler over all samples at once, equal to Pinocchio's
-RNEA to round-off).
+RNEA to round-off), and the mount's: the wrench the base's support exerts on the whole mechanism.
+
+On a moving base (:class:`~feeder.chain.model.base.BaseMotion`: a slope, a ride, a hull table)
+q, q̇, q̈ are the motion relative to the base, and every vector (reactions, closure forces, external
+wrenches) is in the base's moving axes; the closure rows are the relative motion's and the
+Newton–Euler passes take the absolute one (:func:`~feeder.chain.kinematics.tree.on_base`).
 """
 
 from __future__ import annotations
@@ -40,12 +45,25 @@ from ...validation import check_finite, check_samples
 from ..assembly.partition import RANK_TOLERANCE, Partition
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
-from ..kinematics.tree import TreeMotion, generalized_forces, joint_wrenches, tree_motion
+from ..kinematics.tree import (
+    TreeMotion,
+    generalized_forces,
+    joint_wrenches,
+    on_base,
+    tree_motion,
+)
+from ..model.base import BaseMotion, BaseState
 from ..model.closure import ClosedChain
 from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
-from .reactions import ClosureWrench, JointWrench, closure_wrenches, joint_reactions
+from .reactions import (
+    ClosureWrench,
+    JointWrench,
+    MountWrench,
+    closure_wrenches,
+    joint_reactions,
+)
 
 CLOSURE_TOLERANCE = 1e-9
 """Largest accepted closure residual [m, rad] of a prescribed configuration, and (per second,
@@ -101,6 +119,8 @@ class ChainLoads:
         idle_motions: Number of idle motions (free with every actuated joint locked).
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
+        mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
+        base: The base's motion at the samples, or None for a base at rest.
     """
 
     actuators: dict[str, np.ndarray]
@@ -112,6 +132,8 @@ class ChainLoads:
     accelerations: np.ndarray
     idle_motions: int
     elements: dict[str, np.ndarray]
+    mount: MountWrench
+    base: BaseState | None = None
 
 
 class ChainDynamics:
@@ -125,11 +147,14 @@ class ChainDynamics:
         stiffness: Optional closure label → per-row stiffness (rows of that closure), for the
             split of statically indeterminate forces; default 1 everywhere.
         elements: Force elements acting on the chain (:mod:`~feeder.chain.model.forces`).
+        base: The base's prescribed motion (:class:`~feeder.chain.model.base.BaseMotion`),
+            None for a base at rest.
 
     Raises:
         InputError: A joint type the dynamics do not handle (helical, ellipsoid, composite,
             mimic), an unknown or multi-coordinate actuated joint, a name given twice, a bad
-            stiffness, a force element on an unknown frame or joint.
+            stiffness, a force element on an unknown frame or joint, a moving base without
+            gravity or with a forward axis that is not horizontal.
     """
 
     def __init__(
@@ -138,7 +163,13 @@ class ChainDynamics:
         actuated: Sequence[str],
         stiffness: Mapping[str, Sequence[float]] | None = None,
         elements: Sequence[ForceElement] = (),
+        base: BaseMotion | None = None,
     ):
+        if base is not None and not isinstance(base, BaseMotion):
+            raise InputError(f"base must be a BaseMotion, got {base!r}")
+        if base is not None and base.profiles:
+            base.vehicle_axes(chain.model.gravity.linear)
+        self.base = base if base is not None and base.profiles else None
         for j in range(1, chain.model.njoints):
             kind_of(chain.model.joints[j])
         self.columns = chain.coordinate_columns(actuated, "actuated").tolist()
@@ -255,7 +286,8 @@ def inverse_dynamics(
             motion (checked: :func:`check_motion`).
         external: Optional external wrenches by frame name: world [force (3) N, moment (3) N·m
             about the frame's origin], (N, 6) or (6,) (constant).
-        t: The samples' times [s], (N,): needed when a force element varies in time.
+        t: The samples' times [s], (N,): needed when a force element or the base's motion
+            varies in time.
 
     Raises:
         InputError: Bad arrays, a motion that opens the loops, or one the actuated joints cannot
@@ -267,18 +299,26 @@ def inverse_dynamics(
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     forces = {}
+    t = _times(dyn, t, q.shape[0])
     if dyn.elements:
-        t = _times(dyn, t, q.shape[0])
         element_terms, forces = dyn.elements.wrenches(motion, q, v, t)
         terms = terms + element_terms
+    base = None
+    if dyn.base is not None:
+        base = dyn.base.state(t, dyn.chain.model.gravity.linear)
+        motion = on_base(motion, base)
     count = dyn.idle_count(q[0])
     if count:
         basis = idle_basis(rows, dyn.columns, count)
         a = a + idle_accelerations(dyn.chain.model, q, motion, basis, terms)
         motion = tree_motion(dyn.chain.model, q, v, a)
+        if base is not None:
+            motion = on_base(motion, base)
     tau, lam, indeterminate = solve_loads(dyn, motion, rows, terms)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
-    joints = joint_reactions(dyn.chain, motion, closure_terms + terms)
+    joints, mount = joint_reactions(
+        dyn.chain, motion, closure_terms + terms, None if base is None else base.rotation
+    )
     return ChainLoads(
         actuators={name: tau[:, i] for i, name in enumerate(dyn.actuated)},
         closure_forces=lam,
@@ -289,14 +329,18 @@ def inverse_dynamics(
         accelerations=a,
         idle_motions=count,
         elements=forces,
+        mount=mount,
+        base=base,
     )
 
 
 def _times(dyn: ChainDynamics, t: np.ndarray | None, n: int) -> np.ndarray:
-    """The samples' times (N,) [s], checked; zeros when no element varies in time."""
+    """The samples' times (N,) [s], checked; zeros when nothing varies in time."""
     if t is None:
         if dyn.elements.timed:
             raise InputError("a force element varies in time: give the samples' times t [s]")
+        if dyn.base is not None and dyn.base.timed:
+            raise InputError("the base moves: give the samples' times t [s]")
         return np.zeros(n)
     t = check_finite("t", t)
     if t.shape != (n,):

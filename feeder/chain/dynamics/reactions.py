@@ -39,6 +39,26 @@ class JointWrench:
 
 
 @dataclass(frozen=True)
+class MountWrench:
+    """The wrench that the mount (the vehicle, or the ground) exerts on the mechanism through
+    its base link, N samples: the rate of momentum of the whole mechanism, its base link
+    included, less gravity and the external loads (closure forces and force elements between
+    its own bodies cancel).
+
+    Attributes:
+        force: Force [N] in the model's axes (moving with the base), (N, 3).
+        moment: Moment [N·m] about the model's origin, the same axes, (N, 3).
+        level_force, level_moment: The same in the level axes
+            (:mod:`~feeder.chain.model.base`; equal to the others on a base at rest), (N, 3).
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    level_force: np.ndarray
+    level_moment: np.ndarray
+
+
+@dataclass(frozen=True)
 class ClosureWrench:
     """The force and moment of one closure on the body of its ``frame_a`` (the opposite acts on
     ``frame_b``'s), N samples.
@@ -86,12 +106,26 @@ def closure_wrenches(
 
 
 def joint_reactions(
-    chain: ClosedChain, motion: TreeMotion, external: list[tuple[int, np.ndarray]]
-) -> dict[str, JointWrench]:
-    """Every joint's reaction wrench with the wrenches ``external`` ((frame id, world wrench
-    (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`) acting on the tree."""
+    chain: ClosedChain,
+    motion: TreeMotion,
+    external: list[tuple[int, np.ndarray]],
+    rotation: np.ndarray | None = None,
+) -> tuple[dict[str, JointWrench], MountWrench]:
+    """Every joint's reaction wrench, and the mount's, with the wrenches ``external`` ((frame
+    id, world wrench (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`)
+    acting on the tree; ``rotation`` (N, 3, 3): the base's axes in the level ones
+    (:class:`~feeder.chain.model.base.BaseState`), None for a base at rest."""
     model = chain.model
     force, moment = joint_wrenches(model, motion, external)
+    if rotation is None:
+        mount = MountWrench(force[0], moment[0], force[0], moment[0])
+    else:
+        mount = MountWrench(
+            force[0],
+            moment[0],
+            np.einsum("nij,nj->ni", rotation, force[0]),
+            np.einsum("nij,nj->ni", rotation, moment[0]),
+        )
     joints = {}
     for j in range(1, model.njoints):
         linear, angular = motion.linear[j], motion.angular[j]
@@ -105,7 +139,7 @@ def joint_reactions(
             constraint_force=force[j] - _along(linear, force[j]),
             constraint_moment=moment[j] - _along(angular, moment[j]),
         )
-    return joints
+    return joints, mount
 
 
 def _along(columns: np.ndarray, vector: np.ndarray) -> np.ndarray:

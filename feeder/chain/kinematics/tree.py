@@ -17,6 +17,16 @@ The backward pass (Newton–Euler) gives the wrench each joint transmits, parent
 its origin: the rate of momentum of its subtree less gravity and the external wrenches applied
 to it. Its components along the joint's columns are the joint's generalized forces: Pinocchio's
 RNEA to round-off (tests/chain/kinematics/test_tree.py checks both passes against Pinocchio).
+The pass ends at the base (joint 0): the wrench the mount exerts on the whole mechanism, its base
+link included.
+
+On a moving base (:func:`on_base`) the same recursions hold in the base's moving axes: the base's
+angular velocity Ω, angular acceleration Ω̇ and origin acceleration a₀ seed joint 0, and each
+body's motion relative to the base composes with them (vectors in the moving axes):
+
+    ω = Ω + ω_r,   ω̇ = Ω̇ + ω̇_r + Ω × ω_r,   a = a₀ + Ω̇ × o + Ω × (Ω × o) + 2 Ω × v_r + a_r,
+
+with gravity turned into the moving axes.
 """
 
 from __future__ import annotations
@@ -26,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..model.base import BaseState
 from .joints import joint_axes, kind_of, relative_motion
 
 
@@ -40,6 +51,7 @@ class TreeMotion:
             for a revolute joint, angular is its world axis and linear is zero).
         omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (N, 3).
         velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin, (N, 3).
+        gravity: Gravity [m/s²] in these axes (N, 3), or None: the model's (a base at rest).
     """
 
     rotation: list[np.ndarray]
@@ -50,6 +62,7 @@ class TreeMotion:
     alpha: list[np.ndarray]
     velocity: list[np.ndarray]
     acceleration: list[np.ndarray]
+    gravity: np.ndarray | None = None
 
 
 def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -131,6 +144,38 @@ def tree_motion(
     return TreeMotion(rotation, origin, linear, angular, w, dw, vel, acc)
 
 
+def on_base(motion: TreeMotion, base: BaseState) -> TreeMotion:
+    """The absolute motion, in the base's moving axes, of a tree whose motion relative to its
+    base is ``motion``, the base moving as ``base`` (module docstring); placements and columns
+    are unchanged."""
+    spin, turn = base.omega, base.alpha
+    omega, alpha, velocity, acceleration = [spin], [turn], [base.velocity], [base.acceleration]
+    for j in range(1, len(motion.origin)):
+        o, w_r, v_r = motion.origin[j], motion.omega[j], motion.velocity[j]
+        around = cross(spin, o)
+        omega.append(spin + w_r)
+        alpha.append(turn + motion.alpha[j] + cross(spin, w_r))
+        velocity.append(base.velocity + around + v_r)
+        acceleration.append(
+            base.acceleration
+            + cross(turn, o)
+            + cross(spin, around)
+            + 2.0 * cross(spin, v_r)
+            + motion.acceleration[j]
+        )
+    return TreeMotion(
+        motion.rotation,
+        motion.origin,
+        motion.linear,
+        motion.angular,
+        omega,
+        alpha,
+        velocity,
+        acceleration,
+        base.gravity,
+    )
+
+
 def frame_placements(
     model: pin.Model, motion: TreeMotion, frame: int
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -167,17 +212,18 @@ def joint_wrenches(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Backward Newton–Euler pass (module docstring): the wrench each joint transmits, parent on
     child, world axes about the joint's origin — lists by joint id of force (N, 3) [N] and
-    moment (N, 3) [N·m] — with the model's gravity.
+    moment (N, 3) [N·m] — with the motion's gravity (the model's by default). Entry 0 is the
+    mount's: the wrench on the base link from what holds it, about the model's origin.
 
     Args:
         external: (frame id, world wrench (N, 6) [force, moment about the frame's origin])
             applied to the frame's body.
     """
     n, count = motion.origin[0].shape[0], model.njoints
-    gravity = model.gravity.linear
+    gravity = model.gravity.linear if motion.gravity is None else motion.gravity
     force = [np.zeros((n, 3)) for _ in range(count)]
     moment = [np.zeros((n, 3)) for _ in range(count)]
-    for j in range(1, count):
+    for j in range(count):  # 0: the base link, moving with the base
         inertia = model.inertias[j]
         rot = motion.rotation[j]
         lever = _apply(rot, inertia.lever)  # joint origin → centre of gravity, world
@@ -197,11 +243,8 @@ def joint_wrenches(
         moment[j] = moment[j] - wrench[:, 3:] - cross(point - motion.origin[j], wrench[:, :3])
     for j in range(count - 1, 0, -1):  # children have larger ids than their parents
         p = model.parents[j]
-        if p > 0:
-            force[p] = force[p] + force[j]
-            moment[p] = (
-                moment[p] + moment[j] + cross(motion.origin[j] - motion.origin[p], force[j])
-            )
+        force[p] = force[p] + force[j]
+        moment[p] = moment[p] + moment[j] + cross(motion.origin[j] - motion.origin[p], force[j])
     return force, moment
 
 

@@ -37,37 +37,14 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
         InputError: Missing or malformed file, a missing column or one the table does not take
             (named), non-finite values, times that do not increase.
     """
-    path = check_path("the motion file", path)
     if (
         not isinstance(independent, tuple | list)
         or not independent
         or not all(isinstance(name, str) for name in independent)
     ):
         raise InputError(f"independent must be a list of joint names, got {independent!r}")
-    if not path.is_file():
-        raise InputError(f"motion file not found: {path}")
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the motion file {path}: {exc}") from exc
-    rows = [line.split(",") for line in lines if line.strip()]
-    if len(rows) < 3:
-        raise InputError(f"{path}: a header row and at least two rows of numbers are needed")
-    header = [name.strip() for name in rows[0]]
-    if any(len(row) != len(header) for row in rows[1:]):
-        raise InputError(f"{path}: every row must have {len(header)} values, like the header")
-    try:
-        table = np.array([[float(x) for x in row] for row in rows[1:]])
-    except ValueError as exc:
-        raise InputError(f"{path}: every row after the header must be numbers: {exc}") from exc
-    table = check_finite(f"{path}", table)
-    columns = {name: table[:, i] for i, name in enumerate(header)}
-    if "t" not in columns:
-        raise InputError(f"{path}: no column 't' [s]; columns: {header}")
+    path, header, columns = read_columns(path, "the motion file")
     t = columns["t"]
-    if np.any(np.diff(t) <= 0.0):
-        raise InputError(f"{path}: times must increase")
-
     for joint in independent:
         if f"q_{joint}" not in columns:
             raise InputError(f"{path}: no column 'q_{joint}' for independent joint {joint!r}")
@@ -98,6 +75,42 @@ def read_motion(path: str | Path, independent: tuple[str, ...]) -> MotionTable:
         ddx=np.column_stack(ddx),
         differentiated=tuple(dict.fromkeys(differentiated)),
     )
+
+
+def read_columns(path: str | Path, what: str) -> tuple[Path, list[str], dict[str, np.ndarray]]:
+    """A CSV table of numbers with a header row and a column ``t`` [s] of increasing times:
+    (the path, the header, column name → values (N,)).
+
+    Raises:
+        InputError: A missing or unreadable file, rows of other lengths than the header, text
+            or non-finite values, fewer than two rows, no ``t``, times that do not increase.
+    """
+    path = check_path(what, path)
+    if not path.is_file():
+        raise InputError(f"{what} not found: {path}")
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read {what} {path}: {exc}") from exc
+    rows = [line.split(",") for line in lines if line.strip()]
+    if len(rows) < 3:
+        raise InputError(f"{path}: a header row and at least two rows of numbers are needed")
+    header = [name.strip() for name in rows[0]]
+    if any(len(row) != len(header) for row in rows[1:]):
+        raise InputError(f"{path}: every row must have {len(header)} values, like the header")
+    if len(set(header)) != len(header):
+        raise InputError(f"{path}: a column name appears twice in the header {header}")
+    try:
+        table = np.array([[float(x) for x in row] for row in rows[1:]])
+    except ValueError as exc:
+        raise InputError(f"{path}: every row after the header must be numbers: {exc}") from exc
+    table = check_finite(f"{path}", table)
+    columns = {name: table[:, i] for i, name in enumerate(header)}
+    if "t" not in columns:
+        raise InputError(f"{path}: no column 't' [s]; columns: {header}")
+    if np.any(np.diff(columns["t"]) <= 0.0):
+        raise InputError(f"{path}: times must increase")
+    return path, header, columns
 
 
 def _refuse_other_columns(path: Path, header: list[str], independent: tuple[str, ...]) -> None:

@@ -17,6 +17,9 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     axis = [0.0, 0.0, 1.0]          # revolute: hinge axis in the frames' axes
     stiffness = [1, 1, 1, 1, 1]     # optional, per row: the split of indeterminate forces
 
+    [base]                          # optional: the base moves (feeder.chain.readers.base_motion)
+    roll_deg = 15.0                 # e.g. a side slope
+
     [[force]]                       # optional: force elements (feeder.chain.readers.forces)
     type = "spring"
     frames = ["coupler_tip", "ground_pin"]
@@ -32,6 +35,7 @@ from pathlib import Path
 from ...exceptions import InputError
 from ...validation import check_finite, check_path
 from ..model.closure import KINDS, Closure
+from .base_motion import read_base
 from .forces import read_forces
 from .spec import MechanismSpec, format_of
 
@@ -81,11 +85,11 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
-    unknown = set(document) - {"mechanism", "closure", "force"}
+    unknown = set(document) - {"mechanism", "closure", "force", "base"}
     if unknown:
         raise InputError(
             f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]], "
-            "[[force]])"
+            "[[force]], [base])"
         )
     mechanism = document.get("mechanism")
     if not isinstance(mechanism, dict):
@@ -155,4 +159,5 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         stiffness=stiffness,
         forces=read_forces(document.get("force", []), path.parent, str(path)),
         pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
+        base=read_base(document["base"], path.parent, str(path)) if "base" in document else None,
     )

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
+from ..model.base import BaseMotion
 from ..model.closure import Closure
 from ..model.forces import ForceElement
 
@@ -29,6 +30,7 @@ class MechanismSpec:
         forces: The force elements (:mod:`~feeder.chain.model.forces`).
         pose: The reference pose the file gives: (joint, value [rad, m], where it was read)
             (:func:`~feeder.chain.readers.pose.pose_from_values`); empty: the model's zero.
+        base: The base's motion (``[base]``), or None: the base stands still, level.
     """
 
     model: Path
@@ -41,6 +43,7 @@ class MechanismSpec:
     joint_types: dict[str, str] = field(default_factory=dict)
     forces: tuple[ForceElement, ...] = ()
     pose: tuple[tuple[str, float, str], ...] = ()
+    base: BaseMotion | None = None
 
 
 def format_of(path: Path) -> str:

@@ -1,0 +1,176 @@
+"""The base's motion from files and the command line: a mechanism file's ``[base]`` table, a hull
+motion table (CSV), and profile names with their parameters (:mod:`feeder.chain.model.base`).
+
+In a TOML mechanism file::
+
+    [base]
+    forward = [1.0, 0.0, 0.0]   # the vehicle's forward axis in the model's axes (default x)
+    pitch_deg = 0.0             # a slope: the hull's pitch and roll [°] (ISO 8855 signs)
+    roll_deg = 15.0
+    table = "hull.csv"          # optional: the hull's motion in time (read_hull_table)
+
+    [[base.profile]]            # optional, any number: terrain | bump | recoil
+    type = "terrain"
+    heave = 0.04                # [m]; angles as <name>_deg [°]; unset: the profile's default
+    pitch_deg = 3.0
+
+The hull table (CSV, header row): ``t`` [s] and any of the channels ``x``, ``y``, ``z`` [m],
+``roll``, ``pitch``, ``yaw`` [rad] (or ``roll_deg`` … [°]), their rates ``v_<channel>`` and
+accelerations ``a_<channel>`` (same unit rule, per second and per second²); a channel left out is
+zero, rates left out are differentiated from the values (``numpy.gradient``, second order).
+
+On the command line a profile is ``NAME`` or ``NAME:key=value,key=value`` (the keys above).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ...exceptions import InputError
+from ...validation import check_finite, check_number
+from ..model.base import CHANNELS, PROFILES, BaseMotion, HullProfile, HullTable, Slope
+from ..model.forces import Table
+from .motion_table import read_columns
+
+BASE_KEYS = {"forward", "pitch_deg", "roll_deg", "table", "profile"}
+"""Keys a ``[base]`` table may have."""
+
+
+def profile_keys(name: str) -> list[str]:
+    """The parameter keys of the profile ``name`` (angles as ``<field>_deg``)."""
+    kind = PROFILES[name]
+    return [f"{f.name}_deg" if f.name in kind.ANGLES else f.name for f in dataclasses.fields(kind)]
+
+
+def make_profile(name: object, values: dict, where: str) -> HullProfile:
+    """The profile ``name`` (:data:`~feeder.chain.model.base.PROFILES`) with the parameters
+    ``values`` (keys of :func:`profile_keys`; angles in degrees), the others at their defaults.
+
+    Raises:
+        InputError: An unknown profile or key (the known ones listed), a value that is not a
+            number or is out of range.
+    """
+    if name not in PROFILES:
+        raise InputError(f"{where}: unknown base profile {name!r}; profiles: {sorted(PROFILES)}")
+    kind = PROFILES[name]
+    known = profile_keys(name)
+    unknown = sorted(set(values) - set(known))
+    if unknown:
+        raise InputError(f"{where}: profile {name!r} has no parameters {unknown}; it has {known}")
+    arguments = {}
+    for key, value in values.items():
+        number = check_number(f"{where} {key}", value)
+        if key.endswith("_deg"):
+            arguments[key[:-4]] = math.radians(number)
+        else:
+            arguments[key] = number
+    return kind(**arguments)
+
+
+def parse_profile(text: str) -> HullProfile:
+    """A profile from the command line's ``NAME[:key=value,…]``.
+
+    Raises:
+        InputError: Malformed text, an unknown profile or key, a value that is not a number.
+    """
+    name, _, rest = text.partition(":")
+    values = {}
+    for item in filter(None, (part.strip() for part in rest.split(","))):
+        key, equals, value = item.partition("=")
+        if not equals:
+            raise InputError(f"base profile {text!r}: parameters are key=value, got {item!r}")
+        try:
+            values[key.strip()] = float(value)
+        except ValueError:
+            raise InputError(
+                f"base profile {text!r}: {key.strip()} must be a number, got {value!r}"
+            ) from None
+    return make_profile(name.strip(), values, "base profile")
+
+
+def read_hull_table(path: str | Path) -> HullTable:
+    """Read a hull motion table (module docstring).
+
+    Raises:
+        InputError: A missing or malformed file, an unknown column, a channel given both in
+            radians and in degrees, too few rows to differentiate.
+    """
+    path, header, columns = read_columns(path, "the hull motion file")
+    t = columns.pop("t")
+    known = {
+        f"{prefix}{channel}{suffix}"
+        for channel in CHANNELS
+        for prefix in ("", "v_", "a_")
+        for suffix in (("", "_deg") if channel in CHANNELS[3:] else ("",))
+    }
+    for name in header[1:] if header[0] == "t" else header:
+        if name not in known and name != "t":
+            raise InputError(
+                f"{path}: unknown column {name!r}; a hull table has t and "
+                f"{', '.join(CHANNELS)} [m, rad] (or roll_deg …), v_… and a_… for their rates"
+            )
+    values = np.zeros((t.size, 18))
+    for k, channel in enumerate(CHANNELS):
+        for level, prefix in enumerate(("", "v_", "a_")):
+            plain, degrees = f"{prefix}{channel}", f"{prefix}{channel}_deg"
+            if plain in columns and degrees in columns:
+                raise InputError(f"{path}: {plain!r} and {degrees!r} both given: keep one")
+            if plain in columns:
+                values[:, 6 * level + k] = columns[plain]
+            elif degrees in columns:
+                values[:, 6 * level + k] = np.radians(columns[degrees])
+            elif level and any(
+                name in columns for name in (channel, f"{channel}_deg")
+            ):  # a rate left out of a given channel: differentiated
+                if t.size < 3:
+                    raise InputError(
+                        f"{path}: the rates of {channel!r} are differentiated from its values, "
+                        "which needs at least 3 rows"
+                    )
+                values[:, 6 * level + k] = np.gradient(
+                    values[:, 6 * (level - 1) + k], t, edge_order=2
+                )
+    return HullTable(Table(t, values, source=f"hull motion {path.name}"))
+
+
+def read_base(table: object, folder: Path, where: str) -> BaseMotion:
+    """The ``[base]`` table of a mechanism file (module docstring); paths relative to
+    ``folder``.
+
+    Raises:
+        InputError: Not a table, an unknown key, a bad value (named).
+    """
+    if not isinstance(table, dict):
+        raise InputError(f"{where}: [base] must be a table")
+    unknown = sorted(set(table) - BASE_KEYS)
+    if unknown:
+        raise InputError(f"{where}: unknown keys {unknown} in [base]; keys: {sorted(BASE_KEYS)}")
+    profiles: list[HullProfile] = []
+    if "pitch_deg" in table or "roll_deg" in table:
+        profiles.append(
+            Slope(
+                math.radians(check_number(f"{where} pitch_deg", table.get("pitch_deg", 0.0))),
+                math.radians(check_number(f"{where} roll_deg", table.get("roll_deg", 0.0))),
+            )
+        )
+    if "table" in table:
+        if not isinstance(table["table"], str):
+            raise InputError(f"{where}: [base] table must be a file name, got {table['table']!r}")
+        profiles.append(read_hull_table(folder / table["table"]))
+    entries = table.get("profile", [])
+    if not isinstance(entries, list):
+        raise InputError(f"{where}: [[base.profile]] must be a list of tables")
+    for i, entry in enumerate(entries):
+        here = f"{where} [[base.profile]] #{i + 1}"
+        if not isinstance(entry, dict) or "type" not in entry:
+            raise InputError(f"{here}: a table with a type: one of {sorted(PROFILES)}")
+        values = {key: value for key, value in entry.items() if key != "type"}
+        profiles.append(make_profile(entry["type"], values, here))
+    forward = table.get("forward", [1.0, 0.0, 0.0])
+    if not isinstance(forward, list) or len(forward) != 3:
+        raise InputError(f"{where}: [base] forward must be 3 numbers, got {forward!r}")
+    return BaseMotion(tuple(profiles), tuple(check_finite(f"{where} forward", forward)))
