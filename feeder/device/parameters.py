@@ -53,6 +53,11 @@ GRAVITY = np.array([0.0, -9.81, 0.0])
 """Gravity [m/s²] in the world frame: −y, g = 9.81 m/s² (REFERENCE.md; Pinocchio's default is
 −z, so :class:`~feeder.device.feeder.Feeder` sets its model's gravity to this)."""
 
+VEHICLE_FORWARD = (-1.0, 0.0, 0.0)
+"""The vehicle's forward axis in the world frame: the barrel points forward over the hull's front
+(the muzzle towards −x); with up = +y the vehicle's left is +z (ISO 8855 axes:
+:mod:`feeder.chain.model.base`)."""
+
 
 @dataclass(frozen=True)
 class LinkInertia:

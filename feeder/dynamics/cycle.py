@@ -32,7 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
+from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
+from ..device.parameters import GRAVITY
 from ..exceptions import ForwardDivergenceError, InputError
 from ..motion.cycle import CycleKinematics, feeding_cycle
 from ..motion.laws import CycleSpec
@@ -58,7 +60,8 @@ class CycleDynamics:
         pressures: Lift-cylinder chamber pressures.
         rack_force: Forearm rack force [N], shape (N,).
         forward: Motion integrated from the piston force and forearm moment, or None if the
-            forward run was skipped (``cycle_dynamics(..., forward=False)``).
+            forward run was skipped (``cycle_dynamics(..., forward=False)``, or a moving base).
+        base: The vehicle's motion, None for standing level.
     """
 
     kinematics: CycleKinematics
@@ -67,6 +70,7 @@ class CycleDynamics:
     pressures: CylinderPressures
     rack_force: np.ndarray
     forward: ForwardMotion | None
+    base: BaseMotion | None = None
 
     def _forward_run(self) -> ForwardMotion:
         if self.forward is None:
@@ -108,6 +112,7 @@ def cycle_dynamics(
     elevation: float,
     spec: CycleSpec | None = None,
     *,
+    base: BaseMotion | None = None,
     progress: bool = False,
     forward: bool = True,
 ) -> CycleDynamics:
@@ -117,10 +122,16 @@ def cycle_dynamics(
         feeder: The device.
         elevation: ε [rad].
         spec: Stage durations and sample rate (default :class:`~feeder.motion.laws.CycleSpec`).
+        base: The vehicle's motion (:class:`~feeder.chain.model.base.BaseMotion`, its forward
+            axis :data:`~feeder.device.parameters.VEHICLE_FORWARD`), None for standing level.
+            The cycle's motion is relative to the hull; every vector is in the device's axes
+            as they move with it (the mount's also in the level axes).
         progress: Show a progress bar over the phases on a terminal (none when stderr is not
             one, e.g. in CI logs).
         forward: Integrate the forward dynamics driven by the computed loads (the force-rule
-            check); False skips it (``CycleDynamics.forward`` is then None).
+            check); False skips it (``CycleDynamics.forward`` is then None). It runs on a
+            standing or tilted base only: on a moving one it is skipped (the base's motion is
+            not a force the run can take).
 
     Raises:
         ElevationError, InputError: Bad elevation or timing.
@@ -129,6 +140,9 @@ def cycle_dynamics(
             than :data:`FORWARD_TOLERANCE` from the prescribed motion.
     """
     spec = spec or CycleSpec()
+    if base is not None and not isinstance(base, BaseMotion):
+        raise InputError(f"base must be a BaseMotion, got {base!r}")
+    forward = forward and (base is None or not base.timed)
     steps = ["kinematics", "inverse dynamics", "joint reactions"]
     if forward:
         steps.append("forward simulation")
@@ -136,13 +150,15 @@ def cycle_dynamics(
     with tqdm(total=len(steps), desc="cycle", disable=quiet) as bar:
         bar.set_postfix_str(steps[0])
         kinematics = feeding_cycle(feeder, elevation, spec)
-        dyn = FeederDynamics(feeder)
+        state = None if base is None else base.state(kinematics.t, GRAVITY)
+        tilt = None if state is None or base.timed else state.gravity[0]
+        dyn = FeederDynamics(feeder, tilt)
         bar.update()
         bar.set_postfix_str(steps[1])
         # The sampled cycle closes the loop away from the toggle by construction: the device's
         # travel was checked when it was loaded (check_device), so no check_motion here.
         motion = SampledMotion(kinematics.q, kinematics.v, kinematics.a, kinematics.gripped)
-        loads = actuator_loads(dyn, motion)
+        loads = actuator_loads(dyn, motion, state)
         bar.update()
         bar.set_postfix_str(steps[2])
         reactions = joint_reactions(dyn, loads)
@@ -167,4 +183,5 @@ def cycle_dynamics(
         pressures=cylinder_pressures(feeder.params, loads.piston_force),
         rack_force=rack_force(feeder.params, loads.forearm_torque),
         forward=run,
+        base=base,
     )

@@ -36,7 +36,8 @@ import numpy as np
 
 from ..chain.dynamics.inverse import solve_loads
 from ..chain.kinematics.rows import ClosureKinematics, closure_kinematics
-from ..chain.kinematics.tree import TreeMotion, tree_motion
+from ..chain.kinematics.tree import TreeMotion, on_base, tree_motion
+from ..chain.model.base import BaseState
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples
@@ -75,6 +76,8 @@ class ActuatorLoads:
         runs: Per run of constant grip flag: (samples, flag, the tree's batched motion, the
             closure rows along it), which :func:`~feeder.dynamics.reactions.joint_reactions`
             reuses.
+        base: The base's motion at the samples (None: standing level); the loads and every
+            vector are then in the device's axes as they move with the hull.
     """
 
     motion: SampledMotion
@@ -82,6 +85,7 @@ class ActuatorLoads:
     forearm_torque: np.ndarray
     closure_force: np.ndarray
     runs: tuple[tuple[slice, int, TreeMotion, ClosureKinematics], ...] = ()
+    base: BaseState | None = None
 
     def generalized_forces(self) -> np.ndarray:
         """Actuator generalized forces Sᵀ τ in paper order [0, F, 0, M], shape (N, 4)."""
@@ -115,7 +119,9 @@ def check_motion(
     return SampledMotion(q=q, v=v, a=a, gripped=flags)
 
 
-def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
+def actuator_loads(
+    dyn: FeederDynamics, motion: SampledMotion, base: BaseState | None = None
+) -> ActuatorLoads:
     """Piston force, forearm moment and pin force that produce a prescribed closed-chain motion.
 
     The generic closed-chain inverse dynamics (:mod:`feeder.chain.dynamics`) on the device's
@@ -136,6 +142,8 @@ def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
         run = slice(start, stop)
         kinematics = tree_motion(chain.chain.model, qp[run], vp[run], ap[run])
         rows = closure_kinematics(chain.chain, kinematics, vp[run])
+        if base is not None:
+            kinematics = on_base(kinematics, base.samples(run))
         tau[run], closure[run], _ = solve_loads(chain, kinematics, rows)
         runs.append((run, flag, kinematics, rows))
     return ActuatorLoads(
@@ -144,4 +152,5 @@ def actuator_loads(dyn: FeederDynamics, motion: SampledMotion) -> ActuatorLoads:
         forearm_torque=tau[:, 1],
         closure_force=closure,
         runs=tuple(runs),
+        base=base,
     )

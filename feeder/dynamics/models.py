@@ -108,16 +108,18 @@ class FeederDynamics:
         index: Positions of [φ1, r2, φ3, φ4] in Pinocchio's v (``feeder.index``).
     """
 
-    def __init__(self, feeder: Feeder):
+    def __init__(self, feeder: Feeder, gravity: np.ndarray | None = None):
         self.feeder = feeder
-        loaded = feeder.model
+        loaded = pin.Model(feeder.model)
+        if gravity is not None:  # a slope: gravity in the tilted world axes
+            loaded.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
         self.joint_ids = tuple(loaded.getJointId(name) for name in PAPER_JOINTS)
         forearm = self.joint_ids[3]
         self.payload_inertia = payload_inertia(feeder)
         empty = pin.Model(loaded)
         empty.inertias[forearm] = loaded.inertias[forearm] - self.payload_inertia
         constraints = feeder.chain.constraint_models
-        self.cases = (InertiaCase(empty, constraints), InertiaCase(pin.Model(loaded), constraints))
+        self.cases = (InertiaCase(empty, constraints), InertiaCase(loaded, constraints))
         self.index = feeder.index
 
     def to_pinocchio(self, x: np.ndarray) -> np.ndarray:

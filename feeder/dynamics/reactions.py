@@ -25,11 +25,12 @@ forearm's angular velocity ω and acceleration ω̇ and the centre of gravity's 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.dynamics.reactions import JointWrench, closure_wrenches
+from ..chain.dynamics.reactions import JointWrench, MountWrench, closure_wrenches
 from ..chain.dynamics.reactions import joint_reactions as chain_reactions
 from ..chain.kinematics.tree import cross
 from ..device.feeder import PAPER_JOINTS
@@ -52,12 +53,16 @@ class JointReactions:
         grip_force: Force [N] the forearm exerts on the payload, world, shape (N, 3); zero
             before the grip.
         grip_moment: Its moment [N·m] about the payload's centre of gravity, world, (N, 3).
+        mount: The wrench the vehicle exerts on the device through its frame, about the world
+            origin B (:class:`~feeder.chain.dynamics.reactions.MountWrench`: in the level world
+            axes and in the device's axes moving with the hull).
     """
 
     joints: dict[str, JointWrench]
     closure_force: np.ndarray
     grip_force: np.ndarray
     grip_moment: np.ndarray
+    mount: MountWrench
 
 
 def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions:
@@ -82,11 +87,16 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
         for name in JOINT_NAMES
     }
     grip_force, grip_moment = np.zeros((n, 3)), np.zeros((n, 3))
+    mount_fields = [f.name for f in dataclasses.fields(MountWrench)]
+    mounts = {f: np.empty((n, 3)) for f in mount_fields}
     forearm = dyn.joint_ids[3]
     for run, flag, kinematics, rows in loads.runs:
         chain = dyn.cases[flag].dynamics
         _, terms = closure_wrenches(chain.chain, rows, loads.closure_force[run])
-        joints, _ = chain_reactions(chain.chain, kinematics, terms)
+        rotation = None if loads.base is None else loads.base.rotation[run]
+        joints, mount = chain_reactions(chain.chain, kinematics, terms, rotation)
+        for f in mount_fields:
+            mounts[f][run] = getattr(mount, f)
         for name, joint in zip(JOINT_NAMES, PAPER_JOINTS, strict=True):
             for f in fields:
                 wrenches[name][f][run] = getattr(joints[joint], f)
@@ -97,6 +107,7 @@ def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions
         closure_force=-loads.closure_force,
         grip_force=grip_force,
         grip_moment=grip_moment,
+        mount=MountWrench(**mounts),
     )
 
 
@@ -104,7 +115,9 @@ def _grip(dyn: FeederDynamics, kinematics, forearm: int) -> tuple[np.ndarray, np
     """Force m (a_G − g) [N] and moment I_G α + ω × I_G ω [N·m] about the payload's centre of
     gravity, world axes, (N, 3) each, from the forearm's batched motion."""
     payload = dyn.payload_inertia
-    gravity = dyn.cases[1].model.gravity.linear
+    gravity = (
+        dyn.cases[1].model.gravity.linear if kinematics.gravity is None else kinematics.gravity
+    )
     rotation = kinematics.rotation[forearm]
     lever = np.einsum("nij,j->ni", rotation, payload.lever)
     w, dw = kinematics.omega[forearm], kinematics.alpha[forearm]

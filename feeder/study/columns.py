@@ -4,7 +4,9 @@
 kinematics, dynamics and hand-derived loads. ``docs/REFERENCE.md`` documents each column for
 users, and a test keeps the two in step. Vectors are in the world frame (origin at the cylinder
 pivot B, x horizontal towards the breech, y up, z along the pivots); a magnitude column is
-followed by its ``_x``, ``_y``, ``_z`` components.
+followed by its ``_x``, ``_y``, ``_z`` components. On a moving or tilted base the world frame is
+the device's axes as they move with the hull; the mount's wrench is given both in the level
+axes (``mount_force``, ``mount_moment``) and in the moving ones (``mount_*_vehicle``).
 """
 
 from __future__ import annotations
@@ -107,6 +109,31 @@ VECTORS: tuple[tuple[str, str, str, VectorGetter], ...] = (
         "moment of the forearm on the payload about its centre of gravity (zero before the grip)",
         lambda d: d.reactions.grip_moment,
     ),
+    (
+        "mount_force",
+        "N",
+        "force of the vehicle on the device through its mount (the frame), level world axes",
+        lambda d: d.reactions.mount.level_force,
+    ),
+    (
+        "mount_moment",
+        "N·m",
+        "moment of the vehicle on the device through its mount about B, level world axes",
+        lambda d: d.reactions.mount.level_moment,
+    ),
+    (
+        "mount_force_vehicle",
+        "N",
+        "force of the vehicle on the device through its mount, the device's axes moving with "
+        "the hull",
+        lambda d: d.reactions.mount.force,
+    ),
+    (
+        "mount_moment_vehicle",
+        "N·m",
+        "moment of the vehicle on the device about B, the device's axes moving with the hull",
+        lambda d: d.reactions.mount.moment,
+    ),
 )
 """World-frame vector columns: name, unit, meaning and how to read them off the dynamics."""
 
@@ -154,8 +181,16 @@ def _columns() -> tuple[Column, ...]:
         Column("forward_q_phi3", "rad", "arm angle of the force-rule forward run"),
         Column("forward_q_phi4", "rad", "forearm angle of the force-rule forward run"),
         Column("forward_closure_residual", "m", "pin gap of the forward run"),
-        Column("lagrange_piston_force", "N", "piston force from the hand-derived equations"),
-        Column("lagrange_forearm_torque", "N·m", "forearm moment from the hand-derived equations"),
+        Column(
+            "lagrange_piston_force",
+            "N",
+            "piston force from the hand-derived equations (the base standing level)",
+        ),
+        Column(
+            "lagrange_forearm_torque",
+            "N·m",
+            "forearm moment from the hand-derived equations (the base standing level)",
+        ),
         Column("lagrange_lambda1", "N", "multiplier of closure equation f1 (x)"),
         Column("lagrange_lambda2", "N", "multiplier of closure equation f2 (y)"),
     ]

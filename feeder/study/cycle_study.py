@@ -8,13 +8,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics, cycle_dynamics
 from ..motion.laws import CycleSpec
 from ..paper.lagrange import LagrangeLoads, inverse_dynamics
 from .columns import cycle_columns
 from .peaks import Peak, cycle_peaks
-from .summary import peak_lines, peak_notes
+from .summary import growth_lines, peak_lines, peak_notes
 
 
 @dataclass(frozen=True)
@@ -24,12 +25,21 @@ class CycleStudy:
     Attributes:
         feeder: The device.
         dynamics: Pinocchio: kinematics, loads, reactions, drives, forward run.
-        lagrange: The hand-derived equations' loads and multipliers on the same motion.
+        lagrange: The hand-derived equations' loads and multipliers on the same motion, the
+            base standing level.
+        standing: On a moving or tilted base, the same cycle standing level (the cross-check's
+            and the comparison's); None when the base stands level (``dynamics`` is that).
     """
 
     feeder: Feeder
     dynamics: CycleDynamics
     lagrange: LagrangeLoads
+    standing: CycleDynamics | None = None
+
+    @property
+    def level(self) -> CycleDynamics:
+        """The cycle standing level."""
+        return self.dynamics if self.standing is None else self.standing
 
     def columns(self) -> dict[str, np.ndarray]:
         """Every column of ``cycle.csv`` (:data:`~feeder.study.columns.COLUMNS`), each (N,)."""
@@ -40,8 +50,9 @@ class CycleStudy:
         return cycle_peaks(self.dynamics)
 
     def cross_check(self) -> tuple[float, float]:
-        """Largest |Lagrange − Pinocchio| of the piston force [N] and forearm moment [N·m]."""
-        loads = self.dynamics.loads
+        """Largest |Lagrange − Pinocchio| of the piston force [N] and forearm moment [N·m], the
+        base standing level."""
+        loads = self.level.loads
         return (
             float(np.abs(self.lagrange.piston_force - loads.piston_force).max()),
             float(np.abs(self.lagrange.forearm_torque - loads.forearm_torque).max()),
@@ -54,11 +65,16 @@ class CycleStudy:
             f"feeding cycle at elevation {np.degrees(kinematics.elevation):.2f}°, "
             f"{kinematics.t.size} samples over {kinematics.t[-1]:.3f} s"
         ]
+        if d.base is not None:
+            lines.append(f"  base: {d.base.describe()} (vectors in the device's moving axes)")
         peaks = self.peaks()
         lines += peak_lines(peaks)
         lines += peak_notes(self.feeder.params, peaks)
+        if self.standing is not None:
+            lines += growth_lines(peaks, cycle_peaks(self.standing))
         if d.forward is None:
-            lines.append("  forward run (force rule): skipped")
+            reason = " (the base moves)" if d.base is not None and d.base.timed else ""
+            lines.append(f"  forward run (force rule): skipped{reason}")
         else:
             phi3, phi4 = d.tracking_error()
             lines.append(
@@ -66,9 +82,10 @@ class CycleStudy:
                 f"pin gap ≤ {d.closure_residual():.2e} m"
             )
         force, torque = self.cross_check()
+        level = "" if self.standing is None else " (the cycle standing level)"
         lines.append(
-            f"  Lagrange equations vs Pinocchio: piston force within {force:.1e} N, forearm "
-            f"moment within {torque:.1e} N·m"
+            f"  Lagrange equations vs Pinocchio{level}: piston force within {force:.1e} N, "
+            f"forearm moment within {torque:.1e} N·m"
         )
         return "\n".join(lines)
 
@@ -79,6 +96,7 @@ def run_cycle_study(
     spec: CycleSpec | None = None,
     progress: bool = False,
     forward: bool = True,
+    base: BaseMotion | None = None,
 ) -> CycleStudy:
     """Dynamics of one cycle at ``elevation`` [rad] by Pinocchio and by the Lagrange equations.
 
@@ -89,11 +107,19 @@ def run_cycle_study(
         progress: Show a progress bar on a terminal.
         forward: Run the force-rule forward simulation (False skips it and its ``forward_*``
             columns).
+        base: The vehicle's motion (:func:`~feeder.dynamics.cycle.cycle_dynamics`); the cycle
+            standing level is computed too, for the cross-check and the comparison.
 
     Raises:
         ElevationError, InputError: Bad elevation or timing.
         ForwardDivergenceError: The forward run drifted (sample faster, or ``forward=False``).
     """
-    dynamics = cycle_dynamics(feeder, elevation, spec, progress=progress, forward=forward)
+    dynamics = cycle_dynamics(
+        feeder, elevation, spec, base=base, progress=progress, forward=forward
+    )
+    standing = None
+    if base is not None:
+        standing = cycle_dynamics(feeder, elevation, spec, forward=False)
     k = dynamics.kinematics
-    return CycleStudy(feeder, dynamics, inverse_dynamics(feeder.params, k.q, k.v, k.a, k.gripped))
+    lagrange = inverse_dynamics(feeder.params, k.q, k.v, k.a, k.gripped)
+    return CycleStudy(feeder, dynamics, lagrange, standing)

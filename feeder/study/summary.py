@@ -86,6 +86,28 @@ def peak_notes(params: FeederParameters, peaks: list[Peak]) -> list[str]:
     )
 
 
+def growth_lines(peaks: list[Peak], standing: list[Peak]) -> list[str]:
+    """Each peak against the same cycle standing level: one line per quantity, by how much it
+    grows (largest first)."""
+    level = {peak.name: peak for peak in standing}
+    rows = []
+    for peak in peaks:
+        before = abs(level[peak.name].value)
+        change = (abs(peak.value) - before) / before if before > 0.0 else np.inf
+        rows.append((change, peak, before))
+    rows.sort(key=lambda row: -row[0] if np.isfinite(row[0]) else -np.inf)
+    lines = ["  against the cycle standing level (peak on this base / peak standing):"]
+    width = max(len(peak.name) for peak in peaks)
+    for change, peak, before in rows:
+        scale, unit = (1e-5, "bar") if peak.unit == "Pa" else (1.0, peak.unit)
+        growth = f"{change:+8.1%}" if np.isfinite(change) else "     new"
+        lines.append(
+            f"    {peak.name:<{width}} {abs(peak.value) * scale:10.3f} / {before * scale:10.3f} "
+            f"{unit:<3} {growth}"
+        )
+    return lines
+
+
 def _wrapped(text: str, indent: str) -> list[str]:
     return textwrap.wrap(
         text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  ", break_on_hyphens=False

@@ -33,6 +33,7 @@ are *assumed* (no measured hull data is published for the M77): each says why.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
@@ -320,6 +321,10 @@ class BaseState:
     velocity: np.ndarray
     acceleration: np.ndarray
     gravity: np.ndarray
+
+    def samples(self, index: slice | np.ndarray) -> BaseState:
+        """The state at some of the samples."""
+        return BaseState(*(getattr(self, f.name)[index] for f in dataclasses.fields(self)))
 
     @property
     def moving(self) -> bool:
