@@ -10,6 +10,8 @@ from .options import (
     RATE_HELP,
     Once,
     add_command,
+    base_of,
+    base_options,
     command_line,
     elevation_of,
     params_of,
@@ -22,6 +24,7 @@ def add(commands: argparse._SubParsersAction) -> None:
     """The ``cycle`` sub-parser."""
     cycle = add_command(commands, "cycle", run, "loads and reactions over a feeding cycle")
     study_options(cycle)
+    base_options(cycle)
     cycle.add_argument(
         "--rate",
         action=Once,
@@ -56,11 +59,14 @@ def run(args: argparse.Namespace) -> int:
     folder = OutputFolder(args.out)
     params = params_of(args)
     elevation, spec = elevation_of(args, params), CycleSpec(rate=args.rate)
+    base = base_of(args)
     # The figure workers start first: they import matplotlib while this process computes.
     with FigureWorkers(None if args.figures else 1) as workers:
         feeder = load_feeder(params)
         with folder:
-            study = run_cycle_study(feeder, elevation, spec, progress=True, forward=args.forward)
+            study = run_cycle_study(
+                feeder, elevation, spec, progress=True, forward=args.forward, base=base
+            )
             paths = write_cycle_outputs(
                 study, folder, command_line(args), figures=args.figures, workers=workers
             )

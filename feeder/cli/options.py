@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import math
 import shlex
+import tomllib
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -16,6 +17,7 @@ from ..exceptions import InputError
 from ..validation import check_elevation, check_number, check_path
 
 if TYPE_CHECKING:
+    from ..chain.model.base import BaseMotion
     from ..device.parameters import FeederParameters
 
 
@@ -121,6 +123,70 @@ def device_options(sub: argparse.ArgumentParser, default: str) -> None:
         help="parameter file (TOML) instead of a built-in device (default: none): write one "
         "with `feeder parameters --format toml --out FILE` and edit its numbers",
     )
+
+
+def base_options(sub: argparse.ArgumentParser) -> None:
+    """``--slope PITCH ROLL`` and ``--base-motion FILE|PROFILE``: the device on a vehicle."""
+    sub.add_argument(
+        "--slope",
+        action=Once,
+        type=float,
+        nargs=2,
+        metavar=("PITCH", "ROLL"),
+        help="the hull standing on a slope [deg] (ISO 8855: a positive pitch lowers the nose, a "
+        "positive roll the right side; default: level)",
+    )
+    sub.add_argument(
+        "--base-motion",
+        action=Once,
+        metavar="FILE|PROFILE",
+        help="the hull's motion (default: at rest): a hull table (.csv: t, x, y, z [m], roll, "
+        "pitch, yaw [rad] or *_deg, optional v_*/a_* rates), a file with a [base] table (.toml), "
+        "or a profile terrain | bump | recoil with parameters, e.g. terrain:heave=0.05,"
+        "pitch_deg=2 (docs/REFERENCE.md)",
+    )
+
+
+def base_of(args: argparse.Namespace) -> BaseMotion | None:
+    """The device's base from ``--slope`` and ``--base-motion`` (None: standing level).
+
+    Raises:
+        InputError: A bad slope, an unreadable file, an unknown profile or parameter.
+    """
+    from ..chain.model.base import BaseMotion, Slope
+    from ..chain.readers.base_motion import parse_profile, read_base, read_hull_table
+    from ..device.parameters import VEHICLE_FORWARD
+
+    profiles = []
+    if args.slope is not None:
+        pitch, roll = (
+            check_number(f"slope {name} [deg]", x)
+            for name, x in zip(("pitch", "roll"), args.slope, strict=True)
+        )
+        profiles.append(Slope(math.radians(pitch), math.radians(roll)))
+    motion = args.base_motion
+    if motion is not None:
+        suffix = Path(motion).suffix.lower()
+        if suffix == ".csv":
+            profiles.append(read_hull_table(check_path("the hull motion file", motion)))
+        elif suffix == ".toml":
+            path = check_path("the base file", motion)
+            try:
+                document = tomllib.loads(path.read_text(encoding="utf-8"))
+            except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+                raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+            if "base" not in document:
+                raise InputError(f"{path}: no [base] table")
+            base = read_base(document["base"], path.parent, str(path))
+            if base.forward != VEHICLE_FORWARD:
+                raise InputError(
+                    f"{path}: the device's forward axis is fixed ({list(VEHICLE_FORWARD)}): "
+                    "leave forward out of [base]"
+                )
+            profiles += base.profiles
+        else:
+            profiles.append(parse_profile(motion))
+    return BaseMotion(tuple(profiles), VEHICLE_FORWARD) if profiles else None
 
 
 def study_options(sub: argparse.ArgumentParser, out: bool = True, required: bool = True) -> None:

@@ -93,7 +93,8 @@ def growth_lines(peaks: list[Peak], standing: list[Peak]) -> list[str]:
     rows = []
     for peak in peaks:
         before = abs(level[peak.name].value)
-        change = (abs(peak.value) - before) / before if before > 0.0 else np.inf
+        after = abs(peak.value)
+        change = (after - before) / before if before > 0.0 else (np.inf if after > 0.0 else 0.0)
         rows.append((change, peak, before))
     rows.sort(key=lambda row: -row[0] if np.isfinite(row[0]) else -np.inf)
     lines = ["  against the cycle standing level (peak on this base / peak standing):"]
