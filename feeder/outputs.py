@@ -36,7 +36,6 @@ from .viz.report import (
     FigureWorkers,
     kinematics_figures,
     png_bytes,
-    study_figure_names,
     write_png,
 )
 
@@ -80,9 +79,12 @@ def write_cycle_outputs(
     outputs: dict[str, Writer] = {"cycle.csv": lambda path: write_csv(path, study.columns())}
     if figures:
         drawing = FigureWorkers(1) if workers is None else workers
-        outputs |= drawing.writers(FigureData.of_study(study), study_figure_names())
+        data = FigureData.of_study(study)
+        outputs |= drawing.writers(data, data.figure_names())
     record = run_record(study.feeder, kinematics, command)
     record["forward_run"] = study.dynamics.forward is not None
+    base = study.dynamics.base
+    record["base"] = "standing level" if base is None else base.describe()
     return _write(directory, outputs, record)
 
 

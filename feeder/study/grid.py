@@ -21,6 +21,12 @@ A grid is usually read from a TOML file (:func:`read_grid`); every key is option
     L2 = 0.29                              # any number of the parameter set, by its name in
                                            # PARAMETERS.md, in its SI unit there
 
+    [[variants]]                           # a vehicle case: the device on a moving or tilted
+    name = "side_slope_terrain"            # base, as a mechanism file's [base] (no forward:
+    base = {roll_deg = 15.0}               # the device's is fixed): a slope, a hull table,
+    [[variants.base.profile]]              # profiles (feeder.chain.readers.base_motion)
+    type = "terrain"
+
 Each variant applies to every device; each (device, variant, elevation) is one
 :class:`SweepCase`. Every number is checked when the grid is built, and every variant of every
 device is checked to assemble over its travel (:func:`~feeder.device.loop.check_device`), so a
@@ -40,9 +46,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..chain.model.base import BaseMotion, HullTable
+from ..chain.readers.base_motion import read_base
 from ..device.builtin import DEVICES
 from ..device.loop import check_device
-from ..device.parameters import FeederParameters
+from ..device.parameters import VEHICLE_FORWARD, FeederParameters
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
 from ..validation import check_elevation, check_number
@@ -74,17 +82,20 @@ PARAMETER_KEYS = _numeric_fields()
 
 @dataclass(frozen=True)
 class Variant:
-    """One change of the devices' parameters.
+    """One change of the devices' parameters, or of their vehicle's motion.
 
     Attributes:
         name: Its name in the table and the figures.
         changes: Parameter name → value (SI, as in PARAMETERS.md), and/or the retrofit factors
             ``mass_factor``, ``length_factor``; empty for the unchanged device. Given as a
             mapping or as (name, value) pairs; kept as pairs of floats.
+        base: The vehicle's motion (forward axis
+            :data:`~feeder.device.parameters.VEHICLE_FORWARD`), None for standing level.
     """
 
     name: str
     changes: tuple[tuple[str, float], ...] = ()
+    base: BaseMotion | None = None
 
     def __post_init__(self) -> None:
         """Check the name and every change, and keep the values as floats.
@@ -108,6 +119,13 @@ class Variant:
                 )
             checked.append((key, check_number(f"variant {self.name!r}: {key}", value)))
         object.__setattr__(self, "changes", tuple(checked))
+        if self.base is not None and (
+            not isinstance(self.base, BaseMotion) or self.base.forward != VEHICLE_FORWARD
+        ):
+            raise InputError(
+                f"variant {self.name!r}: base must be a BaseMotion with the device's forward "
+                f"axis {list(VEHICLE_FORWARD)}"
+            )
 
     def apply(self, params: FeederParameters) -> FeederParameters:
         """``params`` with this variant's changes (retrofit first, then the named numbers)."""
@@ -129,6 +147,7 @@ class SweepCase:
         elevation: ε [rad] of the cycle.
         params: The device's parameters with the variant applied.
         spec: Stage durations and sample rate.
+        base: The variant's vehicle motion, None for standing level.
     """
 
     device: str
@@ -137,6 +156,7 @@ class SweepCase:
     elevation: float
     params: FeederParameters
     spec: CycleSpec
+    base: BaseMotion | None = None
 
     @property
     def key(self) -> tuple[str, str, float]:
@@ -146,7 +166,8 @@ class SweepCase:
     @property
     def sha256(self) -> str:
         """SHA-256 of what defines the case's computation: its key, its elevation [rad], and
-        its parameters and timing (:func:`fingerprint`). A table row of this case carries it."""
+        its parameters and timing (:func:`fingerprint`), its vehicle's motion. A table row of
+        this case carries it."""
         text = json.dumps(
             [
                 self.device,
@@ -154,6 +175,7 @@ class SweepCase:
                 repr(self.elevation_deg),
                 repr(self.elevation),
                 fingerprint(self.params, self.spec),
+                base_fingerprint(self.base),
             ]
         )
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
@@ -164,6 +186,17 @@ def fingerprint(params: FeederParameters, spec: CycleSpec) -> str:
     parameters or timing has another one."""
     text = repr((params, spec.durations, spec.rate))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def base_fingerprint(base: BaseMotion | None) -> str:
+    """A short hash of a vehicle's motion (every profile's numbers; a hull table's values)."""
+    digest = hashlib.sha256()
+    for profile in () if base is None else base.profiles:
+        if isinstance(profile, HullTable):
+            digest.update(profile.table.t.tobytes() + profile.table.values.tobytes())
+        else:
+            digest.update(repr(profile).encode("utf-8"))
+    return digest.hexdigest()[:16]
 
 
 def _too_many(what: str) -> str:
@@ -223,7 +256,15 @@ class SweepGrid:
                 for elevation in self.elevations_deg:
                     deg = float(elevation)
                     cases.append(
-                        SweepCase(device, variant.name, deg, math.radians(deg), changed, self.spec)
+                        SweepCase(
+                            device,
+                            variant.name,
+                            deg,
+                            math.radians(deg),
+                            changed,
+                            self.spec,
+                            variant.base,
+                        )
                     )
         return cases
 
@@ -292,10 +333,17 @@ def make_grid(
     return SweepGrid(chosen, elevations, variants, spec or CycleSpec())
 
 
-def _variant(entry: object, index: int) -> Variant:
+def _variant(entry: object, index: int, folder: Path) -> Variant:
     if not isinstance(entry, dict) or "name" not in entry:
         raise InputError(f"variants[{index}] must be a table with a name, got {entry!r}")
-    return Variant(entry["name"], tuple((k, v) for k, v in entry.items() if k != "name"))
+    base = None
+    if "base" in entry:
+        where = f"variants[{index}]"
+        if isinstance(entry["base"], dict) and "forward" in entry["base"]:
+            raise InputError(f"{where}: the device's forward axis is fixed: leave forward out")
+        base = replace(read_base(entry["base"], folder, where), forward=VEHICLE_FORWARD)
+    changes = tuple((k, v) for k, v in entry.items() if k not in ("name", "base"))
+    return Variant(entry["name"], changes, base)
 
 
 def _elevations(value: object) -> np.ndarray:
@@ -345,7 +393,7 @@ def read_grid(path: str | Path) -> SweepGrid:
             elevations_deg=(
                 _elevations(document["elevations"]) if "elevations" in document else None
             ),
-            variants=[_variant(entry, k) for k, entry in enumerate(variants)],
+            variants=[_variant(entry, k, path.parent) for k, entry in enumerate(variants)],
             spec=spec,
         )
     except FeederError as exc:

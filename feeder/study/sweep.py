@@ -108,7 +108,9 @@ def cached_feeder(params: FeederParameters) -> Feeder:
 
 def case_peaks(case: SweepCase) -> Row:
     """One case's row of the sweep table: its key, its hash, and every peak with its time."""
-    dynamics = cycle_dynamics(cached_feeder(case.params), case.elevation, case.spec, forward=False)
+    dynamics = cycle_dynamics(
+        cached_feeder(case.params), case.elevation, case.spec, base=case.base, forward=False
+    )
     row: Row = {
         "device": case.device,
         "variant": case.variant,

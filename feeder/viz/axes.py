@@ -193,6 +193,8 @@ def label_ticks(fig: Figure) -> None:
             if axis.get_scale() == "log":
                 limits(*_decades(*interval))
                 axis.set_minor_formatter(ticker.NullFormatter())
+            elif isinstance(axis.get_major_formatter(), ticker.FixedFormatter):
+                continue  # named categories (a bar chart's): their own labels
             else:
                 axis.set_major_formatter(FullTicks())
 

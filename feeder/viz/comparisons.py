@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.ticker import FixedFormatter
 
 from ..exceptions import InputError
 from ..paper.printed import printed_equations
@@ -186,6 +187,58 @@ def sweep_figure(
     if title:
         fig.suptitle(title)
     finish(fig, left=0.75, top=top, bottom=0.55, wspace=0.85)
+    return fig
+
+
+def base_peaks_figure(
+    rows: Sequence[tuple[str, float, float, str]], base: str, elevation: float
+) -> Figure:
+    """Every peak on a moving or tilted base against the same cycle standing level: one bar per
+    quantity, the ratio of the two peaks (dimensionless, so loads of any unit share the axis),
+    each labelled with both values in their unit; quantities zero in both cycles are left out
+    with a note.
+
+    Args:
+        rows: (column name, peak on the base, peak standing, SI unit), magnitudes.
+        base: The base's description.
+        elevation: ε [rad].
+    """
+    drawn = [row for row in rows if row[1] > 0.0 or row[2] > 0.0]
+    drawn.sort(key=lambda row: row[1] / row[2] if row[2] > 0.0 else math.inf)
+    fig = Figure(figsize=(10.0, 1.6 + 0.32 * len(drawn)))
+    ax = fig.subplots()
+    y = np.arange(len(drawn))
+    ratios = np.array([moving / still if still > 0.0 else np.nan for _, moving, still, _ in drawn])
+    finite = np.nan_to_num(ratios, nan=0.0)
+    ax.barh(y, finite, color=["tab:red" if r > 1.0 else "tab:blue" for r in finite], height=0.6)
+    ax.axvline(1.0, color="black", linewidth=0.8)
+    labels = []
+    for (name, moving, still, unit), ratio in zip(drawn, ratios, strict=True):
+        factor, shown = display_unit(unit)
+        labels.append(words(name))
+        text = f"{moving * factor:.3g} / {still * factor:.3g} {shown}"
+        if not np.isfinite(ratio):
+            text += " (zero standing)"
+        ax.annotate(
+            text,
+            (max(ratio if np.isfinite(ratio) else 0.0, 0.0), y[len(labels) - 1]),
+            xytext=(4, 0),
+            textcoords="offset points",
+            va="center",
+            fontsize=8,
+        )
+    ax.set_yticks(y)
+    ax.yaxis.set_major_formatter(FixedFormatter(labels))
+    ax.set_xlabel("peak on this base / peak standing level [–]")
+    ax.set_xlim(0.0, max(1.2, float(np.nanmax(ratios, initial=1.0)) * 1.35))
+    ax.grid(True, axis="x", linewidth=0.4, alpha=0.6)
+    left_out = [words(name) for name, moving, still, _ in rows if moving == 0.0 == still]
+    title = f"Peak loads on this base against standing level, ε = {math.degrees(elevation):g}°"
+    fig.suptitle(title, fontsize=11)
+    ax.set_title(base, fontsize=8)
+    if left_out:
+        fig.text(0.01, 0.01, "zero in both: " + ", ".join(left_out), fontsize=7)
+    finish(fig, left=2.6, right=0.3, top=0.7, bottom=0.65)
     return fig
 
 

@@ -34,6 +34,7 @@ from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
 from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
+from ..study.peaks import cycle_peaks
 from ..study.sweep import cached_feeder, local_workers, sweeps_of
 from ..study.sweep_table import read_table
 from .catalog import CYCLE_FIGURES, file_name
@@ -70,18 +71,34 @@ class FigureData:
         elevation: ε [rad].
         spec: The cycle's timing.
         columns: The cycle's ``cycle.csv`` columns (all, or the kinematic ones), each (N,).
+        base: On a moving or tilted base, its description and every peak against the cycle
+            standing level: (name, peak here, peak standing, SI unit), magnitudes; else None.
     """
 
     params: FeederParameters
     elevation: float
     spec: CycleSpec
     columns: dict[str, np.ndarray]
+    base: tuple[str, tuple[tuple[str, float, float, str], ...]] | None = None
 
     @classmethod
     def of_study(cls, study: CycleStudy) -> FigureData:
         """The data of a full study."""
         k = study.dynamics.kinematics
-        return cls(study.feeder.params, k.elevation, k.spec, study.columns())
+        base = None
+        if study.standing is not None:
+            standing = {peak.name: abs(peak.value) for peak in cycle_peaks(study.standing)}
+            rows = tuple(
+                (peak.name, abs(peak.value), standing[peak.name], peak.unit)
+                for peak in study.peaks()
+            )
+            base = (study.dynamics.base.describe(), rows)
+        return cls(study.feeder.params, k.elevation, k.spec, study.columns(), base)
+
+    def figure_names(self) -> tuple[str, ...]:
+        """The figures of this study (:func:`study_figure_names`, and ``base_peaks.png`` on a
+        moving or tilted base)."""
+        return study_figure_names() + (() if self.base is None else (BASE_FIGURE,))
 
     @classmethod
     def of_cycle(cls, feeder: Feeder, cycle: CycleKinematics) -> FigureData:
@@ -96,6 +113,9 @@ class FigureData:
         """q = [φ1, r2, φ3, φ4] at every sample, (N, 4)."""
         return np.column_stack([self.columns[f"q_{c}"] for c in ("phi1", "r2", "phi3", "phi4")])
 
+
+BASE_FIGURE = "base_peaks.png"
+"""The figure of every peak on a moving or tilted base against the cycle standing level."""
 
 KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
@@ -125,7 +145,7 @@ def draw(name: str, data: FigureData) -> Figure:
         InputError: An unknown name, or a figure that needs columns the data lack (a full
             study's figure from the kinematics alone).
     """
-    from .comparisons import cross_check
+    from .comparisons import base_peaks_figure, cross_check
     from .drawings import device_side_view, workspace_figure
     from .figures import cycle_figure, payload_position_figure
 
@@ -141,6 +161,8 @@ def draw(name: str, data: FigureData) -> Figure:
             return payload_position_figure(t, position, boundaries, data.elevation)
         if name == "lagrange_cross_check.png":
             return cross_check(data.params, data.columns, boundaries)
+        if name == BASE_FIGURE and data.base is not None:
+            return base_peaks_figure(data.base[1], data.base[0], data.elevation)
     except KeyError as exc:
         raise InputError(
             f"figure {data.file_name(name)} needs the column {exc}: draw it from a full study"
@@ -159,7 +181,7 @@ def draw(name: str, data: FigureData) -> Figure:
 def study_figures(study: CycleStudy) -> dict[str, Figure]:
     """Every figure of the standard study, by file name, drawn here."""
     data = FigureData.of_study(study)
-    return {data.file_name(name): draw(name, data) for name in study_figure_names()}
+    return {data.file_name(name): draw(name, data) for name in data.figure_names()}
 
 
 def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figure]:
