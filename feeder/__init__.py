@@ -27,9 +27,21 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
-    from .chain import ClosedChain, Partition, load_closed_chain, load_mechanism, read_spec
+    from .chain import (
+        BaseMotion,
+        Bump,
+        ClosedChain,
+        Partition,
+        Recoil,
+        Slope,
+        Terrain,
+        load_closed_chain,
+        load_mechanism,
+        read_spec,
+    )
     from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
     from .device.loop import required_stroke, transmission_angle
+    from .device.parameters import VEHICLE_FORWARD
     from .exceptions import FeederError, FeederWarning
     from .motion import CycleSpec, feeding_cycle, workspace
     from .outputs import write_cycle_outputs
@@ -47,6 +59,9 @@ __version__ = "0.1.0"
 
 __all__ = [
     "DEVICES",
+    "VEHICLE_FORWARD",
+    "BaseMotion",
+    "Bump",
     "ClosedChain",
     "CycleSpec",
     "CycleStudy",
@@ -56,6 +71,9 @@ __all__ = [
     "FeederWarning",
     "LinkInertia",
     "Partition",
+    "Recoil",
+    "Slope",
+    "Terrain",
     "elevation_sweep",
     "feeding_cycle",
     "load_closed_chain",
@@ -75,6 +93,12 @@ __all__ = [
 ]
 
 _SOURCES = {
+    "BaseMotion": ".chain",
+    "Bump": ".chain",
+    "Recoil": ".chain",
+    "Slope": ".chain",
+    "Terrain": ".chain",
+    "VEHICLE_FORWARD": ".device.parameters",
     "ClosedChain": ".chain",
     "Partition": ".chain",
     "load_closed_chain": ".chain",

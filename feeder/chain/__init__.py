@@ -5,8 +5,9 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
 :mod:`feeder.validation` (tests/test_layers.py checks it). Its subpackages follow the data:
 
 * :mod:`~feeder.chain.model` — the tree, its loop closures (:class:`ClosedChain`,
-  :class:`Closure`) and its force elements (:class:`Spring`, :class:`Cylinder`,
-  :class:`JointSpring`, :class:`Load`);
+  :class:`Closure`), its force elements (:class:`Spring`, :class:`Cylinder`,
+  :class:`JointSpring`, :class:`Load`) and its base's motion (:class:`BaseMotion`: a slope, a
+  ride over terrain, a bump, recoil rocking, a hull table);
 * :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
 * :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once;
@@ -22,10 +23,12 @@ from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
 from .dynamics.derivatives import mass_matrix_derivative
 from .dynamics.forward import ForwardRun, IntegrationError, simulate
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
-from .dynamics.reactions import ClosureWrench, JointWrench
+from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
 from .mobility import MobilityReport, mobility
+from .model.base import BaseMotion, BaseState, Bump, HullTable, Recoil, Slope, Terrain
 from .model.closure import ClosedChain, Closure
 from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table, read_table
+from .readers.base_motion import parse_profile, read_hull_table
 from .readers.forces import read_force_file
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
@@ -37,6 +40,9 @@ from .readers.urdf import build_model, check_urdf, load_closed_chain, mesh_path,
 __all__ = [
     "MAX_GAIN",
     "POSITION_TOLERANCE",
+    "BaseMotion",
+    "BaseState",
+    "Bump",
     "ChainDynamics",
     "ChainLoads",
     "ClosedChain",
@@ -45,6 +51,7 @@ __all__ = [
     "Cylinder",
     "ForceElement",
     "ForwardRun",
+    "HullTable",
     "IntegrationError",
     "JointSpring",
     "JointWrench",
@@ -52,9 +59,13 @@ __all__ = [
     "MechanismSpec",
     "MobilityReport",
     "MotionTable",
+    "MountWrench",
     "Partition",
+    "Recoil",
+    "Slope",
     "Spring",
     "Table",
+    "Terrain",
     "build_model",
     "check_inertia",
     "check_urdf",
@@ -64,7 +75,9 @@ __all__ = [
     "mass_matrix_derivative",
     "mesh_path",
     "mobility",
+    "parse_profile",
     "read_force_file",
+    "read_hull_table",
     "read_motion",
     "read_pose",
     "read_spec",

@@ -34,7 +34,7 @@ from tqdm import tqdm
 
 from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
-from ..device.parameters import GRAVITY
+from ..device.parameters import GRAVITY, VEHICLE_FORWARD
 from ..exceptions import ForwardDivergenceError, InputError
 from ..motion.cycle import CycleKinematics, feeding_cycle
 from ..motion.laws import CycleSpec
@@ -142,6 +142,11 @@ def cycle_dynamics(
     spec = spec or CycleSpec()
     if base is not None and not isinstance(base, BaseMotion):
         raise InputError(f"base must be a BaseMotion, got {base!r}")
+    if base is not None and base.forward != VEHICLE_FORWARD:
+        raise InputError(
+            f"the device's vehicle faces {list(VEHICLE_FORWARD)} (the turret at 0° azimuth): "
+            f"BaseMotion(..., forward=VEHICLE_FORWARD), got forward {list(base.forward)}"
+        )
     forward = forward and (base is None or not base.timed)
     steps = ["kinematics", "inverse dynamics", "joint reactions"]
     if forward:

@@ -21,7 +21,8 @@ shared by the rod-eye bearing, the cylinder trunnions and the arm bearing accord
 stiffness, play and misalignment; rigid-body mechanics cannot tell. We report the minimum-norm
 answer λz = 0 (the generic solver's convention; it flags the row as indeterminate): the arm–frame
 joint then carries the whole out-of-plane load of the arm, forearm and payload (stages 1–2 swing
-the forearm in the horizontal plane), and the piston and cylinder carry none of it. The equations
+the forearm in the horizontal plane), and the piston and cylinder carry none of it (on a tilted or
+moving base, only their own out-of-plane weight and inertia). The equations
 are singular at the toggle (transmission angle 0° or 180°), which is refused
 (:data:`~feeder.device.parameters.SINGULAR_TRANSMISSION_DEG`).
 
