@@ -1,4 +1,5 @@
-"""``feeder view``: the cycle, or a user's mechanism (MODEL ``--closures F``), in MeshCat on
+"""``feeder view``: the cycle (on a vehicle with ``--slope`` / ``--base-motion``), or a user's
+mechanism (MODEL ``--closures F``, its vehicle from the file's ``[base]``), in MeshCat on
 127.0.0.1 only, or as a static HTML page (``--html FILE``)."""
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ from ..exceptions import InputError
 from .options import (
     Once,
     add_command,
+    base_of,
+    base_options,
     elevation_of,
     mechanism_options,
     params_of,
@@ -29,6 +32,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         "127.0.0.1)",
     )
     study_options(view, out=False, required=False)
+    base_options(view)
     mechanism_options(view, required=False)
     source = view.add_mutually_exclusive_group()
     source.add_argument(
@@ -81,9 +85,14 @@ def run(args: argparse.Namespace) -> int:
     if args.model is None:
         return _view_device(args, html, port)
     device = [flag for flag, value in (("--elevation", args.elevation), ("--device",
-              args.device), ("--params", args.params)) if value is not None]  # fmt: skip
+              args.device), ("--params", args.params), ("--slope", args.slope), ("--base-motion",
+              args.base_motion)) if value is not None]  # fmt: skip
     if device:
-        raise InputError(f"{', '.join(device)}: options of the device's view, not of a MODEL's")
+        moving = args.slope is not None or args.base_motion is not None
+        hint = " (a MODEL's base motion is its file's [base])" if moving else ""
+        raise InputError(
+            f"{', '.join(device)}: options of the device's view, not of a MODEL's{hint}"
+        )
     if args.closures is None:
         raise InputError("give --closures FILE with MODEL (the mechanism file)")
     from ..study.view import motion_view, pose_view, run_view
@@ -120,15 +129,20 @@ def _view_device(args: argparse.Namespace, html: Path | None, port: int | None) 
         raise InputError("give --elevation DEG for the device's view (or MODEL --closures F)")
     params = params_of(args)
     elevation = elevation_of(args, params)
+    base = base_of(args)
     feeder = load_feeder(params)
-    dynamics = cycle_dynamics(feeder, elevation, forward=False)
+    dynamics = cycle_dynamics(feeder, elevation, base=base, forward=False)
     cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
     if html is not None:
-        print(f"wrote {write_html(feeder, cycle, html, forces, port=port)}")
+        print(f"wrote {write_html(feeder, cycle, html, forces, base=base, port=port)}")
         return 0
+    where = "" if base is None else f" ({base.describe()})"
     # Ctrl-C is how the viewer stops: from the first line printed on, it ends with status 0.
-    with show_cycle(feeder, cycle, forces, port=port) as viewer, suppress(KeyboardInterrupt):
-        print(f"{feeder.params.name} feeder at {args.elevation:g}°: open {viewer.url}")
+    with (
+        show_cycle(feeder, cycle, forces, base=base, port=port) as viewer,
+        suppress(KeyboardInterrupt),
+    ):
+        print(f"{feeder.params.name} feeder at {args.elevation:g}°{where}: open {viewer.url}")
         print("press Ctrl-C to stop the viewer", flush=True)
         viewer.serve_forever()
     return 0

@@ -9,7 +9,9 @@ and the table of its loads, from one of three sources:
 
 or from a result in memory (:func:`analysis_view`, :func:`simulation_view`: the report pages).
 The loads are the table's columns, named as in ``loads.csv`` (``tau_<joint>``,
-``<joint>_force_x|y|z``): one way to the arrows, whatever the source.
+``<joint>_force_x|y|z``, ``mount_force_vehicle_x|y|z``): one way to the arrows, whatever the
+source. A mechanism file with a ``[base]`` puts the mechanism on a vehicle: the view carries the
+base's motion at its samples (:attr:`MechanismView.base`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from ..chain.model.base import BaseState
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederError, InputError
@@ -44,6 +47,8 @@ class MechanismView:
             each (N,); empty when there are no loads to show.
         source: What is shown, for the page's title (e.g. "motion of motion.csv").
         note: What the loads are, or why there are none.
+        base: The base's motion at the samples (the file's ``[base]``: the model's moving axes
+            and origin in the level axes, …), None for a base at rest.
     """
 
     spec: MechanismSpec
@@ -53,6 +58,15 @@ class MechanismView:
     columns: dict[str, np.ndarray]
     source: str
     note: str
+    base: BaseState | None
+
+
+def base_state(spec: MechanismSpec, chain: ClosedChain, t: np.ndarray) -> BaseState | None:
+    """The base's motion (the file's ``[base]``) at the times t [s] (N,), as the inverse dynamics
+    take it (:class:`~feeder.chain.dynamics.inverse.ChainDynamics`); None for a base at rest."""
+    if spec.base is None or not spec.base.profiles:
+        return None
+    return spec.base.state(t, chain.model.gravity.linear)
 
 
 def pose_view(
@@ -62,15 +76,16 @@ def pose_view(
     force elements at t = 0). A mechanism without actuated joints that gravity moves has no
     static loads: then none are shown, and the note says why."""
     spec, chain, _, _, assembled = mount_mechanism(spec_path, model, pose)
-    q, zero = assembled[None, :], np.zeros((1, chain.model.nv))
+    q, zero, t = assembled[None, :], np.zeros((1, chain.model.nv)), np.zeros(1)
     try:
         dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
-        loads = inverse_dynamics(dyn, q, zero, zero, t=np.zeros(1))
+        loads = inverse_dynamics(dyn, q, zero, zero, t=t)
     except FeederError as exc:
         columns, note = {}, f"no static loads: {exc}"
     else:
         columns, note = load_columns(loads), "static loads at rest (gravity, force elements)"
-    return MechanismView(spec, chain, np.zeros(1), q, columns, "assembled pose", note)
+    base = base_state(spec, chain, t)
+    return MechanismView(spec, chain, t, q, columns, "assembled pose", note, base)
 
 
 def analysis_view(analysis: Analysis, source: str = "analysis") -> MechanismView:
@@ -83,6 +98,7 @@ def analysis_view(analysis: Analysis, source: str = "analysis") -> MechanismView
         analysis.columns(),
         source,
         "loads of the prescribed motion (inverse dynamics)",
+        analysis.loads.base,
     )
 
 
@@ -97,6 +113,7 @@ def simulation_view(simulation: Simulation, source: str = "forward run") -> Mech
         simulation.columns(),
         source,
         "loads of the forward run (reactions from its inverse dynamics)",
+        run.loads.base,
     )
 
 
@@ -150,4 +167,5 @@ def run_view(
         columns,
         f"run {folder.name}/{tables[0].name}",
         f"loads of the run in {tables[0].name}",
+        base_state(spec, chain, columns["t"]),
     )

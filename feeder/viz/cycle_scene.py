@@ -1,6 +1,7 @@
 """The MeshCat scene of a feeding cycle (:mod:`feeder.viz.scene` with the device's own parts):
 the device's visuals, the barrel axis, the payload's path and the force arrows, animated over
-the cycle, device coordinates (y up)."""
+the cycle, device coordinates (y up). On a vehicle (a :class:`~feeder.chain.model.base.BaseMotion`)
+all of them ride on the hull's moving node, :data:`~feeder.viz.scene.BASE`."""
 
 from __future__ import annotations
 
@@ -12,16 +13,18 @@ import pinocchio as pin
 from lxml import etree
 from pinocchio.visualize import MeshcatVisualizer
 
+from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
 from ..motion.cycle import CycleKinematics
 from .scene import (
     ARROW_LENGTH,
+    BASE,
     ON_TOP,
-    ROOT,
     Arrows,
     DrawnScene,
     ForceSeries,
     LegendEntry,
+    base_placements,
     css,
     draw_scene,
     geometry_placements,
@@ -41,7 +44,7 @@ STAGES = (
 )
 """What happens in each stage of the cycle (REFERENCE.md, section "The feeding cycle")."""
 
-DEVICE = f"{ROOT}/device"
+DEVICE = f"{BASE}/device"
 """The device's bodies' node (Pinocchio's visual model under ``visuals``)."""
 _BARREL_COLOR, _PATH_COLOR = 0xCC2222, 0xD4A017
 _LINK_NUMBERS = {"cylinder": 1, "piston": 2, "arm": 3, "forearm": 4}  # the paper's numbering
@@ -90,17 +93,17 @@ def _draw_references(vis, cycle: CycleKinematics) -> np.ndarray:
     direction = np.array([-math.cos(cycle.elevation), math.sin(cycle.elevation), 0.0])
     rammed = cycle.payload_position[-1]
     ends = np.array([rammed - _BARREL_BEHIND * direction, rammed + _BARREL_AHEAD * direction])
-    barrel = vis[f"{ROOT}/barrel_axis"]
+    barrel = vis[f"{BASE}/barrel_axis"]
     barrel.set_object(
         mg.Cylinder(_BARREL_BEHIND + _BARREL_AHEAD, _BARREL_RADIUS),
         mg.MeshLambertMaterial(color=_BARREL_COLOR),
     )
     barrel.set_transform(homogeneous(y_onto(direction), ends.mean(axis=0)))
     path = cycle.payload_position[cycle.gripped == 1].T.astype(np.float32)
-    vis[f"{ROOT}/payload_path"].set_object(
+    vis[f"{BASE}/payload_path"].set_object(
         mg.Line(mg.PointsGeometry(path), mg.LineBasicMaterial(color=_PATH_COLOR, depthTest=False))
     )
-    vis[f"{ROOT}/payload_path"].set_property("renderOrder", ON_TOP)
+    vis[f"{BASE}/payload_path"].set_property("renderOrder", ON_TOP)
     return ends
 
 
@@ -109,8 +112,11 @@ def draw_cycle(
     feeder: Feeder,
     cycle: CycleKinematics,
     forces: dict[str, ForceSeries],
+    base: BaseMotion | None = None,
 ) -> DrawnScene:
-    """Draw and animate the cycle in ``viz``; return the arrows' scale and the legend."""
+    """Draw and animate the cycle in ``viz``, with the arrows of ``forces`` (device axes) and on
+    the vehicle's moving hull of ``base`` (None: standing level); return the arrows' scale and
+    the legend."""
     vis = viz.viewer
     viz.loadViewerModel(rootNodeName=DEVICE)
     geometries = viz.visual_model.geometryObjects
@@ -118,13 +124,15 @@ def draw_cycle(
     placements = _placements(feeder, viz.visual_model, cycle)
     ends = _draw_references(vis, cycle)
     centres, radii = zip(*(geometry_sphere(g) for g in geometries), strict=True)
-    points = np.concatenate([sphere_centres(placements, np.array(centres)), ends])
-    reach = np.concatenate([np.tile(radii, cycle.t.size), np.zeros(2)])
+    points = sphere_centres(placements, np.array(centres))
     tracks = {node: placements[:, k] for k, node in enumerate(nodes)}
-    up = up_of(feeder.model.gravity.linear)
+    gravity = feeder.model.gravity.linear
+    state = None if base is None else base.state(cycle.t, gravity)
     parts = draw_scene(
-        vis, cycle.t, tracks, points, reach, Arrows(forces, {}), up, length=ARROW_LENGTH
-    )
+        vis, cycle.t, tracks, points, np.array(radii), Arrows(forces, {}), up_of(gravity),
+        fixed=ends, base=base_placements(state), length=ARROW_LENGTH,
+    )  # fmt: skip
+    triad = "axes at the cylinder pivot B" if base is None else "level axes at B at rest"
     legend = _device_legend(feeder) + [
         LegendEntry(
             css(_BARREL_COLOR), "line", f"barrel axis at ε = {math.degrees(cycle.elevation):g}°"
@@ -142,5 +150,5 @@ def draw_cycle(
         boundaries=tuple(float(b) for b in cycle.spec.boundaries),
         stages=STAGES,
         slow_motion=parts.slow_motion,
-        axes="axes at the cylinder pivot B: x red, y green (up), z blue",
+        axes=f"{triad}: x red, y green (up), z blue",
     )

@@ -9,10 +9,16 @@ its children's joints and to the closure frames on its body.
 
 Arrows, from the loads table of :class:`~feeder.study.view.MechanismView`: each actuated
 joint's drive load at the joint's origin (a prismatic joint's force along its axis; a revolute
-joint's moment as a vector along its axis, right-hand rule, to a scale of its own) and the
+joint's moment as a vector along its axis, right-hand rule, to a scale of its own), the
 reaction force (parent on child) of the joints picked, by default the
-:data:`DEFAULT_REACTIONS` with the largest peak force. The closure cuts are marked by balls at
-each cut's first frame.
+:data:`DEFAULT_REACTIONS` with the largest peak force, and the mount's force on the mechanism
+(:data:`MOUNT_FORCE`) at the model's origin. The closure cuts are marked by balls at each cut's
+first frame.
+
+On a vehicle (the mechanism file's ``[base]``) the bodies, cuts and arrows ride on the base's
+moving node (:data:`~feeder.viz.scene.BASE`) over a flat box, the hull, that shows its motion;
+every arrow's vector is in the model's moving axes (the mount's from its
+``mount_force_vehicle_x|y|z`` columns).
 """
 
 from __future__ import annotations
@@ -30,13 +36,14 @@ from ..chain.readers.urdf import mesh_path
 from ..exceptions import InputError
 from ..study.view import MechanismView
 from .scene import (
+    BASE,
     ON_TOP,
-    ROOT,
     Arrows,
     DrawnScene,
     ForceSeries,
     LegendEntry,
     attached,
+    base_placements,
     css,
     draw_scene,
     extent_of,
@@ -51,9 +58,11 @@ from .scene import (
 DEFAULT_REACTIONS = 3
 """Joints whose reaction force is drawn when the user picks none: those of largest peak."""
 
-BODIES = f"{ROOT}/mechanism"
+BODIES = f"{BASE}/mechanism"
 """The bodies' node (Pinocchio's visual model under ``visuals``)."""
-_CUTS = f"{ROOT}/cuts"
+MOUNT_FORCE = "mount force (vehicle or ground on mechanism) [N]"
+"""The name (and legend label) of the mount's arrow."""
+_CUTS = f"{BASE}/cuts"
 _CUT_COLOR = 0xE53935
 _CUT_SHARE = 0.012  # a cut marker's radius per metre of the mechanism's extent
 _STICK_COLOR = (0.55, 0.60, 0.68, 1.0)  # RGBA of a stick figure's balls and rods
@@ -190,9 +199,10 @@ def pick_reactions(view: MechanismView, reactions: Sequence[str] | None) -> list
 def _arrows(
     view: MechanismView, joints: np.ndarray, peaks: dict[str, float], reactions: list[str]
 ) -> tuple[Arrows, list[str]]:
-    """The drive loads and the picked reactions as arrow series (module docstring), from the
-    joints' placements (N, njoints, 4, 4) and the reactions' peaks [N]; and the actuated joints
-    whose drive load is zero (round-off: not drawn)."""
+    """The drive loads, the picked reactions and the mount's force (if the table has it) as
+    arrow series (module docstring), model axes, from the joints' placements (N, njoints, 4, 4)
+    and the reactions' peaks [N]; and the actuated joints whose drive load is zero (round-off:
+    not drawn)."""
     model, columns = view.chain.model, view.columns
     origins, rotations = joints[:, :, :3, 3], joints[:, :, :3, :3]
     axes = joint_axes(model)
@@ -219,6 +229,10 @@ def _arrows(
         j = model.getJointId(name)
         force = np.column_stack([columns[f"{name}_force_{axis}"] for axis in "xyz"])
         forces[f"reaction force in {name} [N]"] = (force, origins[:, j])
+    mount = [f"mount_force_vehicle_{axis}" for axis in "xyz"]
+    if all(key in columns for key in mount):
+        force = np.column_stack([columns[key] for key in mount])
+        forces[MOUNT_FORCE] = (force, np.zeros_like(force))
     return Arrows(forces, moments), zero
 
 
@@ -251,12 +265,15 @@ def draw_mechanism(
     joints = joint_placements(model, view.q)
     placements = geometry_placements(joints, viz.visual_model)
     centres, radii = zip(*(geometry_sphere(g) for g in geometries), strict=True)
-    points = sphere_centres(placements, np.array(centres))
-    reach = np.tile(radii, len(view.q))
+    points, reach = sphere_centres(placements, np.array(centres)), np.array(radii)
     tracks = {node: placements[:, k] for k, node in enumerate(nodes)}
     tracks |= _cut_tracks(vis, view, joints, _CUT_SHARE * extent_of(points, reach))
     arrows, zero = _arrows(view, joints, reaction_peaks(view), reactions)
-    parts = draw_scene(vis, view.t, tracks, points, reach, arrows, up_of(model.gravity.linear))
+    up = up_of(model.gravity.linear)
+    parts = draw_scene(
+        vis, view.t, tracks, points, reach, arrows, up, base=base_placements(view.base)
+    )
+    triad = "axes" if view.base is None else "level axes (the base at rest)"
     legend = [*_body_legend(model, viz.visual_model, kind)]
     if view.chain.closures:
         cuts = ", ".join(closure.label for closure in view.chain.closures)
@@ -272,5 +289,5 @@ def draw_mechanism(
         boundaries=(float(view.t[0]), float(view.t[-1])),
         stages=(),
         slow_motion=parts.slow_motion,
-        axes=f"axes at the model's origin: x red, y green, z blue; {view.note}",
+        axes=f"{triad} at the model's origin: x red, y green, z blue; {view.note}",
     )

@@ -3,11 +3,17 @@ moment) arrows to one scale, the floor grid and the camera.
 
 One builder for the feeding device (:mod:`feeder.viz.cycle_scene`) and for a user's mechanism
 (:mod:`feeder.viz.mechanism_scene`). The scene lives under the node ``feeder`` in the model's
-own coordinates, turned so that "up" (against gravity) is MeshCat's z and centred on the
-drawing, whose centre is the camera's orbit target. Arrows and lines are drawn unlit, over the
-bodies (no depth test, rendered last): they start at points inside the bodies (a joint, a
-centre of gravity) and would otherwise be hidden at most poses. Every colour drawn has an entry
-in :attr:`DrawnScene.legend`.
+own coordinates standing level (the level axes), turned so that "up" (against gravity) is
+MeshCat's z and centred on the drawing, whose centre is the camera's orbit target. Arrows and
+lines are drawn unlit, over the bodies (no depth test, rendered last): they start at points
+inside the bodies (a joint, a centre of gravity) and would otherwise be hidden at most poses.
+Every colour drawn has an entry in :attr:`DrawnScene.legend`.
+
+A moving base (a vehicle's hull, :mod:`feeder.chain.model.base`): whatever rides on it — the
+bodies, the arrows (their vectors are in the model's axes moving with the base), the lines —
+is drawn under the node :data:`BASE`, whose transform at each key frame is the base's placement
+in the level axes, over a flat box (the hull) under the bodies; the floor grid, the camera's
+"up" and MeshCat's triad stay level. On a base at rest :data:`BASE` keeps MeshCat's identity.
 
 Time: the animation plays the motion at its own pace, or slower for a short one (at least
 :data:`MIN_PLAYBACK` seconds); :attr:`DrawnScene.slow_motion` says by how much.
@@ -25,6 +31,8 @@ import meshcat.geometry as mg
 import meshcat.transformations as mtf
 import numpy as np
 import pinocchio as pin
+
+from ..chain.model.base import BaseState
 
 FRAME_RATE = 40.0
 """Animation key frames per second of playback [1/s]; the motion's samples are subsampled."""
@@ -47,12 +55,18 @@ CAMERA_FOV = math.radians(75.0)
 
 ForceSeries = tuple[np.ndarray, np.ndarray]
 """(vector, point): forces [N] (or moments [N·m]) and their application points [m] in the
-model's world frame, each (N, 3), one row per motion sample."""
+model's axes (moving with the base, if it moves), each (N, 3), one row per motion sample."""
 
 ROOT = "feeder"
-"""The scene's MeshCat node."""
+"""The scene's MeshCat node: the level axes."""
+BASE = f"{ROOT}/base"
+"""The node of whatever rides on the base (bodies, arrows, lines; the model's axes): its
+transform is the base's placement in the level axes (identity on a base at rest)."""
 ANIMATION = "animation"
 GRID_COLOR = 0x8A8F99
+HULL_COLOR = 0x6B7353
+"""The base's flat box (a vehicle's hull, olive): drawn on a moving base only."""
+_HULL_DEPTH, _HULL_MARGIN = 0.04, 0.05  # the hull's thickness and overhang, shares of the extent
 _BACKGROUND = ((0.93, 0.94, 0.95), (0.62, 0.65, 0.70))  # MeshCat gradient, top and bottom RGB
 ARROW_COLORS = (
     0x8E24AA, 0x00ACC1, 0xD81B60, 0x00C853, 0xFF6D00, 0x3949AB, 0x6D4C41, 0xC0CA33, 0x000000,
@@ -166,10 +180,19 @@ def geometry_sphere(geometry_object: pin.GeometryObject) -> tuple[np.ndarray, fl
 
 
 def sphere_centres(placements: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """World centres (N · n, 3) of the geometries' spheres (:func:`geometry_sphere`), from their
-    placements (N, n, 4, 4) and local centres (n, 3)."""
+    """Model-frame centres (N, n, 3) [m] of the geometries' spheres (:func:`geometry_sphere`),
+    from their placements (N, n, 4, 4) and local centres (n, 3)."""
     local = np.concatenate([centres, np.ones((len(centres), 1))], axis=1)
-    return np.einsum("knij,nj->kni", placements, local)[..., :3].reshape(-1, 3)
+    return np.einsum("knij,nj->kni", placements, local)[..., :3]
+
+
+def base_placements(state: BaseState | None) -> np.ndarray | None:
+    """The base's placements (N, 4, 4) in the level axes: the model's moving axes and origin
+    (:class:`~feeder.chain.model.base.BaseState` ``rotation``, ``position`` [m]); None for a base
+    at rest."""
+    if state is None:
+        return None
+    return np.array([homogeneous(*rp) for rp in zip(state.rotation, state.position, strict=True)])
 
 
 def joint_placements(model: pin.Model, q: np.ndarray) -> np.ndarray:
@@ -273,23 +296,60 @@ def _camera_position(points: np.ndarray, reach: np.ndarray) -> np.ndarray:
     return view * float(np.max(points @ view + lateral / half_width))
 
 
+def bounds(points: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest and highest corners (3,) [m] of the box around the spheres: centres (..., n, 3),
+    radii (n,) [m]."""
+    low = (points - reach[:, None]).reshape(-1, 3).min(axis=0)
+    high = (points + reach[:, None]).reshape(-1, 3).max(axis=0)
+    return low, high
+
+
 def extent_of(points: np.ndarray, reach: np.ndarray) -> float:
-    """Largest side [m] of the box around the spheres (centres (n, 3), radii (n,))."""
-    low = (points - reach[:, None]).min(axis=0)
-    high = (points + reach[:, None]).max(axis=0)
+    """Largest side [m] of the box around the spheres (centres (..., n, 3), radii (n,))."""
+    low, high = bounds(points, reach)
     return float((high - low).max())
+
+
+def in_level_axes(points: np.ndarray, base: np.ndarray | None) -> np.ndarray:
+    """Points (S, n, 3) [m] in the model's moving axes at S samples, in the level axes
+    (S · n, 3): placed by the base's placements (S, 4, 4) at those samples (None: at rest)."""
+    if base is not None:
+        points = np.einsum("sij,snj->sni", base[:, :3, :3], points) + base[:, None, :3, 3]
+    return points.reshape(-1, 3)
+
+
+def _draw_hull(
+    vis: meshcat.Visualizer, points: np.ndarray, reach: np.ndarray, up: np.ndarray
+) -> np.ndarray:
+    """Draw the base as a flat box under the bodies (spheres of centres (N, n, 3) over the
+    motion, radii (n,), model axes [m]): its top at their lowest point along ``up`` (3,),
+    :data:`_HULL_DEPTH` of their extent thick, under their centres and :data:`_HULL_MARGIN` of
+    the extent wider on every side (the spheres overstate a long body's width); return its
+    corners (8, 3) [m], model axes."""
+    to_y_up = y_onto(up).T  # model coordinates → y-up coordinates
+    upright = points @ to_y_up.T
+    low, high = bounds(upright, reach)
+    first, last = bounds(upright, np.zeros_like(reach))  # the centres' box
+    margin, depth = (share * float((high - low).max()) for share in (_HULL_MARGIN, _HULL_DEPTH))
+    size = np.array([last[0] - first[0] + 2.0 * margin, depth, last[2] - first[2] + 2.0 * margin])
+    centre = np.array(
+        [(first[0] + last[0]) / 2.0, low[1] - depth / 2.0, (first[2] + last[2]) / 2.0]
+    )
+    vis[f"{BASE}/hull"].set_object(mg.Box(size.tolist()), mg.MeshLambertMaterial(color=HULL_COLOR))
+    vis[f"{BASE}/hull"].set_transform(homogeneous(to_y_up.T, to_y_up.T @ centre))
+    signs = np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    return (centre + signs * size / 2.0) @ to_y_up
 
 
 def frame_scene(
     vis: meshcat.Visualizer, points: np.ndarray, reach: np.ndarray, up: np.ndarray
 ) -> float:
     """Centre the scene on the box around every drawn sphere (centres ``points`` (n, 3), radii
-    ``reach`` (n,), model frame [m]), which the camera orbits; turn ``up`` onto MeshCat's z;
+    ``reach`` (n,), level axes [m]), which the camera orbits; turn ``up`` onto MeshCat's z;
     draw a floor grid under it. Returns the grid's square [m]."""
     to_y_up = y_onto(up).T  # model coordinates → y-up coordinates
     upright = points @ to_y_up.T
-    low = (upright - reach[:, None]).min(axis=0)
-    high = (upright + reach[:, None]).max(axis=0)
+    low, high = bounds(upright, reach)
     centre = (low + high) / 2.0
     model_to_world = _Y_UP_TO_MESHCAT @ homogeneous(to_y_up, -centre)
     step = grid_step(float((high - low).max()))
@@ -344,23 +404,32 @@ def draw_scene(
     arrows: Arrows,
     up: np.ndarray,
     *,
+    fixed: np.ndarray | None = None,
+    base: np.ndarray | None = None,
     length: float | None = None,
 ) -> DrawnParts:
-    """Frame, draw the arrows and animate a motion whose bodies are already loaded.
+    """Frame, draw the arrows (and the base, if it moves) and animate a motion whose bodies are
+    already loaded under :data:`BASE`.
 
     Args:
         vis: The MeshCat visualizer (nodes relative to its root).
         t: Motion sample times [s], (N,).
-        tracks: Node path → its placements (N, 4, 4) in model coordinates (the bodies).
-        points, reach: Spheres (centres (n, 3) [m], radii (n,) [m]) that the camera must see
-            besides the arrows (the bodies over the motion, lines drawn by the caller).
-        arrows: Force and moment arrows, each (N, 3) series.
-        up: Unit vector against gravity (3,).
+        tracks: Node path (under :data:`BASE`) → its placements (N, 4, 4) in the model's axes
+            (the bodies).
+        points, reach: Spheres around the bodies over the motion, which the camera must see:
+            centres (N, n, 3) [m] in the model's axes at each sample, radii (n,) [m].
+        arrows: Force and moment arrows, each (N, 3) series, model axes.
+        up: Unit vector against gravity (3,), the model's standing (level) gravity.
+        fixed: Points (m, 3) [m] fixed in the model's axes that the camera must see too (the
+            ends of lines drawn by the caller).
+        base: The base's placements (N, 4, 4) in the level axes (:func:`base_placements`);
+            None for a base at rest.
         length: Drawn length [m] of the largest force and moment (default: a third of the
             drawing's extent).
 
     Returns:
-        The scales, the playback speed and the legend of the floor grid and the arrows.
+        The scales, the playback speed and the legend of the floor grid, the base and the
+        arrows.
     """
     length = length or arrow_length(extent_of(points, reach))
     size = length / ARROW_LENGTH  # arrow thickness follows its length
@@ -370,14 +439,28 @@ def draw_scene(
     frames = max(2, math.ceil(duration * slow * FRAME_RATE) + 1)
     samples = np.unique(np.linspace(0, t.size - 1, min(frames, t.size)).round().astype(int))
     legend, drawn = [LegendEntry(css(GRID_COLOR), "line", "")], {}  # the grid's, set below
+    all_points, all_reach = [in_level_axes(points, base)], [np.tile(reach, t.size)]
+    if fixed is not None:
+        all_points.append(in_level_axes(np.broadcast_to(fixed, (t.size, *fixed.shape)), base))
+        all_reach.append(np.zeros(t.size * len(fixed)))
+    if base is not None:
+        hull = _draw_hull(vis, points, reach, up)
+        all_points.append(in_level_axes(np.broadcast_to(hull, (t.size, *hull.shape)), base))
+        all_reach.append(np.zeros(t.size * len(hull)))
+        legend.append(
+            LegendEntry(
+                css(HULL_COLOR), "body", "the moving base (a vehicle's hull): the bodies and the "
+                "arrows ride on it; the floor grid stays level",
+            )
+        )  # fmt: skip
+    placed = None if base is None else base[samples]
     series = [(n, s, newtons_per_metre, "") for n, s in arrows.forces.items()]
     moment = " (moment, right-hand rule)"
     series += [(n, s, moment_scale, moment) for n, s in arrows.moments.items()]
     left_out = [name for name, *_ in series[len(ARROW_COLORS) :]]
     series = series[: len(ARROW_COLORS)]  # one colour each
-    all_points, all_reach = [points], [reach]
     for k, (name, (vector, point), scale, note) in enumerate(series):
-        node = f"{ROOT}/forces/{name}"
+        node = f"{BASE}/forces/{name}"
         color = ARROW_COLORS[k % len(ARROW_COLORS)]
         legend.append(LegendEntry(css(color), "arrow", name + note))
         material = mg.MeshBasicMaterial(color=color, depthTest=False)
@@ -389,13 +472,16 @@ def draw_scene(
         for part in ("shaft", "head"):
             vis[f"{node}/{part}"].set_property("renderOrder", ON_TOP)
         drawn[node] = _arrows(vector[samples], point[samples], scale, size)
-        all_points += [point[samples], drawn[node]["tip"]]
-        all_reach += [np.zeros(samples.size), np.full(samples.size, size * _HEAD_RADIUS)]
+        ends = np.stack([point[samples], drawn[node]["tip"]], axis=1)
+        all_points.append(in_level_axes(ends, placed))
+        all_reach.append(np.tile([0.0, size * _HEAD_RADIUS], samples.size))
     step = frame_scene(vis, np.concatenate(all_points), np.concatenate(all_reach), up)
     legend[0] = LegendEntry(css(GRID_COLOR), "line", f"floor grid, {step:g} m squares")
     if left_out:
         legend.append(LegendEntry("", "note", f"not drawn (one colour per arrow): {left_out}"))
 
+    if base is not None:
+        vis[BASE].set_transform(base[0])
     for node, placements in tracks.items():
         vis[node].set_transform(placements[0])
     for node, arrow in drawn.items():  # the scale in the matrix: a static page applies a
@@ -406,6 +492,8 @@ def draw_scene(
         animation = meshcat.animation.Animation(default_framerate=FRAME_RATE)
         for k, i in enumerate(samples):
             with animation.at_frame(vis, (t[i] - t[0]) * slow * FRAME_RATE) as frame:
+                if base is not None:
+                    frame[BASE].set_transform(base[i])
                 for node, placements in tracks.items():
                     frame[node].set_transform(placements[i])
                 for node, arrow in drawn.items():

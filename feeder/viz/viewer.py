@@ -9,7 +9,9 @@ URDF's visual primitives (frame, cylinder, piston, arm, forearm tray, payload) a
 the whole cycle. Also drawn: the barrel axis at the elevation ε (a red rod through the rammed
 payload, muzzle towards −x), the payload's path once gripped (a line through the payload centre
 of gravity), when given, force arrows to one scale over the bodies, a floor grid of 0.1 m squares
-under the device and MeshCat's x-y-z triad at the cylinder pivot B. In stage 1 the payload waits
+under the device and MeshCat's x-y-z triad at the cylinder pivot B. On a vehicle (``base``) the
+device rides on its hull, a flat box under it that moves as the base does, over the level floor
+grid (:mod:`feeder.viz.scene`). In stage 1 the payload waits
 on the conveyor where it is gripped at t = T1. Both the live page and the static one carry a
 legend for every colour and a player: play/pause, loop, a time slider with the time and the
 stage (:mod:`feeder.viz._overlay`).
@@ -34,6 +36,7 @@ import numpy as np
 import pinocchio as pin
 from pinocchio.visualize import MeshcatVisualizer
 
+from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics
 from ..exceptions import InputError
@@ -120,8 +123,10 @@ class CycleViewer(SceneViewer):
     Args:
         feeder: The device.
         cycle: Its sampled cycle (:func:`~feeder.motion.cycle.feeding_cycle`), N samples.
-        forces: Optional arrows by name: world-frame forces [N] and application points [m],
-            each (N, 3) (see :data:`~feeder.viz.scene.ForceSeries`).
+        forces: Optional arrows by name: forces [N] and application points [m] in the device's
+            axes (moving with the hull on a vehicle), each (N, 3) (see
+            :data:`~feeder.viz.scene.ForceSeries`).
+        base: The vehicle's motion the device rides on (None: standing level).
         port: Web port; None picks a free one.
     """
 
@@ -131,20 +136,22 @@ class CycleViewer(SceneViewer):
         cycle: CycleKinematics,
         forces: Mapping[str, ForceSeries] | None = None,
         *,
+        base: BaseMotion | None = None,
         port: int | None = None,
     ):
         forces = _check_forces(forces or {}, cycle.t.size)
         visuals = pin.buildGeomFromUrdfString(feeder.model, feeder.urdf, pin.GeometryType.VISUAL)
         title = f"{feeder.params.name} feeder, ε = {np.degrees(cycle.elevation):g}°"
-        super().__init__(
-            feeder.model, visuals, partial(draw_cycle, feeder=feeder, cycle=cycle, forces=forces),
-            title, port,
-        )  # fmt: skip
+        if base is not None:
+            title += f"; {base.describe()}"
+        draw = partial(draw_cycle, feeder=feeder, cycle=cycle, forces=forces, base=base)
+        super().__init__(feeder.model, visuals, draw, title, port)
 
 
 class MechanismViewer(SceneViewer):
     """A live MeshCat viewer of a user's mechanism (:class:`SceneViewer`): its bodies, cuts and
-    load arrows over its motion (:mod:`feeder.viz.mechanism_scene`).
+    load arrows over its motion, on its vehicle's moving hull if its file has a ``[base]``
+    (:mod:`feeder.viz.mechanism_scene`).
 
     Args:
         view: The mechanism's poses and loads (:mod:`feeder.study.view`).
@@ -167,6 +174,8 @@ class MechanismViewer(SceneViewer):
         picked = pick_reactions(view, reactions)  # refused before a server starts
         visuals, kind = visual_model(view)
         title = f"{view.spec.model.name}: {view.source}"
+        if view.base is not None:
+            title += f"; {view.spec.base.describe()}"
         super().__init__(
             view.chain.model, visuals,
             partial(draw_mechanism, view=view, kind=kind, reactions=picked), title, port,
@@ -178,6 +187,7 @@ def show_cycle(
     cycle: CycleKinematics,
     forces: Mapping[str, ForceSeries] | None = None,
     *,
+    base: BaseMotion | None = None,
     port: int | None = None,
     open_browser: bool = False,
 ) -> CycleViewer:
@@ -186,8 +196,9 @@ def show_cycle(
     Args:
         feeder: The device.
         cycle: Its sampled cycle (:func:`~feeder.motion.cycle.feeding_cycle`), N samples.
-        forces: Optional arrows by name: world-frame forces [N] and application points [m],
-            each (N, 3) (see :data:`ForceSeries`).
+        forces: Optional arrows by name: forces [N] and application points [m] in the device's
+            axes, each (N, 3) (see :data:`ForceSeries`).
+        base: The vehicle's motion the device rides on (None: standing level).
         port: Web port; None picks a free one.
         open_browser: Open the viewer in the default web browser.
 
@@ -195,7 +206,7 @@ def show_cycle(
         InputError: Bad force arrays or port number.
         ViewerPortError: The port is busy.
     """
-    viewer = CycleViewer(feeder, cycle, forces, port=port)
+    viewer = CycleViewer(feeder, cycle, forces, base=base, port=port)
     if open_browser:
         viewer.visualizer.viewer.open()
     return viewer
@@ -207,9 +218,11 @@ def write_html(
     path: str | Path,
     forces: Mapping[str, ForceSeries] | None = None,
     *,
+    base: BaseMotion | None = None,
     port: int | None = None,
 ) -> Path:
-    """Write the animated cycle as a self-contained HTML page (about 1 MB, opens offline).
+    """Write the animated cycle (on the vehicle's motion ``base``, if any; see
+    :class:`CycleViewer`) as a self-contained HTML page (about 1 MB, opens offline).
 
     A MeshCat server runs on 127.0.0.1 while the page is assembled (on ``port``, or a free one).
 
@@ -218,7 +231,7 @@ def write_html(
         ViewerPortError: The port is busy.
     """
     path = check_writable(path)
-    with CycleViewer(feeder, cycle, forces, port=port) as viewer:
+    with CycleViewer(feeder, cycle, forces, base=base, port=port) as viewer:
         return write_text(path, viewer.static_html())
 
 
@@ -262,15 +275,23 @@ def write_mechanism_html(
     return write_text(path, mechanism_html(view, reactions, port=port))
 
 
+MOUNT_FORCE = "mount force (vehicle on device)"
+"""The name (and legend label) of the mount's arrow in :func:`cycle_forces`."""
+
+
 def cycle_forces(feeder: Feeder, dynamics: CycleDynamics) -> dict[str, ForceSeries]:
-    """The arrows of ``feeder view``: four loads on four bodies, at four places.
+    """The arrows of ``feeder view``: five loads, at five places, in the device's axes (moving
+    with the hull on a vehicle).
 
     * ``piston force``: the cylinder's force on the piston along its axis (Fig. 14), drawn at
       the piston's centre of gravity S (on its line of action);
     * ``arm pivot reaction``: the frame's force on the arm at its pivot A = (L1, L2);
     * ``forearm hinge force``: the arm's force on the forearm at the hinge origin (Fig. 11);
     * ``grip force``: the tray's force on the payload at its centre of gravity (zero before
-      the grip).
+      the grip);
+    * :data:`MOUNT_FORCE`: the force of the vehicle (or of the ground) on the whole device
+      through its frame, at the cylinder pivot B (the model's origin): it carries the device's
+      weight and inertia.
 
     The pin force on the arm and the cylinder pivot's reaction are left out: the cylinder and
     piston carry the loop's load along their axis, so both lie on the piston force's line
@@ -294,6 +315,7 @@ def cycle_forces(feeder: Feeder, dynamics: CycleDynamics) -> dict[str, ForceSeri
         ),
         "forearm hinge force": (reactions.joints["forearm_arm"].force, hinge),
         "grip force": (reactions.grip_force, kinematics.payload_position),
+        MOUNT_FORCE: (reactions.mount.force, np.zeros((len(q), 3))),
     }
 
 

@@ -24,17 +24,19 @@ from feeder.outputs import write_analysis_outputs
 from feeder.study.analyze import analyze, joint_columns, q_from_columns
 from feeder.study.view import analysis_view, pose_view, run_view
 from feeder.viz._meshcat_server import LOOPBACK
-from feeder.viz.mechanism_scene import DEFAULT_REACTIONS
-from feeder.viz.scene import ARROW_LENGTH, FRAME_RATE, HEAD_LENGTH, ROOT
+from feeder.viz.mechanism_scene import DEFAULT_REACTIONS, MOUNT_FORCE
+from feeder.viz.scene import ARROW_LENGTH, BASE, FRAME_RATE, HEAD_LENGTH
 from feeder.viz.viewer import MechanismViewer, mechanism_html
 from tests.viz.test_viewer import (
     FLOAT32_POSITION,
     HIDE_LEGEND,
+    arrow_keys,
     changed,
     decode_commands,
     legend_colours,
     listening,
     needs_chromium,
+    rotation,
     scene_colours,
     screenshot,
     tracks,
@@ -139,7 +141,7 @@ def test_cut_marker_follows_pinocchio(four_bar, four_bar_page):
     data = model.createData()
     animated = tracks(decode_commands(four_bar_page))
     closure = four_bar.chain.closures[0]
-    cut = animated[f"/meshcat/{ROOT}/cuts/{closure.label}"]
+    cut = animated[f"/meshcat/{BASE}/cuts/{closure.label}"]
     frame = model.getFrameId(closure.frame_a)
     samples = key_samples(cut, four_bar.motion.t)
     assert samples[-1] == four_bar.motion.t.size - 1
@@ -164,19 +166,24 @@ def test_default_arrows_are_the_drive_and_the_largest_reactions(four_bar, four_b
         assert any(f"drive moment of {name}" in label for label in legend)
 
 
+def page_scale(page: str) -> tuple[float, float]:
+    """The force arrows' scale the page prints: a length [m] and the force [N] drawn so long."""
+    found = re.search(r"force arrows to one scale: ([0-9.e-]+) m long = ([0-9.e+-]+) N", page)
+    return float(found.group(1)), float(found.group(2))
+
+
 def test_arrows_to_one_scale(four_bar, four_bar_page):
     """Every drawn reaction arrow is |F| / scale long at every key frame, F the analysis' own
-    reaction at that sample, the scale the page's (largest force = the page's length)."""
+    reaction at that sample, the scale the page's (largest force drawn, the mount's among them,
+    = the page's length)."""
     animated = tracks(decode_commands(four_bar_page))
-    found = re.search(
-        r"force arrows to one scale: ([0-9.e-]+) m long = ([0-9.e+-]+) N", four_bar_page
-    )
-    length, newtons = float(found.group(1)), float(found.group(2))
+    length, newtons = page_scale(four_bar_page)
     peaks = {n: np.linalg.norm(w.force, axis=1).max() for n, w in four_bar.loads.joints.items()}
-    assert newtons == pytest.approx(max(peaks.values()), rel=1e-3)  # printed to 4 digits
+    mount = np.linalg.norm(four_bar.loads.mount.force, axis=1).max()
+    assert newtons == pytest.approx(max(*peaks.values(), mount), rel=1e-3)  # 4 printed digits
     head_length = HEAD_LENGTH * length / ARROW_LENGTH  # the head's cone, scaled with the arrow
     for name in sorted(peaks, key=peaks.get, reverse=True)[:DEFAULT_REACTIONS]:
-        node = f"/meshcat/{ROOT}/forces/reaction force in {name} [N]"
+        node = f"/meshcat/{BASE}/forces/reaction force in {name} [N]"
         shaft, head = animated[f"{node}/shaft"], animated[f"{node}/head"]
         drawn = np.array(
             [s["value"][1] + h["value"][1] * head_length
@@ -243,6 +250,8 @@ def test_view_command(tmp_path, capsys):
     assert main(["view", "--run", str(tmp_path), "--html", str(page)]) == 2
     assert "give MODEL" in capsys.readouterr().err
     assert main(["view", *args, "--reactions", "nope", "--html", str(page)]) == 2
+    assert main(["view", *args, "--slope", "0", "15", "--html", str(page)]) == 2
+    assert "its file's [base]" in capsys.readouterr().err
 
 
 def test_report_page(four_bar, tmp_path):
@@ -269,7 +278,7 @@ def four_bar_shots(four_bar_page, tmp_path_factory):
     hidden = folder / "hidden.html"
     hide = "<style>#feeder-legend { display: none; }</style>"
     script = (
-        "<script>viewer.scene_tree.find(['meshcat', 'feeder', 'mechanism'])"
+        "<script>viewer.scene_tree.find(['meshcat', 'feeder', 'base', 'mechanism'])"
         ".set_property('visible', false);</script>"
     )
     hidden.write_text(
@@ -295,7 +304,7 @@ def test_browser_draws_the_cad_export_with_its_meshes(cassie_page, tmp_path):
     """The Cassie-like leg, live on 127.0.0.1 and offline: its meshes cover the window's share."""
     with MechanismViewer(pose_view(CASSIE / "robot.yaml")) as viewer:
         live = screenshot(viewer.url, tmp_path / "live.png")
-        viewer.visualizer.viewer[f"{ROOT}/mechanism"].set_property("visible", False)
+        viewer.visualizer.viewer[f"{BASE}/mechanism"].set_property("visible", False)
         hidden = screenshot(viewer.url, tmp_path / "hidden.png")
     page = tmp_path / "page.html"
     page.write_text(cassie_page, encoding="utf-8")
@@ -347,3 +356,101 @@ def test_obj_meshes_resolved_beside_the_model(tmp_path):
     ]
     assert [m["format"] for m in meshes] == ["obj"]
     assert "v 0.04 0 0" in meshes[0]["data"]  # the file's text, not a reference to it
+
+
+# -- a mechanism on a vehicle (its file's [base]): it rides on the base; the mount's arrow --
+
+BASE_TABLE = """
+[base]
+roll_deg = 10.0
+
+[[base.profile]]
+type = "terrain"
+"""
+"""The four-bar's vehicle: a 10° roll slope and the terrain profile (±40 mm heave, ±3° pitch,
+±1.5° roll at 1.2 Hz) over its 1 s motion."""
+ROTATION_ROUND_OFF = 1e-12
+"""A placement sent as a float64 position and quaternion, read back as a matrix: round-off."""
+POSITION_ROUND_OFF = 1e-12
+"""[m] The base's position (≤ 0.04 m), sent as float64."""
+
+
+@pytest.fixture(scope="module")
+def on_terrain(tmp_path_factory):
+    """The four-bar's mechanism file with :data:`BASE_TABLE`: its motion analysed, and the
+    viewer's page of the analysis."""
+    folder = tmp_path_factory.mktemp("four_bar_on_terrain")
+    for name in ("four_bar.urdf", "motion.csv"):
+        shutil.copy(FOUR_BAR / name, folder / name)
+    spec = (FOUR_BAR / "closures.toml").read_text(encoding="utf-8") + BASE_TABLE
+    (folder / "closures.toml").write_text(spec, encoding="utf-8")
+    analysis = analyze(folder / "closures.toml", folder / "motion.csv")
+    return analysis, mechanism_html(analysis_view(analysis))
+
+
+def test_mechanism_rides_on_its_base(on_terrain):
+    """The base's node is placed, at every key frame, where the analysis' base state puts the
+    model's axes (rotation, origin) in the level ones, and moves; the bodies and cuts are in
+    it, over the hull; every colour has a legend entry."""
+    analysis, page = on_terrain
+    commands = decode_commands(page)
+    animated = tracks(commands)
+    base, state = animated[f"/meshcat/{BASE}"], analysis.loads.base
+    samples = key_samples(base, analysis.motion.t)
+    turns = np.array([rotation(key["value"]) for key in base["quaternion"]])
+    np.testing.assert_allclose(turns, state.rotation[samples], rtol=0.0, atol=ROTATION_ROUND_OFF)
+    origins = np.array([key["value"] for key in base["position"]])
+    np.testing.assert_allclose(origins, state.position[samples], rtol=0.0, atol=POSITION_ROUND_OFF)
+    assert np.ptp(origins, axis=0).max() > 0.01  # the terrain's heave
+    assert any(path.startswith(f"/meshcat/{BASE}/mechanism/visuals/") for path in animated)
+    assert any(path.startswith(f"/meshcat/{BASE}/cuts/") for path in animated)
+    assert any(
+        c["type"] == "set_object" and c["path"] == f"/meshcat/{BASE}/hull" for c in commands
+    )
+    assert not scene_colours(commands) - set(legend_colours(page))
+
+
+def test_a_pose_on_a_base_is_placed(on_terrain):
+    """The assembled pose of the mechanism on its base (no motion): the base's node is placed
+    once, where the base stands at t = 0 (the slope with the terrain's pitch there)."""
+    analysis, _ = on_terrain
+    view = pose_view(analysis.spec.model.parent / "closures.toml")
+    state = analysis.spec.base.state(np.zeros(1), analysis.chain.model.gravity.linear)
+    np.testing.assert_array_equal(view.base.rotation, state.rotation)
+    (placed,) = [
+        c
+        for c in decode_commands(mechanism_html(view))
+        if c["type"] == "set_transform" and c["path"] == f"/meshcat/{BASE}"
+    ]
+    matrix = np.array(placed["matrix"]).reshape(4, 4).T  # three.js: column-major
+    np.testing.assert_allclose(matrix[:3, :3], state.rotation[0], rtol=0.0, atol=1e-15)
+    np.testing.assert_allclose(matrix[:3, 3], state.position[0], rtol=0.0, atol=1e-15)
+
+
+def test_standing_mechanism_has_no_moving_base(four_bar_page):
+    """Without [base] the base's node keeps MeshCat's identity and no hull is drawn."""
+    commands = decode_commands(four_bar_page)
+    assert not [c for c in commands if c["path"] in (f"/meshcat/{BASE}", f"/meshcat/{BASE}/hull")]
+    assert f"/meshcat/{BASE}" not in tracks(commands)
+
+
+@pytest.mark.parametrize("case", ["standing", "on terrain"])
+def test_mount_arrow(four_bar, four_bar_page, on_terrain, case):
+    """The mount's arrow starts at the model's origin and is, at every key frame, the analysis'
+    mount force in the model's moving axes (not the level ones) over the page's scale; the
+    legend names it."""
+    analysis, page = (four_bar, four_bar_page) if case == "standing" else on_terrain
+    commands = decode_commands(page)
+    node = f"/meshcat/{BASE}/forces/{MOUNT_FORCE}"
+    _, tail, tip = arrow_keys(commands, node)
+    samples = key_samples(tracks(commands)[f"{node}/shaft"], analysis.motion.t)
+    length, newtons = page_scale(page)
+    mount = analysis.loads.mount
+    assert np.abs(tail).max() <= POSITION_ROUND_OFF
+    # the scale printed to 4 digits (5e-4)
+    np.testing.assert_allclose(
+        tip - tail, mount.force[samples] / newtons * length, rtol=0.0, atol=1e-3 * length
+    )
+    if case == "on terrain":  # the arrow tells the moving axes from the level ones
+        assert np.abs(mount.level_force - mount.force).max() / newtons > 3e-3
+    assert MOUNT_FORCE in legend_colours(page).values()

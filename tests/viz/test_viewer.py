@@ -26,14 +26,25 @@ import psutil
 import pytest
 import umsgpack
 
+from feeder.chain.model.base import BaseMotion, Slope, Terrain
 from feeder.cli import parser
 from feeder.cli.view import run as cmd_view
+from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.dynamics.cycle import cycle_dynamics
 from feeder.exceptions import ElevationError, InputError, ViewerPortError
 from feeder.motion import feeding_cycle
+from feeder.motion.cycle import CycleKinematics
 from feeder.viz._meshcat_server import LOOPBACK
-from feeder.viz.scene import ARROW_COLORS, ARROW_LENGTH, FRAME_RATE
-from feeder.viz.viewer import CycleViewer, cycle_forces, show_cycle, write_html
+from feeder.viz.scene import (
+    ARROW_COLORS,
+    ARROW_LENGTH,
+    BASE,
+    FRAME_RATE,
+    HULL_COLOR,
+    ROOT,
+    css,
+)
+from feeder.viz.viewer import MOUNT_FORCE, CycleViewer, cycle_forces, show_cycle, write_html
 
 ELEVATION_DEG = 30.0
 WINDOW = (1000, 800)
@@ -235,7 +246,7 @@ def test_animation_spans_the_cycle(commands, viewer, cycle30):
     animated = tracks(commands)
     geometries = viewer.visualizer.visual_model.geometryObjects
     for geometry in geometries:
-        assert f"/meshcat/feeder/device/visuals/{geometry.name}" in animated
+        assert f"/meshcat/{BASE}/device/visuals/{geometry.name}" in animated
     for track in animated.values():
         assert track["fps"] == FRAME_RATE
         times = np.array([key["time"] for key in track["position"]]) / FRAME_RATE
@@ -254,7 +265,7 @@ def test_payload_waits_on_the_conveyor_until_gripped(commands, viewer, cycle30):
     ]
     assert payload
     for name in payload:
-        keys = animated[f"/meshcat/feeder/device/visuals/{name}"]
+        keys = animated[f"/meshcat/{BASE}/device/visuals/{name}"]
         times = np.array([key["time"] for key in keys["position"]]) / FRAME_RATE
         gripped = int(np.argmax(times >= grip))
         for prop in ("position", "quaternion"):
@@ -267,7 +278,7 @@ def test_barrel_axis_at_the_elevation_through_the_rammed_payload(commands, cycle
     (command,) = [
         c
         for c in commands
-        if c["type"] == "set_transform" and c["path"] == "/meshcat/feeder/barrel_axis"
+        if c["type"] == "set_transform" and c["path"] == f"/meshcat/{BASE}/barrel_axis"
     ]
     matrix = np.array(command["matrix"]).reshape(4, 4).T  # three.js: column-major
     axis, centre = matrix[:3, 1], matrix[:3, 3]
@@ -283,7 +294,7 @@ def test_path_is_the_gripped_payload_centre_of_gravity(commands, cycle30):
     (command,) = [
         c
         for c in commands
-        if c["type"] == "set_object" and c["path"] == "/meshcat/feeder/payload_path"
+        if c["type"] == "set_object" and c["path"] == f"/meshcat/{BASE}/payload_path"
     ]
     (geometry,) = command["object"]["geometries"]
     packed = geometry["data"]["attributes"]["position"]
@@ -292,36 +303,42 @@ def test_path_is_the_gripped_payload_centre_of_gravity(commands, cycle30):
     np.testing.assert_array_equal(path, expected)  # MeshCat stores float32 vertices
 
 
+def arrow_keys(commands: list[dict], node: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The arrow at ``node`` (``/meshcat/...``) at each of its K key frames: the key frame's
+    playback time [s] (K,), the arrow's tail and tip (K, 3) [m] in its parent node's axes, from
+    its shaft's and head's key frames and cone heights."""
+    animated, ends = tracks(commands), {}
+    for part, sign in (("shaft", -1.0), ("head", 1.0)):  # the tail, the tip
+        track = animated[f"{node}/{part}"]
+        (height,) = [
+            c["object"]["geometries"][0]["height"]
+            for c in commands
+            if c["type"] == "set_object" and c["path"] == f"{node}/{part}"
+        ]
+        centre = np.array([key["value"] for key in track["position"]])
+        axis = np.array([rotation(key["value"])[:, 1] for key in track["quaternion"]])
+        length = np.array([key["value"][1] for key in track["scale"]]) * height
+        ends[part] = centre + sign * axis * length[:, None] / 2.0
+    times = np.array([key["time"] for key in track["position"]]) / FRAME_RATE
+    return times, ends["shaft"], ends["head"]
+
+
+def cycle_rows(times: np.ndarray, cycle: CycleKinematics) -> np.ndarray:
+    """The cycle's samples shown at key frames of playback times ``times`` [s] (K,): the cycle
+    (4 s) plays at its own pace from t = 0."""
+    return np.rint(times * cycle.spec.rate).astype(int)
+
+
 def test_force_arrows_to_one_scale(commands, forces, viewer, cycle30):
     """Every arrow starts at its point and is its force divided by one common scale [N/m] (the
     one the viewer reports), and the largest force is drawn :data:`ARROW_LENGTH` long."""
-    animated = tracks(commands)
-    heights = {
-        c["path"]: c["object"]["geometries"][0]["height"]
-        for c in commands
-        if c["type"] == "set_object" and "/forces/" in c["path"]
-    }
     drawn, pulled = [], []
     for name, (force, point) in forces.items():
-        node = f"/meshcat/feeder/forces/{name}"
-        shaft, head = animated[f"{node}/shaft"], animated[f"{node}/head"]
-        rows = np.rint(
-            np.array([k["time"] for k in shaft["position"]]) / FRAME_RATE * cycle30.spec.rate
-        ).astype(int)
-        for k, i in enumerate(rows):
-            shaft_y = rotation(shaft["quaternion"][k]["value"])[:, 1]
-            head_y = rotation(head["quaternion"][k]["value"])[:, 1]
-            tail = (
-                np.array(shaft["position"][k]["value"])
-                - shaft_y * shaft["scale"][k]["value"][1] * heights[f"{node}/shaft"] / 2
-            )
-            tip = (
-                np.array(head["position"][k]["value"])
-                + head_y * head["scale"][k]["value"][1] * heights[f"{node}/head"] / 2
-            )
-            assert np.abs(tail - point[i]).max() <= POSITION_TOLERANCE
-            drawn.append(tip - tail)
-            pulled.append(force[i])
+        times, tail, tip = arrow_keys(commands, f"/meshcat/{BASE}/forces/{name}")
+        rows = cycle_rows(times, cycle30)
+        assert np.abs(tail - point[rows]).max() <= POSITION_TOLERANCE
+        drawn += list(tip - tail)
+        pulled += list(force[rows])
     drawn, pulled = np.array(drawn), np.array(pulled)
     # One scale for all: the least-squares scale s with pulled ≈ s · drawn leaves no residual.
     scale = float(np.sum(pulled * drawn) / np.sum(drawn * drawn))
@@ -372,11 +389,11 @@ def screenshots(viewer, tmp_path_factory):
     vis = viewer.visualizer.viewer
     for name, hidden in (("static", None), ("no_device", "device"), ("no_barrel", "barrel_axis")):
         if hidden:
-            vis[f"feeder/{hidden}"].set_property("visible", False)
+            vis[f"{BASE}/{hidden}"].set_property("visible", False)
         page = folder / f"{name}.html"
         page.write_text(viewer.static_html(), encoding="utf-8")
         if hidden:
-            vis[f"feeder/{hidden}"].set_property("visible", True)
+            vis[f"{BASE}/{hidden}"].set_property("visible", True)
         shots[name] = screenshot(page.as_uri(), folder / f"{name}.png")
     return shots
 
@@ -398,9 +415,12 @@ def test_browser_draws_the_barrel_axis(screenshots):
     assert math.sqrt(12.0) * spread[1] / length < MAX_BARREL_WIDTH
 
 
-def view_command(device: str, elevation: float, html: str | None, port: int | None) -> int:
-    """``feeder view`` as the command line runs it, errors raised rather than printed."""
-    argv = ["view", "--device", device, "--elevation", repr(elevation)]
+def view_command(
+    device: str, elevation: float, html: str | None, port: int | None, *more: str
+) -> int:
+    """``feeder view`` as the command line runs it (with the options ``more``), errors raised
+    rather than printed."""
+    argv = ["view", "--device", device, "--elevation", repr(elevation), *more]
     argv += ["--html", str(html)] if html is not None else []
     argv += ["--port", str(port)] if port is not None else []
     return cmd_view(parser().parse_args(argv))
@@ -556,7 +576,7 @@ def dom_after(url: str, budget_ms: int, profile: Path) -> str:
 
 POSITION_PROBE = """<script>
 setTimeout(function () {
-  var node = viewer.scene_tree.find(["meshcat", "feeder", "device", "visuals", "%s"]);
+  var node = viewer.scene_tree.find(["meshcat", "feeder", "base", "device", "visuals", "%s"]);
   document.body.setAttribute("data-position", JSON.stringify(node.object.position.toArray()));
 }, 1500);
 </script></body>"""
@@ -656,14 +676,14 @@ def test_loop_switch(static_page, tmp_path, loop):
 
 @pytest.fixture(scope="module")
 def view_page(feeder, tmp_path_factory):
-    """``feeder view --elevation -4 --html``'s page (the longest travel) with the legend
-    hidden, and the arrows it draws."""
+    """``feeder view --elevation -4 --html``'s page (the longest travel, standing level) with
+    the legend hidden, the cycle's dynamics and the arrows it draws."""
     dynamics = cycle_dynamics(feeder, math.radians(-4.0), forward=False)
     forces = cycle_forces(feeder, dynamics)
     path = tmp_path_factory.mktemp("arrows") / "view.html"
     page = write_html(feeder, dynamics.kinematics, path, forces).read_text(encoding="utf-8")
     path.write_text(page.replace("</body>", HIDE_LEGEND + "</body>"), encoding="utf-8")
-    return path, dynamics.kinematics.t, forces
+    return path, dynamics, forces
 
 
 @needs_chromium
@@ -672,7 +692,8 @@ def test_every_loaded_arrow_is_visible(view_page, tmp_path, time):
     """At every stage, each arrow of ``feeder view`` whose force is at least a tenth of the
     peak shows on screen (drawn over the bodies, unlit: its exact colour) with at least
     :data:`MIN_ARROW_PIXELS` pixels."""
-    path, t, forces = view_page
+    path, dynamics, forces = view_page
+    t = dynamics.kinematics.t
     image = screenshot(f"{path.as_uri()}#t={time}", tmp_path / "shot.png")
     pixels = np.rint(image * 255).astype(int)
     peak = max(np.linalg.norm(force, axis=1).max() for force, _ in forces.values())
@@ -683,3 +704,111 @@ def test_every_loaded_arrow_is_visible(view_page, tmp_path, time):
         rgb = np.array([(colour >> 16) & 255, (colour >> 8) & 255, colour & 255])
         count = int((np.abs(pixels - rgb).max(axis=2) <= 2).sum())
         assert count >= MIN_ARROW_PIXELS, f"{name} at t = {time} s: {count} pixels"
+
+
+# -- the moving base: the device rides on the vehicle's hull; the mount's reaction arrow --
+
+MOVING = ("--slope", "0", "15", "--base-motion", "terrain")
+"""``feeder view``'s options of the moving page: the hull on a 15° roll slope, over terrain."""
+DEVICE_PATH = ["meshcat", *BASE.split("/"), "device"]
+"""The device's node in the page's scene tree."""
+ROTATION_ROUND_OFF = 1e-12
+"""A placement sent as a float64 position and quaternion, read back as a matrix: round-off."""
+MIN_TURN = 0.01
+"""The terrain (±3° of pitch, ±1.5° of roll) turns the hull by more than this (of 1, in a
+rotation matrix's entries) over the cycle: the base's key frames move."""
+
+
+@pytest.fixture(scope="module")
+def moving(feeder, tmp_path_factory):
+    """``feeder view --elevation 30 --slope 0 15 --base-motion terrain --html``'s page, and the
+    same cycle analysed here with its base built by hand."""
+    path = tmp_path_factory.mktemp("moving") / "view.html"
+    assert view_command("projectile", ELEVATION_DEG, str(path), None, *MOVING) == 0
+    base = BaseMotion((Slope(0.0, math.radians(15.0)), Terrain()), VEHICLE_FORWARD)
+    dynamics = cycle_dynamics(feeder, math.radians(ELEVATION_DEG), base=base, forward=False)
+    return path.read_text(encoding="utf-8"), dynamics
+
+
+def test_device_rides_on_the_moving_base(moving):
+    """The base's node is placed, at every key frame, where the analysis' base state puts the
+    device's axes (rotation, origin) in the level ones; the device is drawn in it over the hull;
+    the scene (floor grid, camera) stays level: the model's level up is MeshCat's z."""
+    page, dynamics = moving
+    commands = decode_commands(page)
+    animated = tracks(commands)
+    base, state = animated[f"/meshcat/{BASE}"], dynamics.loads.base
+    times = np.array([key["time"] for key in base["position"]]) / FRAME_RATE
+    rows = cycle_rows(times, dynamics.kinematics)
+    assert rows[-1] == dynamics.kinematics.t.size - 1
+    turns = np.array([rotation(key["value"]) for key in base["quaternion"]])
+    np.testing.assert_allclose(turns, state.rotation[rows], rtol=0.0, atol=ROTATION_ROUND_OFF)
+    origins = np.array([key["value"] for key in base["position"]])
+    np.testing.assert_allclose(origins, state.position[rows], rtol=0.0, atol=POSITION_TOLERANCE)
+    assert np.abs(turns - turns[0]).max() > MIN_TURN
+    assert any(path.startswith(f"/meshcat/{BASE}/device/visuals/") for path in animated)
+    assert f"/meshcat/{ROOT}/floor" not in animated
+    (level,) = [
+        c for c in commands if c["type"] == "set_transform" and c["path"] == f"/meshcat/{ROOT}"
+    ]
+    to_meshcat = np.array(level["matrix"]).reshape(4, 4).T[:3, :3]  # three.js: column-major
+    np.testing.assert_allclose(to_meshcat @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-15)
+    assert any(
+        c["type"] == "set_object" and c["path"] == f"/meshcat/{BASE}/hull" for c in commands
+    )
+    legend = legend_colours(page)
+    assert "moving base" in legend[css(HULL_COLOR)]
+    assert not scene_colours(commands) - set(legend)
+
+
+def test_standing_device_has_no_moving_base(view_page):
+    """Standing level: the base's node keeps MeshCat's identity (no transform, no key frames)
+    and no hull is drawn."""
+    commands = decode_commands(view_page[0].read_text(encoding="utf-8"))
+    assert not [c for c in commands if c["path"] in (f"/meshcat/{BASE}", f"/meshcat/{BASE}/hull")]
+    assert f"/meshcat/{BASE}" not in tracks(commands)
+
+
+@pytest.mark.parametrize("case", ["standing", "moving"])
+def test_mount_arrow_is_the_mount_force(feeder, view_page, moving, case):
+    """The mount's arrow starts at B (the device's origin) and is, at every key frame, the
+    analysis' mount force (the vehicle's on the device, device axes moving with the hull) over
+    the arrows' one scale, the largest force of the five drawn :data:`ARROW_LENGTH` long; the
+    legend names it."""
+    if case == "standing":
+        path, dynamics, _ = view_page
+        page = path.read_text(encoding="utf-8")
+    else:
+        page, dynamics = moving
+    times, tail, tip = arrow_keys(decode_commands(page), f"/meshcat/{BASE}/forces/{MOUNT_FORCE}")
+    rows = cycle_rows(times, dynamics.kinematics)
+    mount = dynamics.reactions.mount
+    peak = max(
+        np.linalg.norm(force, axis=1).max() for force, _ in cycle_forces(feeder, dynamics).values()
+    )
+    scale = peak / ARROW_LENGTH  # [N/m]
+    printed = re.search(r"force arrows to one scale: 0\.45 m long = ([0-9.]+) N", page).group(1)
+    assert float(printed) == pytest.approx(peak, rel=1e-3)  # printed to 4 digits
+    assert np.abs(tail).max() <= POSITION_TOLERANCE
+    np.testing.assert_allclose(
+        tip - tail, mount.force[rows] / scale, rtol=0.0, atol=POSITION_TOLERANCE
+    )
+    if case == "moving":  # in the device's axes, not the level ones
+        assert np.abs(mount.level_force - mount.force).max() / scale > 1e-3
+    assert MOUNT_FORCE in legend_colours(page).values()
+
+
+@needs_chromium
+def test_browser_draws_the_device_on_a_slope(moving, tmp_path):
+    """``feeder view --slope 0 15 --base-motion terrain``'s page opens offline and, paused at the
+    cycle's end, draws the device framed whole in the window (the hull is checked in the
+    scene's commands)."""
+    hide = "<script>viewer.scene_tree.find(%s).set_property('visible', false);</script>"
+    shots = {}
+    for name, script in (("page", ""), ("no_device", hide % json.dumps(DEVICE_PATH))):
+        page = tmp_path / f"{name}.html"
+        page.write_text(
+            moving[0].replace("</body>", HIDE_LEGEND + script + "</body>"), encoding="utf-8"
+        )
+        shots[name] = screenshot(page.as_uri() + "#t=4", tmp_path / f"{name}.png")
+    assert_device_framed(changed(shots["page"], shots["no_device"]))
