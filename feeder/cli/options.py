@@ -7,7 +7,6 @@ from __future__ import annotations
 import argparse
 import math
 import shlex
-import tomllib
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -154,36 +153,21 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
         InputError: A bad slope, an unreadable file, an unknown profile or parameter.
     """
     from ..chain.model.base import BaseMotion, Slope
-    from ..chain.readers.base_motion import parse_profile, read_base, read_hull_table
+    from ..chain.readers.base_motion import parse_profile, read_base_file, read_hull_table
     from ..device.parameters import VEHICLE_FORWARD
 
     profiles = []
     if args.slope is not None:
-        pitch, roll = (
-            check_number(f"slope {name} [deg]", x)
-            for name, x in zip(("pitch", "roll"), args.slope, strict=True)
-        )
+        pitch, roll = (check_number(f"slope {name} [deg]", x) for name, x in zip(
+            ("pitch", "roll"), args.slope, strict=True))  # fmt: skip
         profiles.append(Slope(math.radians(pitch), math.radians(roll)))
     motion = args.base_motion
     if motion is not None:
         suffix = Path(motion).suffix.lower()
         if suffix == ".csv":
-            profiles.append(read_hull_table(check_path("the hull motion file", motion)))
+            profiles.append(read_hull_table(motion))
         elif suffix == ".toml":
-            path = check_path("the base file", motion)
-            try:
-                document = tomllib.loads(path.read_text(encoding="utf-8"))
-            except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-                raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
-            if "base" not in document:
-                raise InputError(f"{path}: no [base] table")
-            base = read_base(document["base"], path.parent, str(path))
-            if base.forward != VEHICLE_FORWARD:
-                raise InputError(
-                    f"{path}: the device's forward axis is fixed ({list(VEHICLE_FORWARD)}): "
-                    "leave forward out of [base]"
-                )
-            profiles += base.profiles
+            profiles += read_base_file(motion, VEHICLE_FORWARD).profiles
         else:
             profiles.append(parse_profile(motion))
     return BaseMotion(tuple(profiles), VEHICLE_FORWARD) if profiles else None

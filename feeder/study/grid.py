@@ -338,10 +338,7 @@ def _variant(entry: object, index: int, folder: Path) -> Variant:
         raise InputError(f"variants[{index}] must be a table with a name, got {entry!r}")
     base = None
     if "base" in entry:
-        where = f"variants[{index}]"
-        if isinstance(entry["base"], dict) and "forward" in entry["base"]:
-            raise InputError(f"{where}: the device's forward axis is fixed: leave forward out")
-        base = replace(read_base(entry["base"], folder, where), forward=VEHICLE_FORWARD)
+        base = read_base(entry["base"], folder, f"variants[{index}]", VEHICLE_FORWARD)
     changes = tuple((k, v) for k, v in entry.items() if k not in ("name", "base"))
     return Variant(entry["name"], changes, base)
 

@@ -80,10 +80,23 @@ def test_forward_run_skipped_on_a_moving_base_kept_on_a_slope():
     moving = BaseMotion((Recoil(start=0.5),), forward=VEHICLE_FORWARD)
     sloped = BaseMotion((Slope(pitch=math.radians(5.0)),), forward=VEHICLE_FORWARD)
     spec = CycleSpec(rate=500.0)
-    assert run_cycle_study(feeder, 0.5, spec, base=moving).dynamics.forward is None
+    rocking = run_cycle_study(feeder, 0.5, spec, base=moving)
+    assert rocking.dynamics.forward is None
+    assert "skipped (the base moves)" in rocking.summary()
     run = run_cycle_study(feeder, 0.5, spec, base=sloped).dynamics
     assert max(run.tracking_error()) < 1e-4  # the force-rule check, on tilted gravity
-    assert "skipped (the base moves)" in run_cycle_study(feeder, 0.5, spec, base=moving).summary()
+
+
+def test_cycle_command_reads_a_base_file(tmp_path, capsys):
+    """A [base] table without forward (the device's is fixed); with one, refused."""
+    path = tmp_path / "base.toml"
+    path.write_text('[base]\nroll_deg = 5.0\n[[base.profile]]\ntype = "bump"\nstart = 0.5\n')
+    args = ["cycle", "--elevation", "30", "--rate", "100", "--no-figures", "--no-forward"]
+    assert main([*args, "--base-motion", str(path), "--out", str(tmp_path / "a")]) == 0
+    assert "slope: pitch 0°, roll 5°; bump: half-sine 2 g" in capsys.readouterr().out
+    path.write_text("[base]\nforward = [1.0, 0.0, 0.0]\n")
+    assert main([*args, "--base-motion", str(path), "--out", str(tmp_path / "b")]) != 0
+    assert "leave forward out" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(

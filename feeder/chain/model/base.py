@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
 import numpy as np
@@ -384,7 +384,6 @@ class BaseMotion:
 
     profiles: tuple[HullProfile, ...] = ()
     forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    timed: bool = field(init=False)
 
     def __post_init__(self):
         forward = check_finite("base forward axis", self.forward)
@@ -393,7 +392,11 @@ class BaseMotion:
         unit = forward / np.linalg.norm(forward)
         object.__setattr__(self, "forward", tuple(float(x) for x in unit))
         object.__setattr__(self, "profiles", tuple(self.profiles))
-        object.__setattr__(self, "timed", any(not isinstance(p, Slope) for p in self.profiles))
+
+    @property
+    def timed(self) -> bool:
+        """Whether the motion varies in time (anything but slopes)."""
+        return any(not isinstance(p, Slope) for p in self.profiles)
 
     def vehicle_axes(self, gravity: np.ndarray) -> np.ndarray:
         """V (3, 3): the vehicle's forward, left and up axes (columns) in the model's axes, up

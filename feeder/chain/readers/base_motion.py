@@ -26,12 +26,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_number
+from ...validation import check_finite, check_number, check_path
 from ..model.base import CHANNELS, PROFILES, BaseMotion, HullProfile, HullTable, Slope
 from ..model.forces import Table
 from .motion_table import read_columns
@@ -107,8 +108,8 @@ def read_hull_table(path: str | Path) -> HullTable:
         for prefix in ("", "v_", "a_")
         for suffix in (("", "_deg") if channel in CHANNELS[3:] else ("",))
     }
-    for name in header[1:] if header[0] == "t" else header:
-        if name not in known and name != "t":
+    for name in header:
+        if name != "t" and name not in known:
             raise InputError(
                 f"{path}: unknown column {name!r}; a hull table has t and "
                 f"{', '.join(CHANNELS)} [m, rad] (or roll_deg …), v_… and a_… for their rates"
@@ -137,15 +138,30 @@ def read_hull_table(path: str | Path) -> HullTable:
     return HullTable(Table(t, values, source=f"hull motion {path.name}"))
 
 
-def read_base(table: object, folder: Path, where: str) -> BaseMotion:
+def read_base(
+    table: object,
+    folder: Path,
+    where: str,
+    forward: tuple[float, float, float] | None = None,
+) -> BaseMotion:
     """The ``[base]`` table of a mechanism file (module docstring); paths relative to
     ``folder``.
 
+    Args:
+        forward: The vehicle's forward axis when the caller fixes it (the built-in device's):
+            then the table may not give one. None: the table's, default the model's x.
+
     Raises:
-        InputError: Not a table, an unknown key, a bad value (named).
+        InputError: Not a table, an unknown key, a bad value (named), a forward axis where the
+            caller fixes it.
     """
     if not isinstance(table, dict):
         raise InputError(f"{where}: [base] must be a table")
+    if forward is not None and "forward" in table:
+        raise InputError(
+            f"{where}: the device's forward axis is fixed ({list(forward)}): leave forward out "
+            "of [base]"
+        )
     unknown = sorted(set(table) - BASE_KEYS)
     if unknown:
         raise InputError(f"{where}: unknown keys {unknown} in [base]; keys: {sorted(BASE_KEYS)}")
@@ -170,7 +186,27 @@ def read_base(table: object, folder: Path, where: str) -> BaseMotion:
             raise InputError(f"{here}: a table with a type: one of {sorted(PROFILES)}")
         values = {key: value for key, value in entry.items() if key != "type"}
         profiles.append(make_profile(entry["type"], values, here))
-    forward = table.get("forward", [1.0, 0.0, 0.0])
-    if not isinstance(forward, list) or len(forward) != 3:
-        raise InputError(f"{where}: [base] forward must be 3 numbers, got {forward!r}")
+    if forward is None:
+        forward = table.get("forward", [1.0, 0.0, 0.0])
+        if not isinstance(forward, list) or len(forward) != 3:
+            raise InputError(f"{where}: [base] forward must be 3 numbers, got {forward!r}")
     return BaseMotion(tuple(profiles), tuple(check_finite(f"{where} forward", forward)))
+
+
+def read_base_file(
+    path: str | Path, forward: tuple[float, float, float] | None = None
+) -> BaseMotion:
+    """The ``[base]`` table of a TOML file (:func:`read_base`; paths relative to the file).
+
+    Raises:
+        InputError: A missing or unreadable file, no ``[base]`` table, any error of
+            :func:`read_base`.
+    """
+    path = check_path("the base file", path)
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+    if "base" not in document:
+        raise InputError(f"{path}: no [base] table")
+    return read_base(document["base"], path.parent, str(path), forward)
