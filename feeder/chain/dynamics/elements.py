@@ -68,7 +68,7 @@ class BoundElements:
         for element in self.elements:
             if isinstance(element, Spring | Cylinder):
                 a, b = (chain.frame_id(name) for name in element.frames)
-                self.lines.append(_Line(element, a, b))
+                self.lines.append(_Line(model, element, a, b))
             elif isinstance(element, JointSpring):
                 chain.joint_slice(element.joint)  # raises for an unknown joint
                 j = model.getJointId(element.joint)
@@ -101,6 +101,9 @@ class BoundElements:
         """Whether a force varies in time (a table or a function of t)."""
         self.data = model.createData()
         self.model, self.nv = model, model.nv
+        self.moving = bool(self.loads) or any(line.moving_ends for line in self.lines)
+        """Whether an element needs the kinematics (a line with an end on a moving body, a
+        load)."""
 
     def __bool__(self) -> bool:
         return bool(self.elements)
@@ -114,40 +117,40 @@ class BoundElements:
 
     def generalized(self, q: np.ndarray, v: np.ndarray, t: float) -> tuple[np.ndarray, float]:
         """The elements' generalized force (nv,) and the power [W] of their non-conservative
-        parts, at one state (q, v) and time t [s] (trusted)."""
-        model, data, nv = self.model, self.data, self.nv
-        out = np.zeros(nv)
+        parts, at one state (q, v) and time t [s] (trusted).
+
+        The forward runs' right-hand side: one kinematics pass for all elements, and an element's
+        end on the ground (a fixed point, no Jacobian) costs nothing."""
+        model, data = self.model, self.data
+        out = np.zeros(self.nv)
         power = 0.0
-        if self.lines or self.loads:
+        if self.moving:
             pin.computeJointJacobians(model, data, q)
         for line in self.lines:
-            gap = (
-                pin.updateFramePlacement(model, data, line.b).translation
-                - pin.updateFramePlacement(model, data, line.a).translation
-            )
-            length = math.sqrt(gap @ gap)
+            gap = line.fixed_gap
+            for frame, sign in line.moving_ends:
+                gap = gap + sign * pin.updateFramePlacement(model, data, frame).translation
+            length = math.sqrt(gap.dot(gap))
             if length < SHORTEST_LINE:
                 raise SingularPoseError(
                     f"{line.element.name}: its frames coincide at t = {t:.6g} s"
                 )
-            jac = frame_jacobian(model, data, line.b, WORLD) - frame_jacobian(
-                model, data, line.a, WORLD
-            )
-            row = (gap / length) @ jac[:3]  # dℓ/dq
-            rate = row @ v
+            row = 0.0  # dℓ/dq = uᵀ (J_b − J_a), (nv,)
+            for frame, sign in line.moving_ends:
+                linear = frame_jacobian(model, data, frame, WORLD)[:3]
+                row = row + (sign / length) * gap.dot(linear)
+            rate = row.dot(v)
             push = line.push(t)
-            out -= (
-                line.stiffness * (length - line.rest_length) + line.damping * rate - push
-            ) * row
+            out -= line.tension(length, rate, push) * row
             power += (push - line.damping * rate) * rate
         for element, iq, iv, *_ in self.joint_springs:
             out[iv] -= element.resistance(q[iq], v[iv])
             power += element.power(v[iv])
         for element, f, constant in self.loads:
             wrench = element.wrench(t) if constant is None else constant
-            jac = frame_jacobian(model, data, f, WORLD)
-            out += wrench @ jac
-            power += wrench @ (jac @ v)
+            row = wrench.dot(frame_jacobian(model, data, f, WORLD))  # J_fᵀ w, (nv,)
+            out += row
+            power += row.dot(v)
         return out, power
 
     def energy(self, q: np.ndarray) -> float:
@@ -194,7 +197,7 @@ class BoundElements:
                 _velocity(model, motion, b, pb) - _velocity(model, motion, a, pa),
             )
             push = np.array([line.push(x) for x in t])
-            tension = line.stiffness * (length - line.rest_length) + line.damping * rate - push
+            tension = line.tension(length, rate, push)
             pull = tension[:, None] * direction
             terms.append((a, np.hstack([pull, np.zeros((n, 3))])))
             terms.append((b, np.hstack([-pull, np.zeros((n, 3))])))
@@ -222,9 +225,11 @@ class BoundElements:
 
 
 class _Line:
-    """A line element's law T = k (ℓ − ℓ₀) + c ℓ̇ − P(t) (a cylinder: k = 0, P its push)."""
+    """A line element's law T = k (ℓ − ℓ₀) + c ℓ̇ − P(t) (a cylinder: k = 0, P its push), and its
+    two ends: the frames on moving bodies with their signs in ℓ's gap p_b − p_a, the ground's
+    fixed part of the gap."""
 
-    def __init__(self, element: Spring | Cylinder, a: int, b: int):
+    def __init__(self, model: pin.Model, element: Spring | Cylinder, a: int, b: int):
         self.element, self.a, self.b = element, a, b
         spring = isinstance(element, Spring)
         self.stiffness = element.stiffness if spring else 0.0
@@ -236,6 +241,17 @@ class _Line:
             self.push = lambda t: value
         else:
             self.push = element.push
+        self.moving_ends: list[tuple[int, float]] = []
+        self.fixed_gap = np.zeros(3)
+        for frame, sign in ((b, 1.0), (a, -1.0)):
+            if model.frames[frame].parentJoint == 0:  # on the ground: oMf is its placement
+                self.fixed_gap += sign * model.frames[frame].placement.translation
+            else:
+                self.moving_ends.append((frame, sign))
+
+    def tension(self, length, rate, push):
+        """T [N] at length ℓ [m], rate ℓ̇ [m/s] and push P [N] (floats or arrays alike)."""
+        return self.stiffness * (length - self.rest_length) + self.damping * rate - push
 
 
 def _body_frame(model: pin.Model, joint: int, name: str) -> int:

@@ -163,20 +163,20 @@ class _Equations:
 
     def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
         """τ (nv,) and the power [W] of the non-conservative forces."""
-        if self.actuation is None and not self.dyn.elements:
-            return self.zero, 0.0
-        tau, power = np.zeros(self.model.nv), 0.0
-        if self.actuation is not None:
-            u = np.asarray(self.actuation(t, q, v), dtype=float)
-            if u.shape != self.columns.shape or not np.all(np.isfinite(u)):
-                raise InputError(
-                    f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
-                    f"[N or N·m], got {u!r}"
-                )
-            tau[self.columns] = u
-            power += float(u @ v[self.columns])
-        if self.dyn.elements:
-            generalized, element_power = self.dyn.elements.generalized(q, v, t)
+        elements = self.dyn.elements
+        if self.actuation is None:
+            return elements.generalized(q, v, t) if elements else (self.zero, 0.0)
+        tau = np.zeros(self.model.nv)
+        u = np.asarray(self.actuation(t, q, v), dtype=float)
+        if u.shape != self.columns.shape or not np.all(np.isfinite(u)):
+            raise InputError(
+                f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
+                f"[N or N·m], got {u!r}"
+            )
+        tau[self.columns] = u
+        power = float(u @ v[self.columns])
+        if elements:
+            generalized, element_power = elements.generalized(q, v, t)
             tau += generalized
             power += element_power
         return tau, power
