@@ -27,9 +27,9 @@ from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
 from .mobility import MobilityReport, mobility
 from .model.base import BaseMotion, BaseState, Bump, HullTable, Recoil, Slope, Terrain
 from .model.closure import ClosedChain, Closure
-from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table, read_table
+from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .readers.base_motion import parse_profile, read_hull_table
-from .readers.forces import read_force_file
+from .readers.forces import read_force_file, read_table
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
 from .readers.motion_table import MotionTable, read_motion

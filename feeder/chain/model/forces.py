@@ -23,16 +23,14 @@ Gravity is the model's (``gravity`` in the mechanism file).
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_number, check_path
+from ...validation import check_finite, check_number
 
 TimeFunction = Callable[[float], float]
 """A scalar function of time t [s]."""
@@ -78,32 +76,6 @@ class Table:
                 f"{self.source} covers t = {self.t[0]:g}…{self.t[-1]:g} s, the run "
                 f"{start:g}…{end:g} s: extend the table (values are not extrapolated)"
             )
-
-
-def read_table(path: Path, columns: tuple[str, ...]) -> Table:
-    """A CSV table with a header ``t`` and ``columns`` (in that order) [s and SI units].
-
-    Raises:
-        InputError: A path that is not text or a path, a missing or unreadable file, another
-            header, a value that is not a finite number, fewer than two rows, times that do not
-            increase.
-    """
-    path = check_path("the force table", path)
-    try:
-        with path.open(encoding="utf-8", newline="") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"force table {path}: not readable ({exc})") from exc
-    header = tuple(name.strip() for name in rows[0]) if rows else ()
-    if header != ("t", *columns):
-        raise InputError(f"force table {path}: the header must be {['t', *columns]}, got {header}")
-    try:
-        data = np.array([[float(x) for x in row] for row in rows[1:] if row], dtype=float)
-    except ValueError as exc:
-        raise InputError(f"force table {path}: {exc}") from exc
-    if data.ndim != 2 or data.shape[1] != 1 + len(columns):
-        raise InputError(f"force table {path}: every row needs {1 + len(columns)} numbers")
-    return Table(data[:, 0], data[:, 1:], source=f"force table {path.name}")
 
 
 Profile = float | Table | TimeFunction
@@ -215,10 +187,6 @@ class Cylinder:
         return profile_value(self.pressure, time) * self.cap_area - (
             profile_value(self.rod_pressure, time) * self.annulus_area
         )
-
-    def pressure_for(self, push: float | np.ndarray) -> float | np.ndarray:
-        """The cap-side pressure [Pa] that gives the push ``push`` [N] at zero rod pressure."""
-        return push / self.cap_area
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,12 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
+import numpy as np
+
 from ...exceptions import InputError
 from ...validation import check_path
-from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, read_table
+from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
+from .motion_table import read_columns
 
 KEYS = {
     "spring": {"frames", "stiffness", "rest_length", "damping", "force", "force_table"},
@@ -87,6 +90,24 @@ def read_force_file(path: Path) -> tuple[ForceElement, ...]:
     if set(document) - {"force"}:
         raise InputError(f"{path}: only [[force]] tables are expected, got {sorted(document)}")
     return read_forces(document.get("force", []), path.parent, str(path))
+
+
+def read_table(path: str | Path, columns: tuple[str, ...]) -> Table:
+    """A force table: a CSV file with the header ``t`` and ``columns`` in that order [s and SI
+    units], linearly interpolated in time.
+
+    Raises:
+        InputError: A missing or unreadable file, another header, a value that is not a finite
+            number, fewer than two rows, times that do not increase.
+    """
+    path, header, values = read_columns(path, "the force table")
+    if tuple(header) != ("t", *columns):
+        raise InputError(f"{path}: the header must be {['t', *columns]}, got {header}")
+    return Table(
+        values["t"],
+        np.column_stack([values[name] for name in columns]),
+        source=f"force table {path.name}",
+    )
 
 
 def _element(entry: object, folder: Path, where: str) -> ForceElement:

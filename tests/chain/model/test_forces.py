@@ -7,37 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table, read_table
+from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
 from feeder.exceptions import InputError
 
 
-def test_a_table_interpolates_and_refuses_to_extrapolate(tmp_path):
-    path = tmp_path / "push.csv"
-    path.write_text("t,force\n0,0\n1,10\n3,-10\n")
-    table = read_table(path, ("force",))
-    assert table(0.5)[0] == pytest.approx(5.0) and table(2.0)[0] == pytest.approx(0.0)
-    table.check_covers(0.0, 3.0)
-    with pytest.raises(InputError, match="push.csv covers t = 0…3 s"):
-        table.check_covers(0.0, 3.5)
-    for text, message in (
-        ("time,force\n0,0\n1,1\n", "header"),
-        ("t,force\n0,0\n0,1\n", "increasing"),
-        ("t,force\n0,0\n1,x\n", "x"),
-        ("t,force\n0,nan\n1,1\n", "finite"),
-        ("t,force\n0,0\n", "at least two"),
-    ):
-        path.write_text(text)
-        with pytest.raises(InputError, match=message):
-            read_table(path, ("force",))
-    with pytest.raises(InputError, match="not readable"):
-        read_table(tmp_path / "missing.csv", ("force",))
-
-
-def test_a_cylinder_turns_pressure_into_push_and_back():
+def test_a_cylinder_turns_pressures_into_its_push():
     cylinder = Cylinder(("cap", "rod"), bore=0.08, rod=0.045, pressure=12e6, rod_pressure=1e6)
     cap, annulus = math.pi * 0.08**2 / 4.0, math.pi * (0.08**2 - 0.045**2) / 4.0
     assert cylinder.push(0.0) == pytest.approx(12e6 * cap - 1e6 * annulus, rel=1e-15)
-    assert cylinder.pressure_for(cylinder.push(0.0) + 1e6 * annulus) == pytest.approx(12e6)
     with pytest.raises(InputError, match="rod < bore"):
         Cylinder(("cap", "rod"), bore=0.05, rod=0.05)
 

@@ -4,11 +4,34 @@ from __future__ import annotations
 
 import pytest
 
-from feeder.chain import read_force_file, read_spec
+from feeder.chain import read_force_file, read_spec, read_table
 from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
 from feeder.exceptions import InputError
 
 from ...conftest import REPO
+
+
+def test_a_table_interpolates_and_refuses_to_extrapolate(tmp_path):
+    path = tmp_path / "push.csv"
+    path.write_text("t,force\n0,0\n1,10\n3,-10\n")
+    table = read_table(path, ("force",))
+    assert table(0.5)[0] == pytest.approx(5.0) and table(2.0)[0] == pytest.approx(0.0)
+    table.check_covers(0.0, 3.0)
+    with pytest.raises(InputError, match="push.csv covers t = 0…3 s"):
+        table.check_covers(0.0, 3.5)
+    for text, message in (
+        ("time,force\n0,0\n1,1\n", "no column 't'"),
+        ("t,push\n0,0\n1,1\n", r"the header must be \['t', 'force'\]"),
+        ("t,force\n0,0\n0,1\n", "times must increase"),
+        ("t,force\n0,0\n1,x\n", "x"),
+        ("t,force\n0,nan\n1,1\n", "finite"),
+        ("t,force\n0,0\n", "at least two"),
+    ):
+        path.write_text(text)
+        with pytest.raises(InputError, match=message):
+            read_table(path, ("force",))
+    with pytest.raises(InputError, match="not found"):
+        read_table(tmp_path / "missing.csv", ("force",))
 
 
 def test_every_type_is_read(tmp_path):
@@ -59,7 +82,7 @@ table = "load.csv"
         ('type = "rope"', "'type' must be one of"),
         ('type = "spring"\nframes = ["a", "b"]\nstifness = 1.0', "unknown keys \\['stifness'\\]"),
         ('type = "spring"\nframes = ["a", "b"]\nforce = 1.0\nforce_table = "x.csv"', "not both"),
-        ('type = "spring"\nframes = ["a", "b"]\nforce_table = "missing.csv"', "not readable"),
+        ('type = "spring"\nframes = ["a", "b"]\nforce_table = "missing.csv"', "not found"),
         ('type = "cylinder"\nframes = ["a", "b"]\nbore = 0.1', "needs 'bore' and 'rod'"),
         ('type = "load"\nframe = "tip"\nforce = [1, 2]', "3 numbers"),
         ('type = "joint_spring"\njoint = "hinge"\nstiffness = "stiff"', "numeric"),
