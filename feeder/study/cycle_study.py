@@ -49,6 +49,14 @@ class CycleStudy:
         """Peak of every actuator load, drive and joint reaction, with its time."""
         return cycle_peaks(self.dynamics)
 
+    def against_level(self) -> list[tuple[Peak, Peak]] | None:
+        """On a moving or tilted base, every peak with the same quantity's peak in the cycle
+        standing level (:meth:`peaks` order); None when the base stands level."""
+        if self.standing is None:
+            return None
+        level = {peak.name: peak for peak in cycle_peaks(self.standing)}
+        return [(peak, level[peak.name]) for peak in self.peaks()]
+
     def cross_check(self) -> tuple[float, float]:
         """Largest |Lagrange − Pinocchio| of the piston force [N] and forearm moment [N·m], the
         base standing level."""
@@ -70,8 +78,9 @@ class CycleStudy:
         peaks = self.peaks()
         lines += peak_lines(peaks)
         lines += peak_notes(self.feeder.params, peaks)
-        if self.standing is not None:
-            lines += growth_lines(peaks, cycle_peaks(self.standing))
+        pairs = self.against_level()
+        if pairs is not None:
+            lines += growth_lines(pairs)
         if d.forward is None:
             reason = " (the base moves)" if d.base is not None and d.base.timed else ""
             lines.append(f"  forward run (force rule): skipped{reason}")

@@ -86,19 +86,19 @@ def peak_notes(params: FeederParameters, peaks: list[Peak]) -> list[str]:
     )
 
 
-def growth_lines(peaks: list[Peak], standing: list[Peak]) -> list[str]:
-    """Each peak against the same cycle standing level: one line per quantity, by how much it
-    grows (largest first)."""
-    level = {peak.name: peak for peak in standing}
+def growth_lines(pairs: list[tuple[Peak, Peak]]) -> list[str]:
+    """Each peak against the same quantity's peak in the cycle standing level (pairs of
+    :meth:`~feeder.study.cycle_study.CycleStudy.against_level`): one line per quantity, by how
+    much it grows (largest first)."""
     rows = []
-    for peak in peaks:
-        before = abs(level[peak.name].value)
+    for peak, level in pairs:
+        before = abs(level.value)
         after = abs(peak.value)
         change = (after - before) / before if before > 0.0 else (np.inf if after > 0.0 else 0.0)
         rows.append((change, peak, before))
     rows.sort(key=lambda row: -row[0] if np.isfinite(row[0]) else -np.inf)
     lines = ["  against the cycle standing level (peak on this base / peak standing):"]
-    width = max(len(peak.name) for peak in peaks)
+    width = max(len(peak.name) for peak, _ in pairs)
     for change, peak, before in rows:
         scale, unit = (1e-5, "bar") if peak.unit == "Pa" else (1.0, peak.unit)
         growth = f"{change:+8.1%}" if np.isfinite(change) else "     new"

@@ -34,7 +34,6 @@ from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
 from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
-from ..study.peaks import cycle_peaks
 from ..study.sweep import cached_feeder, local_workers, sweeps_of
 from ..study.sweep_table import read_table
 from .catalog import CYCLE_FIGURES, file_name
@@ -85,12 +84,10 @@ class FigureData:
     def of_study(cls, study: CycleStudy) -> FigureData:
         """The data of a full study."""
         k = study.dynamics.kinematics
-        base = None
-        if study.standing is not None:
-            standing = {peak.name: abs(peak.value) for peak in cycle_peaks(study.standing)}
+        base, pairs = None, study.against_level()
+        if pairs is not None:
             rows = tuple(
-                (peak.name, abs(peak.value), standing[peak.name], peak.unit)
-                for peak in study.peaks()
+                (peak.name, abs(peak.value), abs(level.value), peak.unit) for peak, level in pairs
             )
             base = (study.dynamics.base.describe(), rows)
         return cls(study.feeder.params, k.elevation, k.spec, study.columns(), base)
