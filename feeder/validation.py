@@ -72,8 +72,8 @@ def check_elevation(elevation: float, limits: tuple[float, float]) -> float:
     low, high = limits
     if not low - LIMIT_SLACK <= eps <= high + LIMIT_SLACK:
         raise ElevationError(
-            f"elevation {math.degrees(eps):.3f}° is outside the device's range "
-            f"[{math.degrees(low):.1f}°, {math.degrees(high):.1f}°]"
+            f"elevation {math.degrees(eps):.7g}° is outside the device's range "
+            f"[{math.degrees(low):.7g}°, {math.degrees(high):.7g}°]"
         )
     return eps
 

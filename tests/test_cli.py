@@ -77,6 +77,24 @@ def test_bad_elevation_exits_with_message(tmp_path, capsys, elevation, message):
     assert message in err and "Traceback" not in err
 
 
+def test_a_name_the_file_system_refuses_is_one_line(tmp_path, capsys):
+    """An output folder whose name is longer than the file system allows (255 bytes on Linux):
+    one line naming the cause and the path, exit status 1, no traceback."""
+    out = tmp_path / ("a" * 300)
+    argv = ["cycle", "--elevation", "30", "--rate", "100", "--no-forward", "--no-figures"]
+    assert main([*argv, "--out", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "File name too long" in err and "a" * 300 in err
+
+
+@pytest.mark.parametrize("rate", ["13.7", "0.3"])
+def test_a_rate_that_misses_the_cycle_end_is_refused(tmp_path, capsys, rate):
+    argv = ["cycle", "--elevation", "30", "--rate", rate, "--no-forward", "--no-figures"]
+    assert main([*argv, "--out", str(tmp_path / "run")]) == 2
+    assert "does not divide the 4 s cycle" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()
+
+
 def test_unknown_device_is_an_argparse_error(tmp_path):
     with pytest.raises(SystemExit) as info:
         main(["kinematics", "--elevation", "0", "--out", str(tmp_path), "--device", "mortar"])

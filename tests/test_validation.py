@@ -5,6 +5,8 @@ and True as numbers and run a whole study with them)."""
 from __future__ import annotations
 
 import dataclasses
+import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -12,8 +14,8 @@ import pytest
 
 import feeder as api
 from feeder.device import PROJECTILE_FEEDER, LinkInertia
-from feeder.exceptions import FeederError, InputError
-from feeder.validation import check_number, check_path
+from feeder.exceptions import ElevationError, FeederError, InputError
+from feeder.validation import check_elevation, check_number, check_path
 
 
 @pytest.mark.parametrize(
@@ -100,3 +102,12 @@ def test_a_bad_number_is_shown_as_the_user_typed_it():
         with pytest.raises(InputError, match=shown) as error:
             check_finite("elevation [deg]", value)
         assert "np." not in str(error.value)
+
+
+@pytest.mark.parametrize("degrees, shown", [(70.0001, "70.0001°"), (1e308, "1e+308°")])
+def test_an_elevation_just_or_far_outside_the_range_is_shown_as_given(degrees, shown):
+    """Enough digits to see why 70.0001° is refused, and no 300-digit number for 1e308°."""
+    with pytest.raises(
+        ElevationError, match=rf"^elevation {re.escape(shown)} is outside .* \[-4°, 70°\]$"
+    ):
+        check_elevation(math.radians(degrees), (math.radians(-4.0), math.radians(70.0)))

@@ -96,7 +96,8 @@ def _check_command(parser: argparse.ArgumentParser, argv: Sequence[str]) -> None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (2 for bad input, 130 after Ctrl-C)."""
+    """Run the command line; returns the exit status (2 for bad input, 1 when the file system
+    refuses a file, 130 after Ctrl-C)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
@@ -111,6 +112,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except FeederError as exc:
         print(f"feeder: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # the file system's refusal: a name too long, a full disk, no access
+        where = f": {exc.filename}" if exc.filename else ""
+        print(f"feeder: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 1
     except _Terminated:
         print("feeder: terminated (SIGTERM); no output was left half-written", file=sys.stderr)
         return TERMINATED

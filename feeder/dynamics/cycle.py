@@ -102,8 +102,9 @@ def _check_tracking(run: ForwardMotion, kinematics: CycleKinematics) -> None:
             f"the force-rule forward run drifted from the prescribed motion by |Δφ3| = "
             f"{drift[0]:.2e} rad, |Δφ4| = {drift[1]:.2e} rad (tolerance {FORWARD_TOLERANCE:g} "
             f"rad) at {kinematics.spec.rate:g} Hz: the force-driven mechanism is unstable and "
-            "amplifies the integration error; sample faster (≥ 500 Hz for the default stages), "
-            "shorten the stages, or skip the forward run (feeder cycle --no-forward)"
+            f"amplifies the integration error; sample faster (e.g. --rate "
+            f"{2 * kinematics.spec.rate:g}), shorten the stages, or skip the forward run "
+            "(feeder cycle --no-forward)"
         )
 
 

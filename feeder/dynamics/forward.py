@@ -76,7 +76,10 @@ class ForceRule:
                 raise InputError(f"{name} must have shape {n}, got {value.shape}")
             object.__setattr__(self, name, value)
         if n[0] < MIN_PIECE_STEPS + 1:
-            raise InputError(f"a force rule needs at least {MIN_PIECE_STEPS + 1} samples")
+            raise InputError(
+                f"a force rule needs at least {MIN_PIECE_STEPS + 1} samples, got {n[0]}: sample "
+                "faster, or skip the forward run (feeder cycle --no-forward)"
+            )
         steps = np.diff(self.t)
         if steps[0] <= 0.0 or np.abs(steps - steps[0]).max() > 1e-9 * steps[0]:
             raise InputError(

@@ -68,14 +68,28 @@ class CycleSpec:
         rate = check_finite("sample rate", self.rate)
         if rate.shape != () or rate <= 0.0:
             raise InputError(f"sample rate must be one positive number [Hz], got {self.rate!r}")
-        count = round(float(durations.sum()) * float(rate)) + 1
-        if count > MAX_SAMPLES:
+        period, rate = float(durations.sum()), float(rate)
+        steps = period * rate
+        if steps + 1 > MAX_SAMPLES:
             raise InputError(
-                f"sample rate {float(rate):g} Hz over a {durations.sum():g} s cycle gives "
-                f"{count} samples, more than the {MAX_SAMPLES} allowed"
+                f"sample rate {rate:g} Hz over a {period:g} s cycle gives {steps + 1:.0f} "
+                f"samples, more than the {MAX_SAMPLES} allowed"
+            )
+        # The samples run from 0 to the cycle's end, both included, at one step 1/rate (the
+        # force-rule run integrates with that step): the cycle must hold a whole number of steps,
+        # to round-off (1e-9 relative).
+        whole = max(round(steps), 1)
+        if abs(steps - whole) > 1e-9 * max(steps, 1.0):
+            fitting = ", ".join(
+                f"{n / period:g} Hz" for n in sorted({math.floor(steps) or 1, math.ceil(steps)})
+            )
+            raise InputError(
+                f"sample rate {rate:g} Hz does not divide the {period:g} s cycle into whole "
+                f"steps ({steps:g}): the last sample would miss the cycle's end; use e.g. "
+                f"{fitting}"
             )
         object.__setattr__(self, "durations", tuple(float(d) for d in durations))
-        object.__setattr__(self, "rate", float(rate))
+        object.__setattr__(self, "rate", rate)
         miss = peak_miss_bound(self.rate, min(self.durations))
         if miss > PEAK_TOLERANCE:
             needed = math.ceil(math.pi / math.acos(1.0 - PEAK_TOLERANCE) / min(self.durations))
@@ -93,9 +107,12 @@ class CycleSpec:
         return np.concatenate([[0.0], np.cumsum(self.durations)])
 
     def times(self) -> np.ndarray:
-        """Sample times [s], shape (N,), from 0 to the cycle's end inclusive."""
-        count = int(round(self.boundaries[-1] * self.rate))
-        return np.arange(count + 1) / self.rate
+        """Sample times [s], shape (N,), from 0 to the cycle's end inclusive, one step 1/rate
+        apart (the last one exactly at the end)."""
+        count = round(self.boundaries[-1] * self.rate)
+        t = np.arange(count + 1) / self.rate
+        t[-1] = self.boundaries[-1]  # not a round-off beyond the last stage
+        return t
 
 
 def rest_to_rest(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -8,6 +8,10 @@ from ..device.parameters import FeederParameters, LinkInertia
 from ..exceptions import InputError
 from ..validation import check_number
 
+FACTORS = (1e-3, 1e3)
+"""Accepted range of the retrofit factors: a payload a thousand times heavier, lighter, longer or
+shorter is another device, not a retrofit (and 1e306 overflows the inertias)."""
+
 
 def retrofit(
     params: FeederParameters, mass_factor: float, length_factor: float
@@ -24,13 +28,14 @@ def retrofit(
         length_factor: New length / old length (e.g. 1.15 for +15 %).
 
     Raises:
-        InputError: A factor that is not finite and positive.
+        InputError: A factor that is not finite or outside :data:`FACTORS`.
     """
     mass_factor = check_number("retrofit mass factor", mass_factor)
     length_factor = check_number("retrofit length factor", length_factor)
-    if mass_factor <= 0.0 or length_factor <= 0.0:
+    low, high = FACTORS
+    if not (low <= mass_factor <= high and low <= length_factor <= high):
         raise InputError(
-            "retrofit factors must be positive, got "
+            f"retrofit factors must be positive, within {low:g}…{high:g}, got "
             f"mass ×{mass_factor:g}, length ×{length_factor:g}"
         )
     old = params.payload

@@ -54,6 +54,25 @@ def test_timing_is_stored_as_checked_floats():
     assert largest.times().size == MAX_SAMPLES
 
 
+@pytest.mark.parametrize(
+    "rate, fitting",
+    [(13.7, "13.5 Hz, 13.75 Hz"), (0.9, "0.75 Hz, 1 Hz"), (0.3, "0.25 Hz, 0.5 Hz"),
+     (1e-300, "0.25 Hz"), (1000.2, "1000 Hz, 1000.25 Hz")],
+)  # fmt: skip
+def test_a_rate_that_does_not_fit_the_cycle_is_refused_with_rates_that_do(rate, fitting):
+    """A sample would fall past the cycle's end (or the end would not be sampled): refused,
+    naming the nearest rates that divide the 4 s cycle into whole steps."""
+    with pytest.raises(InputError, match=f"does not divide the 4 s cycle .* use e.g. {fitting}$"):
+        CycleSpec(rate=rate)
+
+
+@pytest.mark.parametrize("rate", [0.25, 13.75, 1000.0])
+def test_the_samples_span_the_cycle_at_one_step(rate):
+    t = CycleSpec(rate=rate).times()
+    assert t[0] == 0.0 and t[-1] == 4.0
+    np.testing.assert_allclose(np.diff(t), 1.0 / rate, rtol=1e-12)
+
+
 def test_rest_to_rest_law_starts_and_ends_at_rest():
     """h goes 0 → 1 monotonically with h′ = h″ = 0 at both ends, and h′, h″ are its derivatives
     (central differences), so every stage starts and ends at rest."""

@@ -30,9 +30,11 @@ def retrofit_feeder(feeder):
     return load_feeder(retrofit(feeder.params, MASS_FACTOR, LENGTH_FACTOR))
 
 
-@pytest.mark.parametrize("factors", [(0.0, 1.1), (-1.2, 1.1), (1.2, 0.0), (1.2, -1.0)])
-def test_non_positive_factor_raises(feeder, factors):
-    with pytest.raises(InputError, match="positive"):
+@pytest.mark.parametrize(
+    "factors", [(0.0, 1.1), (-1.2, 1.1), (1.2, 0.0), (1.2, -1.0), (1e306, 1.0), (1.0, 1e-4)]
+)
+def test_non_positive_or_absurd_factor_raises(feeder, factors):
+    with pytest.raises(InputError, match=r"positive, within 0.001…1000"):
         retrofit(feeder.params, *factors)
 
 

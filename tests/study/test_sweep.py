@@ -78,7 +78,7 @@ def test_sweep_needs_a_list_of_finite_elevations(feeder, bad):
 
 
 def test_sweep_checks_every_elevation_first(feeder):
-    with pytest.raises(ElevationError, match="80.000°"):
+    with pytest.raises(ElevationError, match="elevation 80° is outside"):
         elevation_sweep(feeder, np.radians([10.0, 80.0]))
 
 

@@ -412,8 +412,8 @@ class BaseMotion:
         forward = np.array(self.forward)
         if abs(forward @ up) > PERPENDICULAR:
             raise InputError(
-                f"the base's forward axis {list(self.forward)} must be horizontal (perpendicular "
-                f"to gravity {list(np.asarray(gravity))})"
+                f"the base's forward axis {forward.tolist()} must be horizontal (perpendicular "
+                f"to gravity {(-g * up).tolist()} m/s²)"
             )
         return np.column_stack([forward, np.cross(up, forward), up])
 

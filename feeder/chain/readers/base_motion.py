@@ -204,7 +204,7 @@ def read_base_file(
     """
     path = check_path("the base file", path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
+        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
     if "base" not in document:

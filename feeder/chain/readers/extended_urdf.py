@@ -57,7 +57,7 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
     path = check_path("the closure file", path)
     model = None if model is None else check_path("the model file", model)
     try:
-        document = yaml.safe_load(path.read_text(encoding="utf-8"))
+        document = yaml.safe_load(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{path}: not a readable YAML file: {exc}") from exc
     if not isinstance(document, dict):

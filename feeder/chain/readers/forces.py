@@ -84,7 +84,7 @@ def read_force_file(path: Path) -> tuple[ForceElement, ...]:
     """
     path = check_path("the force file", path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
+        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
     if set(document) - {"force"}:

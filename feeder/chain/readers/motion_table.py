@@ -89,7 +89,7 @@ def read_columns(path: str | Path, what: str) -> tuple[Path, list[str], dict[str
     if not path.is_file():
         raise InputError(f"{what} not found: {path}")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read {what} {path}: {exc}") from exc
     rows = [line.split(",") for line in lines if line.strip()]

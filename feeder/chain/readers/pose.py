@@ -28,7 +28,7 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
     if not path.is_file():
         raise InputError(f"pose file not found: {path}")
     try:
-        lines = [line.strip() for line in path.read_text(encoding="utf-8").splitlines()]
+        lines = [line.strip() for line in path.read_text(encoding="utf-8-sig").splitlines()]
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read the pose file {path}: {exc}") from exc
     rows = [line.split(",") for line in lines if line]

@@ -82,7 +82,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     """
     path = check_path("the closure file", path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
+        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
     unknown = set(document) - {"mechanism", "closure", "force", "base"}

@@ -89,7 +89,7 @@ def read_urdf(path: str | Path) -> str:
     if not path.is_file():
         raise UrdfError(f"URDF file not found: {path}")
     try:
-        return path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise UrdfError(f"cannot read URDF file {path}: {exc}") from exc
 

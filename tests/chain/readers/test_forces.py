@@ -100,3 +100,16 @@ def test_a_mechanism_file_carries_its_forces():
     assert [type(element) for element in spec.forces] == [Spring, Load]
     with pytest.raises(InputError, match="only \\[\\[force\\]\\] tables"):
         read_force_file(REPO / "examples" / "andrews_squeezer" / "squeezer.toml")
+
+
+def test_a_byte_order_mark_is_read_as_nothing(tmp_path):
+    """Spreadsheets save UTF-8 with a byte-order mark: the first column is still 't', and a TOML
+    file with the mark still parses."""
+    (tmp_path / "push.csv").write_text("\ufefft,force\n0,0\n1,5\n", encoding="utf-8")
+    assert read_table(tmp_path / "push.csv", ("force",))(0.5)[0] == pytest.approx(2.5)
+    (tmp_path / "forces.toml").write_text(
+        '\ufeff[[force]]\ntype = "spring"\nframes = ["a", "b"]\nforce_table = "push.csv"\n',
+        encoding="utf-8",
+    )
+    (spring,) = read_force_file(tmp_path / "forces.toml")
+    assert spring.frames == ("a", "b")
