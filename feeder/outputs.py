@@ -49,7 +49,7 @@ def run_record(feeder: Feeder, cycle: CycleKinematics, command: str | None) -> d
         "command": command or "Python API (feeder.outputs)",
         "device": feeder.params.name,
         "parameters_sha256": parameters_sha256(feeder.params),
-        "elevation_deg": math.degrees(cycle.elevation),
+        "elevation_deg": round(math.degrees(cycle.elevation), 12),  # 30, not 29.999999999999996
         "stage_durations_s": list(cycle.spec.durations),
         "sample_rate_hz": cycle.spec.rate,
     }

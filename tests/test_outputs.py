@@ -205,5 +205,5 @@ def test_kinematics_outputs_record_the_run(tmp_path, feeder):
     paths = write_kinematics_outputs(feeder, cycle, tmp_path / "k", command="feeder kinematics")
     record = manifest(tmp_path / "k")
     assert list(record["files"]) == [p.name for p in paths]
-    assert record["device"] == "projectile" and record["elevation_deg"] == pytest.approx(30.0)
+    assert record["device"] == "projectile" and record["elevation_deg"] == 30.0  # as typed
     assert record["sample_rate_hz"] == 100.0 and record["command"] == "feeder kinematics"

@@ -48,7 +48,10 @@ def add(commands: argparse._SubParsersAction) -> None:
         nargs=3,
         type=float,
         metavar=("START", "STOP", "STEP"),
-        help="elevations [deg], STOP included, replacing the grid's (default: -4 70 1)",
+        help=(
+            "elevations [deg], STOP included when it lies on a step, replacing the grid's "
+            "(default: -4 70 1)"
+        ),
     )
     sweep.add_argument(
         "--workers",

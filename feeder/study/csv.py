@@ -15,7 +15,8 @@ def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
     """Write equal-length, finite columns as CSV with a header row, atomically.
 
     SI units; each number as Python's ``repr`` of the float: the shortest text that reads back
-    as the same float (``0.3``, where 17 significant digits write ``0.29999999999999999``).
+    as the same float (``0.3``, where 17 significant digits write ``0.29999999999999999``); a
+    column of integers or truth values (a stage, a flag) as whole numbers (``2``, not ``2.0``).
 
     Args:
         path: File to write (its folder is created).
@@ -37,7 +38,13 @@ def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    rows = "\n".join(",".join(map(repr, row)) for row in table.tolist())
+    whole = [np.asarray(values).dtype.kind in "biu" for values in columns.values()]
+    rows = "\n".join(
+        ",".join(
+            str(int(x)) if integer else repr(x) for x, integer in zip(row, whole, strict=True)
+        )
+        for row in table.tolist()
+    )
     with atomic_path(path) as temporary:
         temporary.write_text(f"{','.join(columns)}\n{rows}\n", encoding="utf-8")
     return path

@@ -3,7 +3,7 @@
 A grid is usually read from a TOML file (:func:`read_grid`); every key is optional::
 
     devices = ["projectile", "charge"]     # built-in devices (default: ["projectile"])
-    elevations = {start = -4, stop = 70, step = 1}   # [deg], stop included (the default)
+    elevations = {start = -4, stop = 70, step = 1}   # [deg], stop included on a step (the default)
     # elevations = [-4, 0, 30, 70]         # or a list [deg]
     rate = 1000.0                          # sample rate [Hz] (default 1000)
     durations = [1.0, 1.0, 2.0]            # stage durations [s] (default 1, 1, 2)
@@ -210,8 +210,9 @@ def _too_many(what: str) -> str:
 def elevation_range(start: float, stop: float, step: float) -> np.ndarray:
     """Elevations [deg] from ``start`` to ``stop`` inclusive in steps of ``step`` (> 0).
 
-    Computed as start + k·step (no accumulated rounding), so whole-degree steps give whole
-    numbers; ``stop`` is included when it lies on the grid within 1e-9 of a step.
+    Computed as start + k·step (no accumulated rounding) and rounded to 1e-12°, so whole-degree
+    steps give whole numbers and 0.1° steps read 0.3, not 0.30000000000000004; ``stop`` is
+    included when it lies on the grid within 1e-9 of a step.
 
     Raises:
         InputError: A bound or step that is not a finite number, a step ≤ 0, stop < start, or
@@ -228,7 +229,7 @@ def elevation_range(start: float, stop: float, step: float) -> np.ndarray:
     count = math.floor((stop - start) / step + 1e-9) + 1
     if count > MAX_CASES:
         raise InputError(_too_many(f"{count} elevations ({start:g}° to {stop:g}° by {step:g}°)"))
-    return start + step * np.arange(count)
+    return np.round(start + step * np.arange(count), 12)
 
 
 @dataclass(frozen=True)

@@ -97,6 +97,16 @@ def test_shortest_text_that_reads_back(tmp_path):
     assert np.signbit(back[3])
 
 
+def test_integer_and_flag_columns_are_whole_numbers(tmp_path):
+    """A stage (1, 2, 3) and a flag (0, 1) read as REFERENCE.md lists them; a float column of
+    whole values stays a float."""
+    columns = {"stage": np.array([1, 2, 3]), "payload": np.array([False, True, True]),
+               "t": np.array([0.0, 1.0, 2.0])}  # fmt: skip
+    path = write_csv(tmp_path / "cycle.csv", columns)
+    assert path.read_text(encoding="utf-8").splitlines()[1:] == ["1,0,0.0", "2,1,1.0", "3,1,2.0"]
+    np.testing.assert_array_equal(read_csv(path)["stage"], [1.0, 2.0, 3.0])
+
+
 def test_refuses_ragged_columns(columns, tmp_path):
     columns["t"] = columns["t"][:-1]
     with pytest.raises(InputError, match="one length"):

@@ -75,6 +75,9 @@ def test_elevation_range_has_whole_numbers_and_includes_the_stop():
     assert values.size == 741 and values[-1] == pytest.approx(70.0, abs=1e-12)
     assert np.all(elevation_range(-4, 70, 1) == np.arange(-4, 71))  # exact, not accumulated
     assert list(elevation_range(10, 10, 5)) == [10.0]
+    # Tenths read as typed: the shortest decimal of each value is k/10 itself.
+    tenths = [repr(float(x)) for x in elevation_range(0, 1, 0.1)]
+    assert tenths == [repr(k / 10) for k in range(11)]
 
 
 @pytest.mark.parametrize(
