@@ -215,6 +215,14 @@ class FeederParameters:
             "projectile": self.payload,
         }
 
+    def _shown(self, name: str) -> str:
+        """``name = value`` for a message: an angle in degrees (under a parameter file's
+        ``_deg`` key), a length in metres."""
+        value = getattr(self, name)
+        if self.__dataclass_fields__[name].metadata.get("unit") == "rad":
+            return f"{name}_deg = {math.degrees(value):.6g}°"
+        return f"{name} = {value!r} m"
+
     def check(self) -> None:
         """Raise unless every number is usable (the travel: :func:`~.loop.check_device`).
 
@@ -264,8 +272,8 @@ class FeederParameters:
         ):
             if not getattr(self, low) < getattr(self, high):
                 raise InputError(
-                    f"parameters {self.name!r}: {low} = {getattr(self, low)!r} must be smaller "
-                    f"than {high} = {getattr(self, high)!r}"
+                    f"parameters {self.name!r}: {self._shown(low)} must be smaller than "
+                    f"{self._shown(high)}"
                 )
         if not self.phi4_limit > 0.0:
             raise InputError(

@@ -42,7 +42,10 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
         try:
             value = float(text)
         except ValueError:
-            value = float("nan")
+            raise InputError(
+                f"{path}, row {number}: the value of {name!r} must be a number [rad or m], got "
+                f"{text!r}"
+            ) from None
         if name in seen:
             raise InputError(f"{path}, row {number}: joint {name!r} given twice")
         seen.add(name)

@@ -17,3 +17,13 @@ def test_a_value_that_is_not_a_number_is_refused(value):
     model = load_closed_chain(REPO / "examples" / "four_bar" / "four_bar.urdf", []).model
     with pytest.raises(InputError, match="pose"):
         pose_from_values([("crank_joint", value, "pose")], model)
+
+
+def test_a_pose_file_value_with_a_unit_is_named(tmp_path):
+    """'40deg' is not read as NaN and then refused as "not finite": the message shows the text."""
+    from feeder.chain import read_pose
+
+    model = load_closed_chain(REPO / "examples" / "four_bar" / "four_bar.urdf", []).model
+    (tmp_path / "pose.csv").write_text("joint,value\ncrank_joint,40deg\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"row 2: the value of 'crank_joint' .* got '40deg'$"):
+        read_pose(tmp_path / "pose.csv", model)
