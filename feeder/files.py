@@ -23,6 +23,10 @@ An output folder (:class:`OutputFolder`) holds the outputs of one run:
   since, or a manifest that names a file it did not write, keeps the file, with a warning). So
   the folder never mixes two runs without its manifest saying so.
 
+An output of one file (``--out FILE``, ``--html FILE``) follows the same rule
+(:func:`check_replaceable`): a new file, or one that the same command wrote, recognised by the
+marker it writes at the file's beginning; any other file is refused, never replaced.
+
 This module imports nothing from feeder but its exceptions and input checks, so every layer
 may use it.
 """
@@ -112,6 +116,44 @@ def write_text(path: str | Path, text: str) -> Path:
     with atomic_path(path) as temporary:
         temporary.write_text(text, encoding="utf-8")
     return path
+
+
+HEAD = 4096
+"""Characters at a file's beginning in which :func:`check_replaceable` looks for a marker."""
+
+
+def check_replaceable(path: str | Path, what: str, ours: str | Callable[[Path], bool]) -> Path:
+    """``path`` if a command may write its one output file there: no file yet, or a file that
+    the same command wrote, which it then replaces (an output folder's rule for one file).
+
+    Args:
+        path: The output file.
+        what: The command's own file, for the message (e.g. "a URDF file that feeder urdf
+            wrote").
+        ours: The marker that the command writes in the first :data:`HEAD` characters of its
+            files, or a test of the existing file.
+
+    Raises:
+        InputError: An empty path, a folder, or a file that is not the command's own: the
+            message names the remedy (another name, or delete the file).
+    """
+    path = check_path("the output file", path)
+    if not (path.exists() or path.is_symlink()):
+        return path
+    if path.is_file() and (ours(path) if callable(ours) else ours in _head(path)):
+        return path
+    raise InputError(
+        f"{path} exists and is not {what}: choose another name, or delete the file first"
+    )
+
+
+def _head(path: Path) -> str:
+    """The first :data:`HEAD` characters of the file ``path`` as text ('' if unreadable)."""
+    try:
+        with path.open(encoding="utf-8", errors="replace") as handle:
+            return handle.read(HEAD)
+    except OSError:
+        return ""
 
 
 @contextlib.contextmanager

@@ -169,6 +169,57 @@ def test_view_command_writes_html(tmp_path, capsys):
     assert "<script" in page.read_text(encoding="utf-8")[:2_000_000]
 
 
+FOREIGN = {"cycle.csv": "t,x\n0,1\n", "README.md": "# feeder\n\nmine\n"}
+"""Files a user owns: a run's table, a copy of a document."""
+
+
+def test_view_html_replaces_only_a_page_it_wrote(tmp_path, capsys):
+    """``--html`` writes a new page or replaces one that feeder view wrote (its marker); a
+    run's cycle.csv or a user's document is refused and left as it was."""
+    for name, text in FOREIGN.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        assert main(["view", "--elevation", "30", "--html", str(tmp_path / name)]) == 2
+        err = capsys.readouterr().err
+        assert "is not an HTML page that feeder view wrote" in err and "another name" in err
+        assert (tmp_path / name).read_text(encoding="utf-8") == text
+    page = tmp_path / "cycle.html"
+    for _ in range(2):
+        assert main(["view", "--elevation", "30", "--html", str(page)]) == 0
+    from feeder.viz.viewer import PAGE_MARKER
+
+    assert PAGE_MARKER in page.read_text(encoding="utf-8")[:4096]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["README.md", "cycle.csv", "cycle.html"]
+
+
+def test_errata_out_replaces_only_a_table_it_wrote(tmp_path, capsys):
+    own = tmp_path / "own.md"
+    own.write_text("mine\n", encoding="utf-8")
+    assert main(["errata", "--out", str(own)]) == 2
+    assert "is not an errata table that feeder errata wrote" in capsys.readouterr().err
+    assert own.read_text(encoding="utf-8") == "mine\n"
+    table = tmp_path / "ERRATA.md"
+    for _ in range(2):
+        assert main(["errata", "--out", str(table)]) == 0
+    assert table.read_text(encoding="utf-8") == (REPO / "ERRATA.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("device", [[], ["--device", "projectile"]])
+def test_urdf_out_replaces_only_urdf_files_it_wrote(tmp_path, capsys, device):
+    """A user's own projectile_feeder.urdf in the folder is refused, and nothing is written;
+    the URDF files that feeder urdf wrote are replaced."""
+    mine = tmp_path / "projectile_feeder.urdf"
+    mine.write_text('<robot name="mine"/>\n', encoding="utf-8")
+    assert main(["urdf", "--out", str(tmp_path), *device]) == 2
+    assert "is not a URDF file that feeder urdf wrote" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["projectile_feeder.urdf"]
+    assert mine.read_text(encoding="utf-8") == '<robot name="mine"/>\n'
+    mine.unlink()
+    for _ in range(2):
+        assert main(["urdf", "--out", str(tmp_path), *device]) == 0
+    shipped = (REPO / "urdf" / "projectile_feeder.urdf").read_text(encoding="utf-8")
+    assert mine.read_text(encoding="utf-8") == shipped
+
+
 def test_published_parameter_table_is_current(capsys):
     assert main(["parameters"]) == 0
     printed = capsys.readouterr().out
@@ -504,13 +555,41 @@ def test_parameters_out_replaces_only_a_table_it_wrote(tmp_path, capsys, heavier
     notes = tmp_path / "notes.md"
     notes.write_text("# Parameters\n\nmine\n", encoding="utf-8")
     edited = heavier_file.read_text(encoding="utf-8")
-    for target, format_ in ((notes, "markdown"), (heavier_file, "toml"), (tmp_path, "toml")):
+    for target, format_ in (
+        (notes, "markdown"),
+        (heavier_file, "toml"),
+        (heavier_file, "markdown"),
+        (tmp_path, "toml"),
+    ):
         capsys.readouterr()
         assert main(["parameters", "--format", format_, "--out", str(target)]) == 2
         err = capsys.readouterr().err
-        assert "is not a parameter table that feeder parameters wrote" in err, err
+        assert "is not a file that feeder parameters wrote" in err, err
+        assert "another name" in err, err
     assert notes.read_text(encoding="utf-8") == "# Parameters\n\nmine\n"
     assert heavier_file.read_text(encoding="utf-8") == edited
+
+
+def test_parameters_out_replaces_an_unedited_parameter_file_it_wrote(
+    tmp_path, capsys, heavier_file
+):
+    """``--format toml --out q.toml`` twice: the second run replaces the file the first wrote
+    (another device's file too); a copy of an edited file, written again, also."""
+    from feeder.device.builtin import CHARGE_FEEDER
+    from feeder.device.parameter_file import parameters_toml
+
+    path = tmp_path / "q.toml"
+    for _ in range(2):
+        assert main(["parameters", "--format", "toml", "--out", str(path)]) == 0
+    assert main(["parameters", "--format", "toml", "--device", "charge", "--out", str(path)]) == 0
+    assert path.read_text(encoding="utf-8") == parameters_toml(CHARGE_FEEDER)
+    assert main(["parameters", "--out", str(path)]) == 0  # the same command, as a table
+    assert path.read_text(encoding="utf-8") == (REPO / "PARAMETERS.md").read_text("utf-8")
+    copy = tmp_path / "copy.toml"
+    for _ in range(2):
+        arguments = ["--format", "toml", "--params", str(heavier_file), "--out", str(copy)]
+        assert main(["parameters", *arguments]) == 0
+    assert copy.read_text(encoding="utf-8") == heavier_file.read_text(encoding="utf-8")
 
 
 def test_urdf_of_one_device(tmp_path):

@@ -22,14 +22,21 @@ def add(commands: argparse._SubParsersAction) -> None:
         action=Once,
         type=path_argument,
         metavar="FILE",
-        help="file to write (default: print)",
+        help="file to write: a new file, or an errata table that feeder errata wrote (replaced); "
+        "any other existing file is refused (default: print)",
     )
     device_options(errata, "projectile")
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the errata table, or write it to a file."""
+    """Print the errata table, or write it: to a new file, or over a table that this command
+    wrote (checked before the table is computed)."""
+    from ..files import check_replaceable
+    from ..paper.errata import ERRATA_MARKER
     from ..study.errata import paper_errata
+
+    if args.out is not None:
+        check_replaceable(args.out, "an errata table that feeder errata wrote", ERRATA_MARKER)
 
     device = (
         params_of(args) if args.params is not None or args.device is not None else "projectile"

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..exceptions import InputError
 from .options import (
     Once,
     add_command,
@@ -24,27 +23,18 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=path_argument,
         default=Path("urdf"),
         metavar="DIR",
-        help="folder to write <device>_feeder.urdf into (default: %(default)s)",
+        help="folder to write <device>_feeder.urdf into: a new file, or over one that feeder urdf "
+        "wrote; any other file of that name is refused (default: %(default)s)",
     )
     device_options(urdf, "every built-in device")
 
 
 def run(args: argparse.Namespace) -> int:
-    """Write the URDF file of the given parameter set, or of every built-in device."""
-    from ..device.urdf_writer import urdf_string, write_urdfs
-    from ..files import path_in, write_text
+    """Write the URDF file of the given parameter set, or of every built-in device: new files,
+    or over URDF files that feeder wrote (never over a user's file)."""
+    from ..device.urdf_writer import write_urdfs
 
-    if args.params is None and args.device is None:
-        paths = write_urdfs(args.out)
-    else:
-        params = params_of(args)
-        text = urdf_string(params)
-        path = path_in(args.out, f"{params.name}_feeder.urdf", "the URDF file")
-        try:
-            args.out.mkdir(parents=True, exist_ok=True)  # as write_urdfs does
-        except OSError as exc:
-            raise InputError(f"cannot write the URDF file into {args.out}: {exc}") from exc
-        paths = [write_text(path, text)]
-    for path in paths:
+    devices = None if args.params is None and args.device is None else [params_of(args)]
+    for path in write_urdfs(args.out, devices):
         print(f"wrote {path}")
     return 0

@@ -64,7 +64,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         action=Once,
         type=path_argument,
         metavar="FILE",
-        help="write a self-contained HTML page (opens offline) instead of serving "
+        help="write a self-contained HTML page (opens offline) instead of serving: a new file, "
+        "or a page that feeder view wrote (replaced); any other existing file is refused "
         "(default: serve until Ctrl-C)",
     )
     view.add_argument(

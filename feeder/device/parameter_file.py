@@ -35,6 +35,9 @@ or ``-``. It names files (``feeder urdf`` writes ``<name>_feeder.urdf``), so it 
 able to name a folder."""
 
 
+TOML_MARKER = "written by `feeder parameters --format toml`"
+"""On the first line of every parameter file that :func:`parameters_toml` writes."""
+
 DIGITS = 1e-12
 """Relative precision [-] to which the file gives each number back: drawings give 3–5 digits,
 and the numbers computed from them (Table I's differences) carry round-off of ~1e-16 that
@@ -62,7 +65,7 @@ def parameters_toml(params: FeederParameters) -> str:
     and writing again gives the same file.
     """
     lines = [
-        f"# Parameters of the {params.name} feeder: written by `feeder parameters --format toml`,",
+        f"# Parameters of the {params.name} feeder: {TOML_MARKER},",
         "# read by `--params FILE` on every feeder command. Edit the numbers, keep every field.",
         "# Units in each comment: m, kg, kg·m², and degrees for the angles (keys ending _deg).",
         "# Link inertia tables: Table I's moments about axes through the centre of gravity,",

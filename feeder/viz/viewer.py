@@ -19,7 +19,8 @@ stage (:mod:`feeder.viz._overlay`).
 Both scenes are drawn by :mod:`feeder.viz.scene`. MeshCat 0.3.2's server listens on every
 interface unless told otherwise; :class:`SceneViewer` starts it here with its web port bound to
 127.0.0.1 (its ZMQ port is on 127.0.0.1 already). The static page (:func:`write_html`) embeds
-MeshCat's JavaScript and the scene: it opens offline.
+MeshCat's JavaScript and the scene: it opens offline. It carries :data:`PAGE_MARKER` in its
+head, and replaces no file but such a page.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from ..chain.model.base import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics
 from ..exceptions import InputError
-from ..files import write_text
+from ..files import check_replaceable, write_text
 from ..motion.cycle import CycleKinematics
 from ..study.view import MechanismView
 from ..validation import check_finite
@@ -49,6 +50,9 @@ from ._overlay import overlay_html, static_page
 from .cycle_scene import draw_cycle
 from .mechanism_scene import draw_mechanism, pick_reactions, visual_model
 from .scene import DrawnScene, ForceSeries
+
+PAGE_MARKER = '<meta name="generator" content="feeder view">'
+"""In the head of every static page of the viewer: the pages it may replace."""
 
 
 class SceneViewer:
@@ -97,7 +101,8 @@ class SceneViewer:
     def static_html(self) -> str:
         """The scene, its animation, legend and player as one self-contained HTML page (opens
         offline)."""
-        return static_page(self.visualizer.viewer.static_html(), self.overlay)
+        page = static_page(self.visualizer.viewer.static_html(), self.overlay)
+        return page.replace("<head>", f"<head>{PAGE_MARKER}", 1)
 
     def serve_forever(self) -> None:
         """Block until the server stops or the user presses Ctrl-C."""
@@ -227,7 +232,8 @@ def write_html(
     A MeshCat server runs on 127.0.0.1 while the page is assembled (on ``port``, or a free one).
 
     Raises:
-        InputError: ``path`` cannot be written, bad force arrays or port number.
+        InputError: ``path`` cannot be written or is a file other than a page of the viewer
+            (:func:`check_writable`), bad force arrays or port number.
         ViewerPortError: The port is busy.
     """
     path = check_writable(path)
@@ -269,7 +275,8 @@ def write_mechanism_html(
     """Write the mechanism's view as a self-contained HTML page (:func:`mechanism_html`).
 
     Raises:
-        InputError: ``path`` cannot be written, a bad reaction or port.
+        InputError: ``path`` cannot be written or is a file other than a page of the viewer
+            (:func:`check_writable`), a bad reaction or port.
     """
     path = check_writable(path)
     return write_text(path, mechanism_html(view, reactions, port=port))
@@ -329,10 +336,9 @@ def check_port(port: int | None) -> int | None:
 
 
 def check_writable(path: str | Path) -> Path:
-    """``path`` as a Path if an HTML file can be written there, else InputError."""
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"cannot write the HTML file {path}: it is a directory")
+    """``path`` as a Path if an HTML page can be written there: a new file, or a page that the
+    viewer wrote (:data:`PAGE_MARKER`); else InputError."""
+    path = check_replaceable(path, "an HTML page that feeder view wrote", PAGE_MARKER)
     if not path.parent.is_dir():
         raise InputError(f"cannot write the HTML file {path}: no directory {path.parent}")
     if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):

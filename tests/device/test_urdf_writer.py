@@ -112,6 +112,19 @@ def test_write_urdfs_into_a_file_is_refused(tmp_path):
         write_urdfs(blocker)
 
 
+def test_write_urdfs_replaces_only_urdf_files_it_wrote(tmp_path):
+    """A user's own URDF under a device's file name is refused before anything is written."""
+    write_urdfs(tmp_path)
+    write_urdfs(tmp_path)  # its own files: replaced
+    mine = tmp_path / "charge_feeder.urdf"
+    mine.write_text('<robot name="mine"/>\n', encoding="utf-8")
+    (tmp_path / "projectile_feeder.urdf").unlink()
+    with pytest.raises(InputError, match="is not a URDF file that feeder urdf wrote"):
+        write_urdfs(tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["charge_feeder.urdf"]
+    assert mine.read_text(encoding="utf-8") == '<robot name="mine"/>\n'
+
+
 def test_generator_checks_the_whole_device_first():
     """No URDF for a parameter set whose arm travel cannot be assembled (check_device)."""
     with pytest.raises(UnreachablePoseError, match="outside the stroke"):

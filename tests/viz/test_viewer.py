@@ -242,6 +242,20 @@ def test_static_page_is_self_contained(feeder, cycle30, tmp_path):
     assert any(c["type"] == "set_animation" for c in decode_commands(html))
 
 
+def test_static_page_replaces_only_a_page_the_viewer_wrote(feeder, cycle30, tmp_path):
+    """The page carries PAGE_MARKER in its head; write_html replaces such a page only."""
+    from feeder.viz.viewer import PAGE_MARKER
+
+    path = write_html(feeder, cycle30, tmp_path / "cycle.html")
+    assert PAGE_MARKER in path.read_text(encoding="utf-8")[:4096]
+    assert write_html(feeder, cycle30, path) == path
+    table = tmp_path / "cycle.csv"
+    table.write_text("t,x\n0,1\n", encoding="utf-8")
+    with pytest.raises(InputError, match="is not an HTML page that feeder view wrote"):
+        write_html(feeder, cycle30, table)
+    assert table.read_text(encoding="utf-8") == "t,x\n0,1\n"
+
+
 def test_animation_spans_the_cycle(commands, viewer, cycle30):
     animated = tracks(commands)
     geometries = viewer.visualizer.visual_model.geometryObjects
