@@ -19,9 +19,11 @@ An output folder (:class:`OutputFolder`) holds the outputs of one run:
   outputs, when, and the SHA-256 of each output. It is written first marked incomplete (listing
   the previous run's files with their hashes), updated as each output lands, and marked complete
   once every output is in place; then the previous run's outputs that this run did not rewrite
-  are removed, each only if its SHA-256 is still the one its manifest recorded (a file changed
-  since, or a manifest that names a file it did not write, keeps the file, with a warning). So
-  the folder never mixes two runs without its manifest saying so.
+  are removed, each only if its SHA-256 is still the one its manifest recorded. A folder whose
+  earlier output changed since (or whose manifest names a file it did not write) is refused
+  before the run, as the run could write over it; a resumable folder keeps such a file, with a
+  warning. So the folder never mixes two runs without its manifest saying so, and an edit is
+  never lost.
 
 An output of one file (``--out FILE``, ``--html FILE``) follows the same rule
 (:func:`check_replaceable`): a new file, or one that the same command wrote, recognised by the
@@ -244,8 +246,9 @@ class OutputFolder:
             the folder it created).
 
     Raises:
-        InputError: An empty path, a path that is a file or lies under one, or a folder that
-            holds files but no feeder manifest (or a manifest that cannot be read).
+        InputError: An empty path, a path that is a file or lies under one, a folder that holds
+            files but no feeder manifest (or a manifest that cannot be read), or (not
+            resumable) an earlier output changed since its run.
     """
 
     def __init__(self, path: str | Path, resumable: bool = False):
@@ -404,6 +407,18 @@ class OutputFolder:
                 f"the manifest {manifest} lists files outside its folder: {list(files)}; "
                 "choose a new or empty folder"
             )
+        if not self.resumable:  # a resumable run checks its own rows
+            changed = [
+                name
+                for name, recorded in files.items()
+                if (self.path / name).is_file() and _sha256(self.path / name) != recorded
+            ]
+            if changed:
+                raise InputError(
+                    f"the output folder {self.path} holds {', '.join(sorted(changed))}, changed "
+                    "since the run that wrote it (or not feeder's): this run could overwrite "
+                    "it; move it away, or choose a new folder"
+                )
         return files
 
     def _write_manifest(self, files: Mapping[str, str | None]) -> None:

@@ -95,6 +95,19 @@ def test_a_rate_that_misses_the_cycle_end_is_refused(tmp_path, capsys, rate):
     assert not (tmp_path / "run").exists()
 
 
+def test_a_rerun_does_not_overwrite_an_edited_table(tmp_path, capsys):
+    """README: earlier outputs are replaced only if unchanged. An edited cycle.csv refuses the
+    next run into that folder before it computes, and keeps the edit."""
+    argv = ["cycle", "--elevation", "30", "--rate", "100", "--no-forward", "--no-figures"]
+    out = tmp_path / "run"
+    assert main([*argv, "--out", str(out)]) == 0
+    (out / "cycle.csv").write_text("my edited table\n", encoding="utf-8")
+    capsys.readouterr()
+    assert main([*argv, "--out", str(out)]) == 2
+    assert "cycle.csv, changed since the run that wrote it" in capsys.readouterr().err
+    assert (out / "cycle.csv").read_text(encoding="utf-8") == "my edited table\n"
+
+
 def test_unknown_device_is_an_argparse_error(tmp_path):
     with pytest.raises(SystemExit) as info:
         main(["kinematics", "--elevation", "0", "--out", str(tmp_path), "--device", "mortar"])

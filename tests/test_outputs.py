@@ -129,9 +129,9 @@ def test_an_interrupted_write_is_marked_incomplete_and_cleaned_up_next_time(tmp_
     assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST, "z"]
 
 
-def test_a_file_whose_hash_does_not_match_its_manifest_is_kept(tmp_path):
-    """A forged manifest (a user's file under a wrong SHA-256, or none), or an output the user
-    changed since: the next run keeps the file, with a warning, and removes only its own."""
+def _forged_folder(tmp_path):
+    """A run's folder where the user edited output b since, and a forged manifest lists the
+    user's own files (under a wrong SHA-256, or none)."""
     with OutputFolder(tmp_path) as out:
         out.write(writers(a="old", b="old"), RECORD)
     (tmp_path / "b").write_text("edited by the user")
@@ -140,7 +140,24 @@ def test_a_file_whose_hash_does_not_match_its_manifest_is_kept(tmp_path):
     forged = manifest(tmp_path)
     forged["files"] |= {"thesis.tex": "0" * 64, "notes.txt": None}
     (tmp_path / MANIFEST).write_text(json.dumps(forged))
-    with pytest.warns(FeederWarning) as caught, OutputFolder(tmp_path) as out:
+    return sorted(p.name for p in tmp_path.iterdir())
+
+
+def test_a_folder_with_an_edited_output_is_refused_before_the_run(tmp_path):
+    """An output changed since its run (the same name would be written over), or a forged
+    manifest: refused before anything is computed, naming the files; nothing is touched."""
+    before = _forged_folder(tmp_path)
+    with pytest.raises(InputError, match=r"holds b, notes.txt, thesis.tex, changed since"):
+        OutputFolder(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert (tmp_path / "b").read_text() == "edited by the user"
+
+
+def test_a_resumable_run_keeps_a_file_whose_hash_does_not_match_its_manifest(tmp_path):
+    """The sweep's folder (it checks its own rows): the next run keeps such files, with a
+    warning, and removes only its own."""
+    _forged_folder(tmp_path)
+    with pytest.warns(FeederWarning) as caught, OutputFolder(tmp_path, resumable=True) as out:
         out.write(writers(z="new"), RECORD)
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "b",
