@@ -21,8 +21,10 @@ def parameter_table(params: FeederParameters) -> list[tuple[str, str, str, str]]
                 rows.append((f"{f_.name}.I{axis}{axis}", f"{moment:g}", "kg·m²", value.source))
         elif isinstance(value, float):
             unit = f_.metadata["unit"]
-            shown = f"{math.degrees(value):g}°" if unit == "rad" else f"{value:g}"
-            rows.append((f_.name, shown, unit, f_.metadata["source"]))
+            if unit == "rad":  # shown in degrees, the unit a parameter file takes (_deg keys)
+                rows.append((f_.name, f"{math.degrees(value):g}", "°", f_.metadata["source"]))
+            else:
+                rows.append((f_.name, f"{value:g}", unit, f_.metadata["source"]))
     return rows
 
 
@@ -48,8 +50,8 @@ def parameters_markdown(
     lines = [
         title,
         "",
-        f"{made} SI units (angles shown in degrees). Source: “Table I” of the "
-        "paper, an equation, or “assumed” with the reason. Table I's moments are about axes "
+        f"{made} SI units, angles in degrees (radians in the Python API). Source: “Table I” of "
+        "the paper, an equation, or “assumed” with the reason. Table I's moments are about axes "
         "through each centre of gravity, here in the link frame (see "
         "`feeder/device/parameters.py`).",
     ]

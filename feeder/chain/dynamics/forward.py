@@ -58,6 +58,10 @@ RTOL, ATOL = 1e-8, 1e-10
 """Default relative and absolute tolerances of the integrator (per step, on q [rad, m], q̇ and
 the work [J])."""
 
+SMALLEST_RTOL = 100.0 * float(np.finfo(float).eps)
+"""Smallest accepted rtol (≈ 2.2e-14): SciPy's integrators raise a smaller one to this, with a
+warning only, and the run's record would then claim a tolerance it was not run at."""
+
 DRIFT_TOLERANCE = 1e-10
 """Default closure residual [m, rad] above which an accepted step is projected back onto the
 constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
@@ -228,7 +232,7 @@ def simulate(
         q0, v0: Initial state (nq,), (nv,), closed (e.g. Partition.mount / velocity).
         actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), or None.
         method: One of :data:`METHODS`.
-        rtol, atol: The integrator's tolerances (> 0).
+        rtol, atol: The integrator's tolerances (> 0; rtol ≥ :data:`SMALLEST_RTOL`).
         rate: Baumgarte rate ω [1/s] (≥ 0; 0 turns the corrector off).
         drift_tolerance: Closure residual [m, rad] that triggers a projection (> 0).
         max_step: Longest step [s] (> 0).
@@ -256,6 +260,11 @@ def simulate(
     for name, value in (("rtol", rtol), ("atol", atol), ("drift_tolerance", drift_tolerance)):
         if not check_number(name, value) > 0.0:
             raise InputError(f"{name} must be > 0, got {value!r}")
+    if rtol < SMALLEST_RTOL:
+        raise InputError(
+            f"rtol {rtol:g} is below what double precision can meet ({SMALLEST_RTOL:.1e}, "
+            "100 × the machine epsilon, where SciPy's integrators would raise it silently)"
+        )
     if not check_number("Baumgarte rate [1/s]", rate) >= 0.0:
         raise InputError(f"the Baumgarte rate must be ≥ 0 [1/s], got {rate!r}")
     if not (isinstance(max_step, int | float) and max_step > 0.0):  # inf: no limit

@@ -147,7 +147,12 @@ class Terrain:
 
     def __post_init__(self):
         for name in ("heave", "pitch", "roll", "pitch_phase", "roll_phase"):
-            check_number(f"terrain {name}", getattr(self, name))
+            value = check_number(f"terrain {name}", getattr(self, name))
+            if name in ("heave", "pitch", "roll") and value < 0.0:
+                raise InputError(
+                    f"terrain {name} is an amplitude, ≥ 0, got {value:g}: the phases give the "
+                    "signs (pitch_phase, roll_phase)"
+                )
         if not check_number("terrain frequency [Hz]", self.frequency) > 0.0:
             raise InputError(f"terrain frequency must be positive, got {self.frequency} Hz")
 

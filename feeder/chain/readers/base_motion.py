@@ -84,6 +84,8 @@ def parse_profile(text: str) -> HullProfile:
         key, equals, value = item.partition("=")
         if not equals:
             raise InputError(f"base profile {text!r}: parameters are key=value, got {item!r}")
+        if key.strip() in values:
+            raise InputError(f"base profile {text!r}: {key.strip()} is given twice")
         try:
             values[key.strip()] = float(value)
         except ValueError:

@@ -152,9 +152,9 @@ def check_urdf(xml: str, source: str = "<string>") -> etree._Element:
 
 
 def _check_numbers(root: etree._Element, source: str) -> None:
-    """Every origin, axis and joint limit must be finite numbers, and the axis of a moving joint
-    a direction: Pinocchio would otherwise drop the element, zero a mass or build a non-rotation
-    silently."""
+    """Every origin, axis and joint limit must be finite numbers, a joint's lower limit not above
+    its upper, and the axis of a moving joint a direction: Pinocchio would otherwise drop the
+    element, zero a mass or build a non-rotation silently."""
     for owner in (*root.findall("link"), *root.findall("joint")):
         where = f"{source}: {owner.tag} {owner.get('name')!r}"
         for origin in owner.iter("origin"):
@@ -172,6 +172,12 @@ def _check_numbers(root: etree._Element, source: str) -> None:
             for attribute in ("lower", "upper", "effort", "velocity"):
                 if limit.get(attribute) is not None:
                     _floats(limit, attribute, 1, f"{where}, limit")
+            if limit.get("lower") is not None and limit.get("upper") is not None:
+                lower, upper = (float(limit.get(key)) for key in ("lower", "upper"))
+                if lower > upper:
+                    raise UrdfError(
+                        f"{where}: limit lower={lower:g} is above upper={upper:g}: swap them"
+                    )
 
 
 def _check_inertial(link: etree._Element, source: str) -> None:

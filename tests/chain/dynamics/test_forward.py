@@ -235,6 +235,8 @@ def test_refusals(four_bar):
         simulate(dyn, t, q0, np.zeros(3), method="Euler")
     with pytest.raises(InputError, match="rtol"):
         simulate(dyn, t, q0, np.zeros(3), rtol=0.0)
+    with pytest.raises(InputError, match="rtol 1e-20 is below what double precision can meet"):
+        simulate(dyn, t, q0, np.zeros(3), rtol=1e-20)  # SciPy would run at 2.2e-14 instead
     short = Table(np.array([0.0, 0.05]), np.zeros((2, 6)), source="short.csv")
     loaded = ChainDynamics(chain, ["crank_joint"], elements=[Load("coupler_tip", table=short)])
     with pytest.raises(InputError, match="short.csv covers"):

@@ -80,6 +80,8 @@ def test_profiles_from_the_command_line():
         ("bump:peak", "key=value"),
         ("bump:peak=big", "number"),
         ("recoil:damping=1.5", "damping"),
+        ("terrain:heave=-1", "heave is an amplitude, ≥ 0, got -1"),
+        ("terrain:heave=0.1,heave=0.2", "heave is given twice"),
     ]:
         with pytest.raises(InputError, match=match):
             parse_profile(text)

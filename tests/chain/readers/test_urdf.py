@@ -85,6 +85,7 @@ def test_non_physical_inertia_names_the_link(tmp_path, urdf_text, old, new, link
         ('<origin xyz="0.18 0.0 0.0"', '<origin xyz="0.18 0.0"', "3 finite numbers"),
         ('<axis xyz="0.0 0.0 1.0" />', '<axis xyz="0.0 0.0 inf" />', "axis"),
         ('lower="0.2304"', 'lower="low"', "limit"),
+        ('lower="0.2304"', 'lower="0.6"', "lower=0.6 is above upper=0.5283: swap them"),
     ],
 )
 def test_non_finite_origins_axes_and_limits(tmp_path, urdf_text, old, new, message):
