@@ -47,7 +47,16 @@ class UnreachablePoseError(FeederError):
 
 
 class SingularPoseError(FeederError):
-    """The pose is at or too near a singularity (toggle) for a meaningful answer."""
+    """The pose is at or too near a singularity (toggle) for a meaningful answer.
+
+    Attributes:
+        sample: Index of the sample of a motion at or near the singular pose, when the error is
+            about one sample of a motion (else None), so that a caller can name its time.
+    """
+
+    def __init__(self, message: str, sample: int | None = None):
+        super().__init__(message)
+        self.sample = sample
 
 
 class ForwardDivergenceError(FeederError):

@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 
+from feeder.chain import read_spec
 from feeder.cli import main, parser
 from feeder.device.parameter_file import DIGITS
 from feeder.study.csv import read_csv
@@ -709,6 +710,53 @@ def test_simulate_runs_the_squeezer_from_its_two_files(tmp_path, capsys):
     for name in ("motion.png", "energy_balance.png", "force_elements.png"):
         assert (out / name).stat().st_size > 10_000
     assert "wrote" in capsys.readouterr().out
+
+
+def test_a_cad_export_without_its_meshes_is_run_and_drawn(tmp_path, capsys):
+    """Battobot's export ships no STL files: ``simulate`` and ``analyze`` write their tables,
+    figures and report page (the bodies a stick figure), and the terminal gets one warning line
+    naming the missing meshes — no error after the computation, no matplotlib warning."""
+    cad = REPO / "examples" / "cad" / "battobot_6d"
+    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml")]
+    run = tmp_path / "run"
+    extra = ["--duration", "0.02", "--samples", "5", "--out", str(run)]
+    assert main(["simulate", *arguments, *extra]) == 0
+    states = read_csv(run / "states.csv")
+    assert states["t"].size == 5
+    motion = ["t"] + [f"q_{name}" for name in read_spec(cad / "robot.yaml").independent]
+    rows = np.column_stack([states[name] for name in motion])  # the run's motion, analysed
+    lines = [",".join(motion), *(",".join(f"{x:.17g}" for x in row) for row in rows)]
+    (tmp_path / "motion.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    loads = tmp_path / "loads"
+    extra = ["--motion", str(tmp_path / "motion.csv"), "--out", str(loads)]
+    assert main(["analyze", *arguments, *extra]) == 0
+    err = capsys.readouterr().err
+    ours = [line for line in err.splitlines() if line.startswith("feeder:")]
+    assert len(ours) == 2, err  # one warning per command
+    for line in ours:
+        assert line.startswith("feeder: warning:") and "35 mesh file(s) not found" in line
+        assert "package:///hip_z_axis_transmission.stl" in line
+    assert "UserWarning" not in err  # matplotlib's "Tight layout not applied" among them
+    for folder in (run, loads):
+        page = (folder / "report.html").read_text(encoding="utf-8")
+        assert "bodies as a stick figure (their mesh files are not found)" in page
+        assert (folder / "joint_reactions.png").stat().st_size > 10_000
+
+
+def test_simulate_into_a_dead_centre_names_the_time_to_stop_before(tmp_path, capsys):
+    """The released delta reaches a dead centre at t ≈ 0.050 s: ``--duration 0.05`` stops where
+    its loads can no longer be computed (t = 0.0429 s) and says to end the run before it — once
+    an error without a time, after the whole run — and the duration it names runs."""
+    cad = REPO / "examples" / "cad" / "robot_delta"
+    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml")]
+    out = ["--out", str(tmp_path / "delta")]
+    assert main(["simulate", *arguments, "--duration", "0.05", "--samples", "5", *out]) == 2
+    err = capsys.readouterr().err
+    assert "singular pose" in err and "at t = 0.0429" in err and "Traceback" not in err
+    before = err.split("end the run before t = ")[1].split(" s")[0]
+    assert not (tmp_path / "delta").exists()
+    assert main(["simulate", *arguments, "--duration", before, "--samples", "5", *out]) == 0
+    assert read_csv(tmp_path / "delta" / "states.csv")["t"][-1] == float(before)
 
 
 @pytest.mark.parametrize(

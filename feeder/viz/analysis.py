@@ -7,6 +7,9 @@ caller's."""
 
 from __future__ import annotations
 
+import dataclasses
+import math
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -33,6 +36,25 @@ PANEL_HEIGHT = 2.6
 
 NOTE_HEIGHT = 0.6
 """Height of a panel left out for its note [in]."""
+
+FIGURE_WIDTH = 8.0
+"""Width of a figure with one legend column [in]."""
+
+LEGEND_ROWS = 16
+"""Most legend entries in one column beside a panel (a mechanism with many joints has dozens of
+curves in a panel); more take further columns, each widening the figure by
+:data:`LEGEND_COLUMN`."""
+
+LEGEND_COLUMN = 2.4
+"""Width added to the figure per legend column beyond the first [in]."""
+
+LEGEND_LINE = 0.19
+"""Height of one line of a legend at font size 8, spacing included [in]; a panel is made tall
+enough for its legend's tallest column."""
+
+LEGEND_WRAP = 40
+"""Longest line of a legend entry [characters]: longer labels (curves named together,
+``a = b = … = 0``) are wrapped onto more lines."""
 
 MIN_REACH = 1e-3
 """Smallest mechanism size [m] taken for the moments' round-off level (a mechanism whose frames
@@ -71,14 +93,23 @@ class Panel:
 def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
     """``panels`` one above the other against the times ``t`` [s], sharing the time axis: its
     label and tick labels under the lowest drawn panel; a panel whose curves are all zero is a
-    note (:func:`~feeder.viz.axes.leave_out`)."""
-    curves = [panel.curves() for panel in panels]
+    note (:func:`~feeder.viz.axes.leave_out`). Each drawn panel's legend stands beside it, in
+    columns of at most :data:`LEGEND_ROWS` entries, the panel as tall as the legend; matplotlib's
+    constrained layout makes room for the legends and labels."""
+    curves = [[_wrapped(curve) for curve in panel.curves()] for panel in panels]
     drawn = [not all(curve.zero for curve in panel) for panel in curves]
-    heights = [PANEL_HEIGHT if shown else NOTE_HEIGHT for shown in drawn]
-    fig = Figure(figsize=(8.0, sum(heights) + 0.5))
+    columns = [math.ceil(len(panel) / LEGEND_ROWS) for panel in curves]
+    heights = [
+        max(PANEL_HEIGHT, _legend_height(panel, n)) if shown else NOTE_HEIGHT
+        for panel, n, shown in zip(curves, columns, drawn, strict=True)
+    ]
+    width = FIGURE_WIDTH + LEGEND_COLUMN * (max(columns, default=1) - 1)
+    fig = Figure(figsize=(width, sum(heights) + 0.5), layout="constrained")
     grid = {"height_ratios": heights}
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False, gridspec_kw=grid)[:, 0]
-    for ax, panel, panel_curves, shown in zip(axes, panels, curves, drawn, strict=True):
+    for ax, panel, panel_curves, n, shown in zip(
+        axes, panels, curves, columns, drawn, strict=True
+    ):
         if not shown:
             leave_out(ax, zero_note(panel.title, panel_curves, panel.unit))
             continue
@@ -90,14 +121,29 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         ax.set_ylabel(panel.ylabel)
         ax.set_title(panel.title, fontsize=10)
         ax.grid(True, linewidth=0.4, alpha=0.6)
-        ax.legend(loc="best", fontsize=8)
+        ax.legend(
+            loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, ncols=n
+        )
     lowest = [ax for ax, shown in zip(axes, drawn, strict=True) if shown]
     if lowest:
         lowest[-1].xaxis.set_tick_params(labelbottom=True)
         lowest[-1].set_xlabel("time t [s]")
     label_ticks(fig)
-    fig.tight_layout()
     return fig
+
+
+def _wrapped(curve: Curve) -> Curve:
+    """``curve`` with its label wrapped to lines of at most :data:`LEGEND_WRAP` characters."""
+    label = textwrap.fill(curve.label, LEGEND_WRAP, break_on_hyphens=False)
+    return dataclasses.replace(curve, label=label)
+
+
+def _legend_height(curves: Sequence[Curve], columns: int) -> float:
+    """Height [in] of a legend of ``curves`` in ``columns`` columns (split as matplotlib splits
+    them): its tallest column's lines times :data:`LEGEND_LINE`, and a margin."""
+    lines = np.array([curve.label.count("\n") + 1 for curve in curves], dtype=int)
+    tallest = max((int(part.sum()) for part in np.array_split(lines, max(columns, 1))), default=0)
+    return tallest * LEGEND_LINE + 0.4
 
 
 def _unit(analysis: Analysis, joint: str) -> str:

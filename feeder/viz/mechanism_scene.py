@@ -3,9 +3,11 @@ its bodies, its closure cuts and its load arrows, animated over its motion.
 
 Bodies: the URDF's visuals — meshes (STL, DAE, OBJ; ``package://``, ``file://`` and relative
 paths resolved beside the model, :func:`~feeder.chain.readers.urdf.mesh_path`) or primitives —
-with their materials' colours. A model without visuals (an MJCF or SDF file, or a URDF whose
-links have none) is drawn as a stick figure: a ball at every joint and a rod from each joint to
-its children's joints and to the closure frames on its body.
+with their materials' colours. A visual whose mesh file is not found is left out, with one
+warning naming the missing files (the loads need no meshes; the legend names the bodies left
+out). A model without visuals (an MJCF or SDF file, a URDF whose links have none, or none of
+whose mesh files are found) is drawn as a stick figure: a ball at every joint and a rod from each
+joint to its children's joints and to the closure frames on its body.
 
 Arrows, from the loads table of :class:`~feeder.study.view.MechanismView`: each actuated
 joint's drive load at the joint's origin (a prismatic joint's force along its axis; a revolute
@@ -23,7 +25,9 @@ every arrow's vector is in the model's moving axes (the mount's from its
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
+from pathlib import Path
 
 import meshcat.geometry as mg
 import numpy as np
@@ -33,7 +37,7 @@ from pinocchio.visualize import MeshcatVisualizer
 
 from ..chain.kinematics.joints import joint_axes, kind_of
 from ..chain.readers.urdf import mesh_path
-from ..exceptions import InputError
+from ..exceptions import FeederWarning, InputError, UrdfError
 from ..study.view import MechanismView
 from .scene import (
     BASE,
@@ -74,23 +78,51 @@ the largest load (condition numbers up to ~1e3 on the shipped mechanisms)."""
 _LEGEND_NAMES = 4  # links named in one legend entry before "and k more"
 
 
-def visual_model(view: MechanismView) -> tuple[pin.GeometryModel, str]:
-    """The bodies to draw and what they are: the URDF's visuals (meshes resolved beside the
-    model) or, without any, a stick figure.
-
-    Raises:
-        UrdfError: A mesh file that is not found (named, with where it was looked for).
-    """
+def visual_model(view: MechanismView) -> tuple[pin.GeometryModel, str, tuple[str, ...]]:
+    """The bodies to draw, what they are, and the links whose visuals are left out: the URDF's
+    visuals (meshes resolved beside the model; a visual whose mesh file is not found left out,
+    with a :class:`~feeder.exceptions.FeederWarning` naming the files) or, without any, a stick
+    figure."""
     model, path = view.chain.model, view.spec.model
+    left_out: tuple[str, ...] = ()
     if view.spec.model_format == "urdf":
         root = etree.parse(str(path)).getroot()
-        for mesh in root.iter("mesh"):
-            mesh.set("filename", str(mesh_path(mesh.get("filename"), path).resolve()))
+        missing, left_out = _resolve_meshes(root, path)
+        if missing:
+            warnings.warn(
+                f"{path}: {len(missing)} mesh file(s) not found beside the model, their visuals "
+                f"not drawn (the loads need no meshes): {', '.join(missing)}",
+                FeederWarning,
+                stacklevel=2,
+            )
         xml = etree.tostring(root, encoding="unicode")
         visuals = pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL)
         if visuals.ngeoms:
-            return visuals, "visuals"
-    return _stick_figure(view), "stick figure"
+            return visuals, "visuals", left_out
+    return _stick_figure(view), "stick figure", left_out
+
+
+def _resolve_meshes(root: etree._Element, urdf: Path) -> tuple[list[str], tuple[str, ...]]:
+    """Point every ``<mesh>`` of the URDF ``root`` at its file's absolute path
+    (:func:`~feeder.chain.readers.urdf.mesh_path`) and remove each ``<visual>`` or
+    ``<collision>`` whose mesh file is not found; return the URIs of the visuals' missing
+    files and the links whose visuals were removed, each once, in the file's order."""
+    missing: dict[str, None] = {}
+    links: dict[str, None] = {}
+    for mesh in list(root.iter("mesh")):
+        uri = mesh.get("filename")
+        try:
+            mesh.set("filename", str(mesh_path(uri, urdf).resolve()))
+        except UrdfError:
+            owner = next(mesh.iterancestors("visual", "collision"), None)
+            if owner is None:  # not a body's shape: Pinocchio reads no other mesh
+                continue
+            link = owner.getparent()
+            link.remove(owner)
+            if owner.tag == "visual":
+                missing[uri] = None
+                links[link.get("name")] = None
+    return list(missing), tuple(links)
 
 
 def _stick_figure(view: MechanismView) -> pin.GeometryModel:
@@ -136,14 +168,18 @@ def _stick_figure(view: MechanismView) -> pin.GeometryModel:
     return geometry
 
 
-def _body_legend(model: pin.Model, visuals: pin.GeometryModel, kind: str) -> list[LegendEntry]:
-    """One entry per colour drawn, naming the links of that colour."""
+def _body_legend(
+    model: pin.Model, visuals: pin.GeometryModel, kind: str, left_out: Sequence[str] = ()
+) -> list[LegendEntry]:
+    """One entry per colour drawn, naming the links of that colour, and a note naming the links
+    ``left_out`` (their mesh files not found)."""
     if kind == "stick figure":
+        why = "their mesh files are not found" if left_out else "the model has no visuals"
         return [
             LegendEntry(
                 material_css(_STICK_COLOR),
                 "body",
-                "bodies as a stick figure (the model has no visuals): a ball at each joint",
+                f"bodies as a stick figure ({why}): a ball at each joint",
             )
         ]
     links: dict[str, list[str]] = {}
@@ -155,14 +191,24 @@ def _body_legend(model: pin.Model, visuals: pin.GeometryModel, kind: str) -> lis
             links[color].append(name)
     entries = []
     for color, names in links.items():
-        shown = ", ".join(names[:_LEGEND_NAMES])
-        if len(names) > _LEGEND_NAMES:
-            shown += f" and {len(names) - _LEGEND_NAMES} more"
+        shown = _names(names)
         if color == "own":
             entries.append(LegendEntry("#ffffff", "body", f"{shown} (the mesh's own colours)"))
         else:
             entries.append(LegendEntry(color, "body", shown))
+    if left_out:
+        entries.append(
+            LegendEntry("", "note", f"not drawn (mesh files not found): {_names(left_out)}")
+        )
     return entries
+
+
+def _names(names: Sequence[str]) -> str:
+    """The first :data:`_LEGEND_NAMES` of ``names`` and how many more."""
+    shown = ", ".join(names[:_LEGEND_NAMES])
+    if len(names) > _LEGEND_NAMES:
+        shown += f" and {len(names) - _LEGEND_NAMES} more"
+    return shown
 
 
 def reaction_peaks(view: MechanismView) -> dict[str, float]:
@@ -252,11 +298,16 @@ def _cut_tracks(vis, view: MechanismView, joints: np.ndarray, radius: float) -> 
 
 
 def draw_mechanism(
-    viz: MeshcatVisualizer, view: MechanismView, kind: str, reactions: list[str]
+    viz: MeshcatVisualizer,
+    view: MechanismView,
+    kind: str,
+    reactions: list[str],
+    left_out: Sequence[str] = (),
 ) -> DrawnScene:
     """Draw and animate the mechanism's view in ``viz`` (its visual model loaded from
-    :func:`visual_model`, of ``kind``) with the reactions of ``reactions`` (picked by
-    :func:`pick_reactions`); return the scales and the legend."""
+    :func:`visual_model`, of ``kind``, the visuals of the links ``left_out`` not found) with the
+    reactions of ``reactions`` (picked by :func:`pick_reactions`); return the scales and the
+    legend."""
     vis = viz.viewer
     viz.loadViewerModel(rootNodeName=BODIES)
     model = view.chain.model
@@ -274,7 +325,7 @@ def draw_mechanism(
         vis, view.t, tracks, points, reach, arrows, up, base=base_placements(view.base)
     )
     triad = "axes" if view.base is None else "level axes (the base at rest)"
-    legend = [*_body_legend(model, viz.visual_model, kind)]
+    legend = [*_body_legend(model, viz.visual_model, kind, left_out)]
     if view.chain.closures:
         cuts = ", ".join(closure.label for closure in view.chain.closures)
         legend.append(LegendEntry(css(_CUT_COLOR), "body", f"closure cuts: {cuts}"))

@@ -165,8 +165,10 @@ class MechanismViewer(SceneViewer):
 
     Raises:
         InputError: A picked reaction that is not in the view's table; a bad port.
-        UrdfError: A mesh file that is not found.
         ViewerPortError: The port is busy.
+
+    Warns:
+        FeederWarning: Mesh files that are not found (their visuals are not drawn).
     """
 
     def __init__(
@@ -177,14 +179,12 @@ class MechanismViewer(SceneViewer):
         port: int | None = None,
     ):
         picked = pick_reactions(view, reactions)  # refused before a server starts
-        visuals, kind = visual_model(view)
+        visuals, kind, left_out = visual_model(view)
         title = f"{view.spec.model.name}: {view.source}"
         if view.base is not None:
             title += f"; {view.spec.base.describe()}"
-        super().__init__(
-            view.chain.model, visuals,
-            partial(draw_mechanism, view=view, kind=kind, reactions=picked), title, port,
-        )  # fmt: skip
+        draw = partial(draw_mechanism, view=view, kind=kind, reactions=picked, left_out=left_out)
+        super().__init__(view.chain.model, visuals, draw, title, port)
 
 
 def show_cycle(

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import struct
+import warnings
 
 import numpy as np
 import pytest
@@ -22,7 +23,7 @@ from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
 from feeder.study.simulate import simulate_mechanism
 from feeder.study.sweep import elevation_sweep
-from feeder.viz.analysis import analysis_figures, simulation_figures
+from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
 from feeder.viz.axes import ROUND_OFF, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
 from feeder.viz.report import (
@@ -240,6 +241,32 @@ def test_the_velocity_gain_axis_shows_decades(example):
 def test_only_the_lowest_panel_writes_the_time(example):
     fig = analysis_figures(example)["actuator_loads.png"]
     assert [ax.get_xlabel() for ax in fig.axes] == ["", "time t [s]"]
+
+
+def test_many_curves_keep_their_legends_inside_the_figure_beside_their_panels():
+    """A mechanism with dozens of joints (battobot's 30 reactions, 18 joint rates): each panel's
+    legend, its round-off group's long label wrapped, lies inside the figure, clear of every
+    panel and of the other legend, and the layout needs no warning (tight_layout gave "Tight
+    layout not applied" and legends that covered the panels and left the figure)."""
+    t = np.linspace(0.0, 1.0, 11)
+    many = tuple((f"joint_{k:02d}_of_a_long_leg", (k + 1.0) * (1.0 + t)) for k in range(30))
+    zeros = tuple((f"spherical_joint_{k}", 1e-20 * t) for k in range(8))  # one round-off curve
+    panels = [
+        Panel("Forces", "|force| [N]", "N", many),
+        Panel("Moments", "|moment| [N·m]", "N·m", many[:17] + zeros, scale=100.0),
+    ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = drawn(stacked_figure(t, panels))
+    axes = [ax.get_window_extent() for ax in fig.axes]
+    legends = [ax.get_legend().get_window_extent() for ax in fig.axes]
+    assert [len(ax.get_legend().get_texts()) for ax in fig.axes] == [30, 18]
+    for k, legend in enumerate(legends):
+        assert fig.bbox.containsx(legend.x0) and fig.bbox.containsx(legend.x1), k
+        assert fig.bbox.containsy(legend.y0) and fig.bbox.containsy(legend.y1), k
+        assert not any(legend.overlaps(box) for box in axes), k
+    assert not legends[0].overlaps(legends[1])
+    assert broken_rules(fig) == []
 
 
 def test_forward_run_figures_follow_the_rules(released_four_bar):

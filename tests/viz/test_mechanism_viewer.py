@@ -19,7 +19,7 @@ from lxml import etree
 
 from feeder.chain import read_spec
 from feeder.cli import main
-from feeder.exceptions import InputError, UrdfError
+from feeder.exceptions import FeederWarning, InputError
 from feeder.outputs import write_analysis_outputs
 from feeder.study.analyze import analyze, joint_columns, q_from_columns
 from feeder.study.view import analysis_view, pose_view, run_view
@@ -210,16 +210,38 @@ def test_run_folder_shows_the_run(four_bar, tmp_path):
         run_view(FOUR_BAR / "closures.toml", tmp_path / "nowhere")
 
 
-def test_bad_reaction_and_missing_mesh(tmp_path):
+def test_bad_reaction_is_refused():
     view = pose_view(FOUR_BAR / "closures.toml")
     with pytest.raises(InputError, match="no reaction of joint"):
         MechanismViewer(view, ["no_such_joint"])
+
+
+def test_a_missing_mesh_is_left_out_with_a_warning(tmp_path):
+    """The loads need no meshes: a visual whose mesh file is not found is not drawn (the crank's
+    here; the coupler and rocker are), one warning names the file and the legend the body (a
+    missing collision mesh is not drawn anyway: left out silently); with every mesh missing the
+    bodies are a stick figure that says why."""
     urdf = (FOUR_BAR / "four_bar.urdf").read_text(encoding="utf-8")
-    broken = urdf.replace("<box ", '<mesh filename="package://four_bar/missing.stl"/><box ', 1)
-    (tmp_path / "four_bar.urdf").write_text(broken, encoding="utf-8")
-    shutil.copy(FOUR_BAR / "closures.toml", tmp_path / "closures.toml")
-    with pytest.raises(UrdfError, match="missing.stl"):
-        MechanismViewer(pose_view(tmp_path / "closures.toml"))
+    crank_box = '<box size="0.04 0.02 0.01"/>'
+    broken = urdf.replace(crank_box, '<mesh filename="package://four_bar/missing.stl"/>', 1)
+    collision = '<collision><geometry><mesh filename="collision.stl"/></geometry></collision>'
+    broken = broken.replace("</visual>", f"</visual>{collision}", 2)
+    with pytest.warns(FeederWarning, match=r"1 mesh file\(s\) not found") as caught:
+        page = mechanism_html(pose_view(_four_bar_copy(tmp_path, broken)))
+    (message,) = [str(w.message) for w in caught if w.category is FeederWarning]
+    assert message.endswith(": package://four_bar/missing.stl")
+    visuals = [
+        c["path"].rsplit("/", 1)[1]
+        for c in decode_commands(page)
+        if c["type"] == "set_object" and "/mechanism/visuals/" in c["path"]
+    ]
+    assert sorted(name.split("_")[0] for name in visuals) == ["coupler", "rocker"]
+    assert "not drawn (mesh files not found): crank" in page
+    boxes = iter(range(3))
+    meshes_only = re.sub(r"<box [^>]*/>", lambda _: f'<mesh filename="m{next(boxes)}.stl"/>', urdf)
+    with pytest.warns(FeederWarning, match=r"3 mesh file\(s\) .*: m0.stl, m1.stl, m2.stl$"):
+        page = mechanism_html(pose_view(_four_bar_copy(tmp_path, meshes_only)))
+    assert "bodies as a stick figure (their mesh files are not found)" in page
 
 
 def test_server_is_on_loopback_and_silent(capfd):

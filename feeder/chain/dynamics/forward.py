@@ -19,9 +19,15 @@ or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time w
 Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
 constraints (minimum-norm Newton over every coordinate, then J q̇ = 0) whenever an accepted step
 leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
-integrator then restarts from the projected state). The work of the non-conservative forces
-(drives, dampers, pushes, pressures, loads) is integrated with the state, so the energy balance
-E(t) − E(t₀) = W(t) checks the run to the integrator's tolerance.
+integrator then restarts from the projected state). Singular poses: after every accepted step
+the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.inverse.load_gain`) is
+checked against :data:`~.inverse.MAX_FORCE_GAIN`, the most the inverse dynamics of the samples
+accept: a run that passes it (a toggle, a dead centre ahead, where the closure forces grow
+without bound and the steps shrink) stops there with an :class:`IntegrationError` naming the
+time, rather than crawl through the pose and have its samples refused after the whole run.
+The work of the non-conservative forces (drives, dampers, pushes, pressures, loads) is
+integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
+integrator's tolerance.
 
 Results: every output sample is projected onto the constraints (the drift before the projection
 is reported), its accelerations evaluated, and the inverse dynamics of the sampled motion give the
@@ -44,7 +50,14 @@ from ...validation import check_finite, check_number
 from ..assembly.newton import POSITION_TOLERANCE, RANK_TOLERANCE, newton
 from ..assembly.rank import truncated_inverse
 from ..kinematics.joints import ConfigurationRate, angle_columns, angular_difference
-from .inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from .inverse import (
+    MAX_FORCE_GAIN,
+    ChainDynamics,
+    ChainLoads,
+    inverse_dynamics,
+    load_gain,
+    load_rank,
+)
 
 BAUMGARTE_RATE = 20.0
 """Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
@@ -84,7 +97,8 @@ Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 
 class IntegrationError(FeederError):
     """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
-    unbounded acceleration), or the forces became NaN."""
+    unbounded acceleration), the run reached a singular pose where its loads cannot be computed,
+    or the forces became NaN."""
 
 
 @dataclass(frozen=True)
@@ -242,7 +256,8 @@ def simulate(
             force table that does not cover the run, actuation values that are not finite, a
             chain on a moving or tilted base (:class:`ChainDynamics` with a base).
         UnreachablePoseError: An initial configuration that does not close the loops.
-        IntegrationError: The integrator failed (a singular pose, unbounded accelerations).
+        IntegrationError: The integrator failed (unbounded accelerations), or the run reached
+            a singular pose (module docstring); the message names the time.
     """
     chain = dyn.chain
     if dyn.base is not None:
@@ -301,6 +316,9 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
     states = np.empty((t.size, y0.size))
     states[0] = y0
     k, steps, projections = 1, 0, 0
+    rank = load_rank(equations.dyn, y0[:nq])
+    if load_gain(equations.dyn, y0[:nq], rank) > MAX_FORCE_GAIN:
+        raise _singular(equations, rank, t[0], t[0], lambda _: y0)
     solver = start(t[0], y0, None)
     while k < t.size:
         if steps >= MAX_STEPS:
@@ -313,6 +331,8 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
                 f"{message} — the mechanism is at or near a singular pose (a toggle), or its "
                 "equations are stiff (try method='Radau')"
             )
+        if load_gain(equations.dyn, solver.y[:nq], rank) > MAX_FORCE_GAIN:
+            raise _singular(equations, rank, solver.t_old, solver.t, solver.dense_output())
         if t[k] <= solver.t:  # the step passed output times: its dense output gives them
             dense = solver.dense_output()
             while k < t.size and t[k] <= solver.t:
@@ -328,6 +348,35 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
             projections += 1
             solver = start(solver.t, y, min(solver.step_size, t[-1] - solver.t))
     return states, steps, projections
+
+
+def _singular(
+    equations, rank: int, start: float, end: float, state: Callable[[float], np.ndarray]
+) -> IntegrationError:
+    """The error of a run that reaches a singular pose in its step from ``start`` to ``end``
+    [s] (``state``: the step's state at a time, its dense output; ``start == end``: at the
+    start of the run): the loads' equations there have a condition number above
+    :data:`~feeder.chain.dynamics.inverse.MAX_FORCE_GAIN`, which
+    :func:`~feeder.chain.dynamics.inverse.inverse_dynamics` would refuse at an output sample
+    after the whole run (and near which the run itself crawls: the constraint forces grow
+    without bound). The time it is passed is found to 1/1024 of the step by bisection."""
+    dyn, nq = equations.dyn, equations.nq
+    if end > start:
+        for _ in range(10):
+            middle = 0.5 * (start + end)
+            if load_gain(dyn, state(middle)[:nq], rank) > MAX_FORCE_GAIN:
+                end = middle
+            else:
+                start = middle
+    kind = "singular pose (toggle, dead centre)"
+    where, remedy = f"reaches a {kind} at t = {end:.6g} s", f"end the run before t = {start:.6g} s"
+    if end == start:
+        where, remedy = f"starts at or near a {kind}", "start it from another pose"
+    return IntegrationError(
+        f"the mechanism {where}: the condition number of the equations of its loads passes "
+        f"{MAX_FORCE_GAIN:g} there, the limit of their solve (the closure forces and drive "
+        f"loads grow without bound near it); {remedy}"
+    )
 
 
 def _project(equations, y: np.ndarray) -> np.ndarray:
@@ -365,7 +414,14 @@ def _results(equations, t, states, steps, projections) -> ForwardRun:
     a = np.array([equations.accelerations(x, y, z)[0] for x, y, z in zip(t, q, v, strict=True)])
     try:
         loads = inverse_dynamics(dyn, q, v, a, t=t)
-    except (InputError, SingularPoseError) as exc:
+    except SingularPoseError as exc:
+        if exc.sample is None:
+            raise IntegrationError(f"the run's loads cannot be computed: {exc}") from exc
+        raise IntegrationError(
+            f"the run's loads cannot be computed at t = {t[exc.sample]:.6g} s: {exc}; end the "
+            f"run before t = {t[exc.sample]:.6g} s"
+        ) from exc
+    except InputError as exc:
         raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
     data = equations.data
     pairs = zip(q, v, strict=True)

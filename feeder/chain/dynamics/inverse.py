@@ -35,6 +35,7 @@ Newton–Euler passes take the absolute one (:func:`~feeder.chain.kinematics.tre
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -360,13 +361,42 @@ def solve_loads(
     model = dyn.chain.model
     force, moment = joint_wrenches(model, motion, external)
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
-    n, nc = tree.shape[0], rows.jacobian.shape[1]
     n_act = len(dyn.columns)
-    system = np.zeros((n, model.nv, n_act + nc))
-    system[:, dyn.columns, np.arange(n_act)] = 1.0
-    system[:, :, n_act:] = np.swapaxes(rows.jacobian, 1, 2) * dyn.row_scale
+    system = load_equations(dyn, rows.jacobian)
     solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels())
     return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale, indeterminate
+
+
+def load_equations(dyn: ChainDynamics, jacobian: np.ndarray) -> np.ndarray:
+    """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
+    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
+    rows' Jacobians J (N, nc, nv)."""
+    n, nc, nv = jacobian.shape
+    n_act = len(dyn.columns)
+    system = np.zeros((n, nv, n_act + nc))
+    system[:, dyn.columns, np.arange(n_act)] = 1.0
+    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * dyn.row_scale
+    return system
+
+
+def load_rank(dyn: ChainDynamics, q: np.ndarray) -> int:
+    """The rank the loads' equations have at a closed pose q (nq,) away from singular poses:
+    the actuated joints' count plus the closure rows' rank there, at most nv (as
+    :func:`inverse_dynamics` expects of every sample)."""
+    rank = np.linalg.matrix_rank(dyn.chain.jacobian(q)) if dyn.chain.nc else 0
+    return min(dyn.chain.model.nv, len(dyn.columns) + int(rank))
+
+
+def load_gain(dyn: ChainDynamics, q: np.ndarray, rank: int) -> float:
+    """Condition number of the loads' equations at the pose q (nq,): the largest singular value
+    of :func:`load_equations` over its ``rank``-th (:func:`load_rank`; infinite where the rank
+    has dropped, 1 with no unknown). :func:`inverse_dynamics` refuses a sample above
+    :data:`MAX_FORCE_GAIN`."""
+    if rank == 0:
+        return 1.0
+    system = load_equations(dyn, dyn.chain.jacobian(q)[None])[0]
+    s = np.linalg.svd(system, compute_uv=False)
+    return float(s[0] / s[rank - 1]) if s[rank - 1] > RANK_TOLERANCE * s[0] else math.inf
 
 
 def _solve(
@@ -392,8 +422,8 @@ def _solve(
     detailed = ~fast | checked
     structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
-    exact, null = _solve_svd(system[detailed], rhs[detailed], n_act, expected)
     indices = np.flatnonzero(detailed)
+    exact, null = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices)
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
     indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
     return solution, indeterminate
@@ -429,12 +459,12 @@ def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
 
 
 def _solve_svd(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, expected: int
+    system: np.ndarray, rhs: np.ndarray, n_act: int, expected: int, samples: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The singular-value path of :func:`_solve` on some samples: the checks (singular
-    actuation, consistency, determined actuator loads), the minimum-norm solutions and which
-    unknowns a null-space direction involves (nx,) bool. ``expected``: the rank the actuators
-    and the closure rows can give."""
+    """The singular-value path of :func:`_solve` on some samples (their indices in the motion:
+    ``samples``, for the messages): the checks (singular actuation, consistency, determined
+    actuator loads), the minimum-norm solutions and which unknowns a null-space direction
+    involves (nx,) bool. ``expected``: the rank the actuators and the closure rows can give."""
     u, s, vt = np.linalg.svd(system, full_matrices=True)
     scale = np.maximum(s[:, :1], 1e-300)
     rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
@@ -443,12 +473,19 @@ def _solve_svd(
     smallest = s[np.arange(s.shape[0]), np.maximum(rank - 1, 0)]
     gain = s[:, 0] / np.maximum(smallest, 1e-300)
     worst = int(np.argmax(gain))
-    if gain[worst] > MAX_FORCE_GAIN or np.any(rank < expected):
-        i = worst if gain[worst] > MAX_FORCE_GAIN else int(np.argmax(rank < expected))
+    refused = (gain > MAX_FORCE_GAIN) | (rank < expected)
+    if np.any(refused):
+        i = int(np.argmax(refused))  # the first sample refused
+        why = (
+            f"condition number {gain[i]:.3g} > {MAX_FORCE_GAIN:g}"
+            if rank[i] >= expected
+            else "the equations lose rank: the actuated joints lose their hold on the motion"
+        )
         raise SingularPoseError(
-            f"a sample is at or near a singular pose (toggle, dead centre) of the actuation: "
-            f"the loads are unbounded there (condition number {gain[i]:.3g} > "
-            f"{MAX_FORCE_GAIN:g}, or the actuated joints lose their hold on the motion)"
+            f"sample {samples[i]} is at or near a singular pose (toggle, dead centre) of the "
+            f"mechanism or its actuation: the loads are unbounded there "
+            f"({why}; the worst sample: {samples[worst]}, condition number {gain[worst]:.3g})",
+            sample=int(samples[i]),
         )
     k = min(system.shape[1:])
     projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)

@@ -5,6 +5,7 @@ reproducing their motion, and the refusals."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pinocchio as pin
@@ -13,8 +14,15 @@ import scipy.interpolate
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
+from feeder.chain.dynamics import forward
 from feeder.chain.dynamics.forward import IntegrationError, _Equations, simulate
-from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.inverse import (
+    MAX_FORCE_GAIN,
+    ChainDynamics,
+    inverse_dynamics,
+    load_gain,
+    load_rank,
+)
 from feeder.chain.model.forces import JointSpring, Load, Spring, Table
 from feeder.exceptions import InputError
 
@@ -268,3 +276,59 @@ def test_projecting_every_step_keeps_the_run(four_bar):
     # both follow the same motion to the integrator's tolerance (rtol 1e-8 on ~1 rad)
     np.testing.assert_allclose(projected.q, plain.q, atol=1e-6)
     assert projected.energy_error() <= ENERGY
+
+
+DELTA = REPO / "examples" / "cad" / "robot_delta"
+
+
+@pytest.fixture(scope="module")
+def delta():
+    """The planar delta robot of the CAD exports, at rest at its assembled pose, undriven."""
+    from feeder.study.analyze import mount_mechanism
+
+    spec, chain, _, _, q0 = mount_mechanism(DELTA / "robot.yaml", DELTA / "robot.urdf", None)
+    return ChainDynamics(chain, spec.actuated), q0
+
+
+def _rod3_angle(chain, q: np.ndarray) -> float:
+    """The angle [rad] between the two links of the delta's third rod (free1_rod3 → free2_rod3
+    → closedloop1_A, the elbow of rod 2), in the plane of motion (y, z): zero at its dead
+    centre, where they line up."""
+    model, data = chain.model, chain.model.createData()
+    pin.forwardKinematics(model, data, q)
+    names = ("free1_rod3", "free2_rod3", "closedloop1_A")
+    a, b, c = (data.oMi[model.getJointId(name)].translation[1:] for name in names)
+    u, w = b - a, c - b
+    return math.atan2(u[0] * w[1] - u[1] * w[0], u @ w)
+
+
+def test_a_run_into_a_dead_centre_stops_there_naming_the_time(delta):
+    """Released, the delta falls until the two links of its third rod line up (20° apart at
+    rest, a dead centre at t ≈ 0.050 s). Its loads' condition number passes MAX_FORCE_GAIN a few
+    degrees before: the run stops there, naming the time (it used to go on, crawl through the
+    dead centre in 69 308 steps losing 78 % of its kinetic energy in a projection, and end with
+    its samples refused, without a time); a run that ends before that time is exact."""
+    dyn, q0 = delta
+    zero = np.zeros(dyn.chain.model.nv)
+    with pytest.raises(IntegrationError, match=r"singular pose .* at t = 0\.04") as caught:
+        simulate(dyn, np.linspace(0.0, 0.06, 5), q0, zero)
+    message = str(caught.value)
+    before = float(re.search(r"end the run before t = ([0-9.]+) s", message).group(1))
+    stop = float(re.search(r"at t = ([0-9.]+) s", message).group(1))
+    assert 0.0 < stop - before < 1e-5  # the crossing, to 1/1024 of a step (~1.5 ms)
+    run = simulate(dyn, np.linspace(0.0, before, 5), q0, zero)
+    # the integrator's tolerance (rtol 1e-8) with room; measured 3.5e-13 of the kinetic energy
+    assert run.energy_error() <= 1e-9 * run.kinetic.max()
+    rank = load_rank(dyn, q0)
+    assert load_gain(dyn, run.q[-1], rank) <= MAX_FORCE_GAIN
+    angles = [abs(_rod3_angle(dyn.chain, q)) for q in (q0, run.q[-1])]
+    assert math.radians(19.0) < angles[0] and math.radians(3.0) < angles[1] < math.radians(8.0)
+
+
+def test_samples_refused_after_the_run_are_named_by_their_time(delta, monkeypatch):
+    """Where the check after every step passes and an output sample's loads are still refused
+    (here: the check turned off), the error names the sample's time."""
+    dyn, q0 = delta
+    monkeypatch.setattr(forward, "load_gain", lambda *args: 1.0)
+    with pytest.raises(IntegrationError, match=r"loads cannot be computed at t = 0\.045 s"):
+        simulate(dyn, np.linspace(0.0, 0.045, 10), q0, np.zeros(dyn.chain.model.nv))

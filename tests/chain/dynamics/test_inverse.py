@@ -17,7 +17,14 @@ import pytest
 
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
-from feeder.chain.dynamics.inverse import ChainDynamics, _shortcut, inverse_dynamics
+from feeder.chain.dynamics.inverse import (
+    MAX_FORCE_GAIN,
+    ChainDynamics,
+    _shortcut,
+    inverse_dynamics,
+    load_gain,
+    load_rank,
+)
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
@@ -240,6 +247,39 @@ def test_near_a_dead_centre_the_loads_are_refused(four_bar):
     for inside in (1e-7, 1e-9):
         q = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + inside]))
         with pytest.raises(SingularPoseError, match="singular pose"):
+            inverse_dynamics(dyn, q[None], still, still)
+    # in a motion, the error names the first sample refused, for the caller to give its time
+    near = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + 1e-7]))
+    motion = np.array([far, far, near, near])
+    with pytest.raises(SingularPoseError, match=r"^sample 2 is at or near") as caught:
+        inverse_dynamics(dyn, motion, np.zeros((4, 3)), np.zeros((4, 3)))
+    assert caught.value.sample == 2
+
+
+def test_the_gain_of_one_pose_is_the_one_the_loads_check():
+    """load_gain (a forward run's check after every step) is the condition number the load
+    solve refuses above MAX_FORCE_GAIN: below it at a pose the loads are given, above it near
+    the rocker-driven dead centre they are refused."""
+    chain = _gravity(
+        load_closed_chain(FOUR_BAR, [Closure("coupler_tip", "rocker_tip", "revolute")])
+    )
+    a, b, c, d = 0.040, 0.120, 0.080, 0.100
+    theta2 = math.acos(((a + b) ** 2 + d**2 - c**2) / (2 * (a + b) * d))
+    theta4 = math.atan2((a + b) * math.sin(theta2), (a + b) * math.cos(theta2) - d)
+    rocker = Partition(chain, ["rocker_joint"], max_gain=1e12)
+    dyn = ChainDynamics(chain, ["rocker_joint"])
+    far = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + 0.1]))
+    rank = load_rank(dyn, far)
+    assert rank == 3  # one drive and two independent rows of the planar revolute cut
+    still = np.zeros((1, 3))
+    for inside, refused in ((0.1, False), (1e-3, False), (1e-7, True)):
+        q = rocker.assemble(np.array([theta2 - 0.01, 0.01, theta4 + inside]))
+        gain = load_gain(dyn, q, rank)
+        assert (gain > MAX_FORCE_GAIN) == refused, (inside, gain)
+        if refused:
+            with pytest.raises(SingularPoseError):
+                inverse_dynamics(dyn, q[None], still, still)
+        else:
             inverse_dynamics(dyn, q[None], still, still)
 
 
