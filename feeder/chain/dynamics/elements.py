@@ -101,7 +101,10 @@ class BoundElements:
         """Whether a force varies in time (a table or a function of t)."""
         self.data = model.createData()
         self.model, self.nv = model, model.nv
-        self.moving = bool(self.loads) or any(line.moving_ends for line in self.lines)
+        self.moving_lines = [line for line in self.lines if line.moving_ends]
+        """The line elements with an end on a moving body (one between two ground frames
+        gives no generalized force and does no work)."""
+        self.moving = bool(self.loads) or bool(self.moving_lines)
         """Whether an element needs the kinematics (a line with an end on a moving body, a
         load)."""
 
@@ -126,7 +129,7 @@ class BoundElements:
         power = 0.0
         if self.moving:
             pin.computeJointJacobians(model, data, q)
-        for line in self.lines:
+        for line in self.moving_lines:
             gap = line.fixed_gap
             for frame, sign in line.moving_ends:
                 gap = gap + sign * pin.updateFramePlacement(model, data, frame).translation

@@ -95,6 +95,12 @@ class HullProfile(Protocol):
     def describe(self) -> str: ...
 
 
+def _check_positive(what: str, value: float, unit: str) -> None:
+    """Raise :class:`InputError` unless ``value`` [unit] is a finite number > 0."""
+    if not check_number(f"{what} [{unit}]", value) > 0.0:
+        raise InputError(f"{what} must be positive, got {value} {unit}")
+
+
 @dataclass(frozen=True)
 class Slope:
     """The hull standing still on a slope: constant pitch and roll [rad] (module docstring's
@@ -153,8 +159,7 @@ class Terrain:
                     f"terrain {name} is an amplitude, ≥ 0, got {value:g}: the phases give the "
                     "signs (pitch_phase, roll_phase)"
                 )
-        if not check_number("terrain frequency [Hz]", self.frequency) > 0.0:
-            raise InputError(f"terrain frequency must be positive, got {self.frequency} Hz")
+        _check_positive("terrain frequency", self.frequency, "Hz")
 
     def channels(self, t: np.ndarray) -> Channels:
         w = 2.0 * math.pi * self.frequency
@@ -198,8 +203,7 @@ class Bump:
     def __post_init__(self):
         check_number("bump peak [m/s²]", self.peak)
         check_number("bump start [s]", self.start)
-        if not check_number("bump duration [s]", self.duration) > 0.0:
-            raise InputError(f"bump duration must be positive, got {self.duration} s")
+        _check_positive("bump duration", self.duration, "s")
 
     def channels(self, t: np.ndarray) -> Channels:
         w = math.pi / self.duration
@@ -244,8 +248,7 @@ class Recoil:
     def __post_init__(self):
         check_number("recoil amplitude [rad]", self.amplitude)
         check_number("recoil start [s]", self.start)
-        if not check_number("recoil frequency [Hz]", self.frequency) > 0.0:
-            raise InputError(f"recoil frequency must be positive, got {self.frequency} Hz")
+        _check_positive("recoil frequency", self.frequency, "Hz")
         if not 0.0 <= check_number("recoil damping", self.damping) < 1.0:
             raise InputError(f"recoil damping ratio must be in [0, 1), got {self.damping}")
 

@@ -22,6 +22,7 @@ from feeder.chain.model.forces import Load, Spring
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError
 
+from ..model.test_base import Tumble
 from .test_inverse import FOUR_BAR, _gravity, _motion
 
 ROUND_OFF = 1e-12
@@ -169,24 +170,14 @@ def test_zero_slope_changes_nothing():
     assert np.array_equal(sloped.mount.level_force, standing.mount.level_force)
 
 
-class _Tumble:
-    def channels(self, t):
-        w = np.array([1.1, 2.3, 1.9, 1.3, 0.8, 1.6])
-        amplitude = np.array([0.02, 0.03, 0.05, 0.08, -0.1, 0.4])
-        phase = w * t[:, None]
-        return Channels(
-            amplitude * np.sin(phase),
-            amplitude * w * np.cos(phase),
-            -amplitude * w**2 * np.sin(phase),
-        )
-
-    def describe(self):
-        return "tumble"
+TUMBLE = Tumble(
+    w=(1.1, 2.3, 1.9, 1.3, 0.8, 1.6), amplitude=(0.02, 0.03, 0.05, 0.08, -0.1, 0.4), offset=0.0
+)
 
 
 @pytest.mark.parametrize(
     "profiles",
-    [(Slope(0.1, 0.25),), (Terrain(),), (Recoil(start=0.2), Slope(-0.05, 0.1)), (_Tumble(),)],
+    [(Slope(0.1, 0.25),), (Terrain(),), (Recoil(start=0.2), Slope(-0.05, 0.1)), (TUMBLE,)],
     ids=["slope", "terrain", "recoil-on-slope", "tumble"],
 )
 def test_mount_is_the_rate_of_momentum_less_gravity_and_loads(profiles):

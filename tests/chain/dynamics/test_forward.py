@@ -332,3 +332,26 @@ def test_samples_refused_after_the_run_are_named_by_their_time(delta, monkeypatc
     monkeypatch.setattr(forward, "load_gain", lambda *args: 1.0)
     with pytest.raises(IntegrationError, match=r"loads cannot be computed at t = 0\.045 s"):
         simulate(dyn, np.linspace(0.0, 0.045, 10), q0, np.zeros(dyn.chain.model.nv))
+
+
+def test_a_spring_between_two_ground_frames_changes_nothing(tmp_path):
+    """Both ends on the ground: no generalized force, no work, so the run is the run without it
+    (the right-hand side once failed on such a line, its dℓ/dq having no moving end)."""
+    text = (REPO / "examples" / "four_bar" / "four_bar.urdf").read_text(encoding="utf-8")
+    anchor = (
+        '<link name="ground"/>\n  <link name="anchor"/>\n'
+        '  <joint name="anchor_joint" type="fixed"><origin xyz="0.3 0 0"/>'
+        '<parent link="ground"/><child link="anchor"/></joint>'
+    )
+    (tmp_path / "four_bar.urdf").write_text(text.replace('<link name="ground"/>', anchor, 1))
+    chain = load_closed_chain(
+        tmp_path / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
+    )
+    chain.model.gravity = pin.Motion(np.array([0.0, -9.81, 0.0]), np.zeros(3))
+    q0 = Partition(chain, ["crank_joint"]).assemble(np.array([math.radians(40.0), -0.35, 1.0]))
+    t = np.linspace(0.0, 0.1, 6)
+    spring = Spring(("ground", "anchor"), stiffness=10.0, rest_length=0.5, damping=1.0)
+    alone = simulate(ChainDynamics(chain, ["crank_joint"]), t, q0, np.zeros(3))
+    run = simulate(ChainDynamics(chain, ["crank_joint"], elements=[spring]), t, q0, np.zeros(3))
+    np.testing.assert_array_equal(run.q, alone.q)
+    assert np.abs(run.work).max() == 0.0

@@ -5,6 +5,7 @@ rotation, and the refusals."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -63,13 +64,18 @@ def test_bump_leaves_with_the_pulse_velocity():
     )
 
 
-class _Tumble:
-    """All three angles moving at once, with the translations."""
+@dataclass(frozen=True)
+class Tumble:
+    """A profile of six sinusoids, all three angles moving at once with the translations:
+    channel k = amplitude[k] sin(w[k] t + offset k)."""
+
+    w: tuple[float, ...] = (1.3, 2.1, 0.7, 1.7, 2.9, 0.9)
+    amplitude: tuple[float, ...] = (0.1, -0.2, 0.05, 0.6, -0.4, 1.1)
+    offset: float = 0.3
 
     def channels(self, t):
-        w = np.array([1.3, 2.1, 0.7, 1.7, 2.9, 0.9])
-        amplitude = np.array([0.1, -0.2, 0.05, 0.6, -0.4, 1.1])
-        phase = w * t[:, None] + np.arange(6) * 0.3
+        w, amplitude = np.array(self.w), np.array(self.amplitude)
+        phase = w * t[:, None] + np.arange(6) * self.offset
         return Channels(
             amplitude * np.sin(phase),
             amplitude * w * np.cos(phase),
@@ -82,7 +88,7 @@ class _Tumble:
 
 def test_attitude_rates_against_the_rotation():
     """Rᵀ Ṙ = [ω]× (vehicle axes) and α = dω/dt, both by central differences."""
-    tumble = _Tumble()
+    tumble = Tumble()
     t = np.linspace(0.0, 3.0, 7)
     rotation, omega, alpha = attitude(tumble.channels(t))
     assert np.abs(np.swapaxes(rotation, 1, 2) @ rotation - np.eye(3)).max() <= 1e-15
