@@ -23,13 +23,9 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
-import multiprocessing
-import os
-import signal
-import threading
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import urlsplit
@@ -44,6 +40,7 @@ from ..exceptions import InputError
 from ..files import OutputFolder, Writer
 from ..motion.laws import CycleSpec
 from ..validation import check_elevation, check_finite
+from ..workers import check_workers, local_workers, process_pool
 from .columns import COLUMNS
 from .grid import SweepCase, SweepGrid, make_grid, read_grid
 from .peaks import cycle_peaks
@@ -127,59 +124,6 @@ def _run_batch(cases: list[SweepCase]) -> list[Row]:
     return [case_peaks(case) for case in cases]
 
 
-def local_workers() -> int:
-    """The cores this process may run on."""
-    if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 1
-
-
-def _worker_signals() -> None:
-    """In a worker: leave Ctrl-C to the parent (a terminal sends SIGINT to the whole process
-    group; the parent cancels the batches and the worker ends after its own), let SIGTERM end it
-    at once (a forked worker inherits the command line's SIGTERM handler, meant for the parent
-    only), then take the signals that :func:`_interrupts_held` kept back during the fork."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-
-
-@contextlib.contextmanager
-def _interrupts_held() -> Iterator[None]:
-    """SIGINT held back (blocked, not lost) in this thread while the block runs: a pool forks
-    its workers at the first submit, and a Ctrl-C inside a child before
-    :func:`_worker_signals` runs would raise there (``Exception ignored in: <function
-    _releaseLock>``). The parent takes it when the block ends; the workers ignore it."""
-    if not hasattr(signal, "pthread_sigmask"):  # Windows: no fork, nothing to hold
-        yield
-        return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
-def _process_pool(workers: int) -> ProcessPoolExecutor:
-    """A process pool whose workers start from this process' memory where that is safe.
-
-    ``fork`` (Linux) gives workers that have Pinocchio and the package loaded already; it is
-    used only while this process has a single thread (forking a threaded process can deadlock
-    the child, e.g. in a Jupyter kernel). Otherwise ``forkserver``, with this module preloaded
-    once in the server, or ``spawn`` where neither exists (Windows).
-    """
-    methods = multiprocessing.get_all_start_methods()
-    if "fork" in methods and threading.active_count() == 1:
-        context = multiprocessing.get_context("fork")
-    elif "forkserver" in methods:
-        context = multiprocessing.get_context("forkserver")
-        context.set_forkserver_preload([__name__])
-    else:
-        context = multiprocessing.get_context("spawn")
-    return ProcessPoolExecutor(workers, mp_context=context, initializer=_worker_signals)
-
-
 def check_scheduler(address: str) -> str:
     """A Dask scheduler address ``tcp://HOST:PORT`` (or ``tls://``), else :class:`InputError`."""
     parts = urlsplit(address) if isinstance(address, str) else None
@@ -229,13 +173,11 @@ def sweep_executor(
         finally:
             client.close()
         return
-    count = local_workers() if workers is None else workers
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise InputError(f"workers must be a whole number ≥ 1, got {workers!r}")
+    count = local_workers() if workers is None else check_workers("workers", workers)
     if count == 1:
         yield None, 1
         return
-    pool = _process_pool(count)
+    pool = process_pool(count, preload=[__name__])
     stopped = True
     try:
         yield pool, count
@@ -268,11 +210,8 @@ def run_cases(
     size = max(1, min(MAX_BATCH, math.ceil(len(cases) / (slots * BATCHES_PER_WORKER))))
     futures: list[Future] = []
     try:
-        # Submit before the bar exists: a pool forks at the first submit, and tqdm starts a
-        # thread. Each future is kept as it is made, so that a Ctrl-C meanwhile cancels them.
-        with _interrupts_held():
-            futures.append(executor.submit(_run_batch, list(cases[:size])))
-        for k in range(size, len(cases), size):
+        # Each future is kept as it is made, so that a Ctrl-C meanwhile cancels them.
+        for k in range(0, len(cases), size):
             futures.append(executor.submit(_run_batch, list(cases[k : k + size])))
         with tqdm(total=len(cases), desc="sweep", unit="case", disable=quiet) as bar:
             for future in as_completed(futures):

@@ -12,10 +12,7 @@ atomically. This module imports matplotlib only inside the functions that draw, 
 from __future__ import annotations
 
 import io
-import multiprocessing
 import re
-import signal
-import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -34,8 +31,9 @@ from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
 from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
-from ..study.sweep import cached_feeder, local_workers, sweeps_of
+from ..study.sweep import cached_feeder, sweeps_of
 from ..study.sweep_table import read_table
+from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
 
 if TYPE_CHECKING:
@@ -207,15 +205,6 @@ def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
     return {name: png_bytes(draw(name, data)) for name in names}
 
 
-def _ignore_interrupt() -> None:
-    """In a worker: leave Ctrl-C to the parent (the terminal sends SIGINT to the whole process
-    group; the parent stops the pool, and a worker's own traceback would only add noise), and
-    let SIGTERM end it at once (a forked worker inherits the command line's SIGTERM handler,
-    meant for the parent only)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-
-
 def _warm_up() -> None:
     """Import what drawing needs, in a worker, before there is anything to draw."""
     from . import comparisons, drawings  # noqa: F401  (matplotlib and the figure modules)
@@ -236,9 +225,9 @@ class FigureWorkers:
     """Worker processes that draw figures (a context manager): enter it before computing, so
     the workers load matplotlib meanwhile; :meth:`writers` then draws in them.
 
-    Workers are forked (Linux), and only from a process that runs a single thread (forking a
-    threaded process can deadlock the child, e.g. in a Jupyter kernel); otherwise, or with
-    ``workers=1``, figures are drawn in this process when their writer runs.
+    Workers are forked (:func:`feeder.workers.process_pool` with ``fork_only``: the sweep's start
+    and signal policy); where forking is not safe, or with ``workers=1``, figures are drawn in
+    this process when their writer runs.
 
     Args:
         workers: Processes (default :data:`FIGURE_WORKERS`, at most one per core).
@@ -248,21 +237,16 @@ class FigureWorkers:
     """
 
     def __init__(self, workers: int | None = None):
-        count = min(FIGURE_WORKERS, local_workers()) if workers is None else workers
-        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-            raise InputError(f"figure workers must be a whole number ≥ 1, got {workers!r}")
-        self.workers = count
+        self.workers = (
+            min(FIGURE_WORKERS, local_workers())
+            if workers is None
+            else check_workers("figure workers", workers)
+        )
         self._pool: ProcessPoolExecutor | None = None
 
     def __enter__(self) -> FigureWorkers:
-        forkable = "fork" in multiprocessing.get_all_start_methods()
-        if self.workers > 1 and forkable and threading.active_count() == 1:
-            context = multiprocessing.get_context("fork")
-            self._pool = ProcessPoolExecutor(
-                self.workers, mp_context=context, initializer=_ignore_interrupt
-            )
-            for _ in range(self.workers):
-                self._pool.submit(_warm_up)
+        if self.workers > 1:
+            self._pool = process_pool(self.workers, fork_only=True, warm_up=_warm_up)
         return self
 
     def __exit__(self, kind, error, traceback) -> None:
