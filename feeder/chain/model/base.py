@@ -31,11 +31,11 @@ Profiles (:class:`Slope`, :class:`Terrain`, :class:`Bump`, :class:`Recoil`) have
 are *assumed* (no measured hull data is published for the M77): each says why.
 
 A hull is a ground vehicle on its suspension: the profiles and hull tables refuse a motion no
-hull makes (:data:`ATTITUDE`, :data:`ANGULAR_RATE`, :data:`ANGULAR_ACCELERATION`,
-:data:`ACCELERATION`, :data:`FREQUENCY`), each alone when it is made and all of them together in
-:class:`BaseMotion` (a slope plus a ride plus a table), from the bounds of their channels
-(:meth:`Slope.peaks`, …). A profile written in code (any object with ``channels`` and
-``describe`` but no ``peaks``) is the programmer's: its channels are taken as they are.
+hull makes (the limits of :mod:`feeder.chain.model.hull`: a 45° slope, 5 rad/s, 200 rad/s²,
+40 g, 20 Hz), each alone when it is made and all of them together in :class:`BaseMotion` (a
+slope plus a ride plus a table), from the bounds of their channels (:class:`BoundedProfile`). A
+profile written in code without ``peaks`` (any object with ``channels`` and ``describe``) is the
+programmer's: its channels are taken as they are.
 """
 
 from __future__ import annotations
