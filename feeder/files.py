@@ -25,6 +25,10 @@ An output folder (:class:`OutputFolder`) holds the outputs of one run:
   warning. So the folder never mixes two runs without its manifest saying so, and an edit is
   never lost.
 
+A command that reads a run's output back (``feeder view --run``) takes it only as its run left
+it, by the same manifest (:func:`verified_output`): a run that completed, and a file whose
+SHA-256 is the one recorded, not one edited since.
+
 An output of one file (``--out FILE``, ``--html FILE``) follows the same rule
 (:func:`check_replaceable`): a new file, or one that the same command wrote, recognised by the
 marker it writes at the file's beginning; any other file is refused, never replaced.
@@ -391,31 +395,13 @@ class OutputFolder:
                     "or empty folder"
                 )
             return {}
-        try:
-            files = json.loads(manifest.read_text(encoding="utf-8"))["files"]
-            if not isinstance(files, dict):
-                raise TypeError(f"its files are {files!r}, not a table of names")
-            if not all(h is None or isinstance(h, str) for h in files.values()):
-                raise TypeError("its hashes are not text")
-        except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise InputError(
-                f"the output folder {self.path} has a {MANIFEST} that is not a feeder manifest "
-                f"({exc}): choose a new or empty folder"
-            ) from exc
-        if not all(_plain(name) and name not in (MANIFEST, LOCK) for name in files):
-            raise InputError(
-                f"the manifest {manifest} lists files outside its folder: {list(files)}; "
-                "choose a new or empty folder"
-            )
+        remedy = "choose a new or empty folder"
+        files = _read_manifest(manifest, f"the output folder {self.path}", remedy)["files"]
         if not self.resumable:  # a resumable run checks its own rows
-            changed = [
-                name
-                for name, recorded in files.items()
-                if (self.path / name).is_file() and _sha256(self.path / name) != recorded
-            ]
+            changed = _changed(self.path, files)
             if changed:
                 raise InputError(
-                    f"the output folder {self.path} holds {', '.join(sorted(changed))}, changed "
+                    f"the output folder {self.path} holds {', '.join(changed)}, changed "
                     "since the run that wrote it (or not feeder's): this run could overwrite "
                     "it; move it away, or choose a new folder"
                 )
@@ -436,6 +422,78 @@ class OutputFolder:
         except OSError:
             pass  # something else was put there meanwhile: leave it
         self._created = False
+
+
+def verified_output(folder: str | Path, name: str) -> Path:
+    """``folder / name`` as the feeder run that wrote ``folder`` left it: the folder's manifest
+    (:data:`MANIFEST`) is feeder's, marks the run complete and records the file's present
+    SHA-256 (the check an output folder makes before a run writes over it).
+
+    Raises:
+        InputError: A folder without a manifest, a manifest that is not feeder's, a run that
+            did not complete, or a file that the manifest does not list or that changed since
+            (edited): the message names the file and the remedy.
+    """
+    folder = Path(folder)
+    manifest = folder / MANIFEST
+    if not manifest.is_file():
+        raise InputError(
+            f"{folder} has no {MANIFEST}: not the output folder of a feeder run, whose files "
+            "could have been edited; run it again into a new folder"
+        )
+    remedy = "run it again into a new folder"
+    record = _read_manifest(manifest, f"the run folder {folder}", remedy)
+    if record.get("complete") is not True:
+        raise InputError(
+            f"{manifest} marks its run incomplete (it failed, was interrupted or is still "
+            f"writing): {remedy}"
+        )
+    path = folder / name
+    if name not in record["files"]:
+        raise InputError(f"{path} is not an output that {manifest} lists: {remedy}")
+    if not path.is_file():
+        raise InputError(f"{path}, an output that {manifest} lists, is missing: {remedy}")
+    if _changed(folder, {name: record["files"][name]}):
+        raise InputError(
+            f"{path} changed since the run that wrote it (its SHA-256 is not the one {manifest} "
+            f"records): {remedy}"
+        )
+    return path
+
+
+def _read_manifest(manifest: Path, what: str, remedy: str) -> dict[str, object]:
+    """The manifest ``manifest`` of ``what`` (a folder, for messages), checked: a JSON object
+    whose ``files`` map plain file names in its folder to SHA-256 texts (or None).
+
+    Raises:
+        InputError: Anything else, with ``remedy``.
+    """
+    try:
+        record = json.loads(manifest.read_text(encoding="utf-8"))
+        files = record["files"]
+        if not isinstance(files, dict):
+            raise TypeError(f"its files are {files!r}, not a table of names")
+        if not all(h is None or isinstance(h, str) for h in files.values()):
+            raise TypeError("its hashes are not text")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(
+            f"{what} has a {MANIFEST} that is not a feeder manifest ({exc}): {remedy}"
+        ) from exc
+    if not all(_plain(name) and name not in (MANIFEST, LOCK) for name in files):
+        raise InputError(
+            f"the manifest {manifest} lists files outside its folder: {list(files)}; {remedy}"
+        )
+    return record
+
+
+def _changed(folder: Path, files: Mapping[str, str | None]) -> list[str]:
+    """The names, sorted, of the files in ``folder`` whose SHA-256 is not the one ``files``
+    records (a file that is not there has not changed: it is not there to overwrite)."""
+    return sorted(
+        name
+        for name, recorded in files.items()
+        if (folder / name).is_file() and _sha256(folder / name) != recorded
+    )
 
 
 def _sha256(path: Path) -> str:

@@ -12,7 +12,7 @@ import pytest
 
 import feeder as api
 from feeder.exceptions import FeederWarning, InputError, OutputBusyError
-from feeder.files import write_text
+from feeder.files import verified_output, write_text
 from feeder.outputs import LOCK, MANIFEST, OutputFolder, write_kinematics_outputs
 
 RECORD = {"command": "test", "device": "none"}
@@ -215,6 +215,43 @@ def test_a_corrupt_manifest_is_refused(tmp_path):
     (tmp_path / MANIFEST).write_text("{half")
     with pytest.raises(InputError, match="not a feeder manifest"):
         OutputFolder(tmp_path)
+
+
+def _run(folder):
+    """A folder that a complete run wrote: outputs a and b."""
+    with OutputFolder(folder) as out:
+        out.write(writers(a="1\n", b="2\n"), RECORD)
+    return folder
+
+
+def test_verified_output_is_the_file_as_its_run_wrote_it(tmp_path):
+    assert verified_output(_run(tmp_path / "run"), "a") == tmp_path / "run" / "a"
+
+
+@pytest.mark.parametrize(
+    ("spoil", "name", "match"),
+    [
+        (lambda f: (f / "a").write_text("9\n"), "a", r"/run/a changed since the run that wrote"),
+        (lambda f: (f / "a").write_bytes(b"1\r\n"), "a", r"/run/a changed since"),
+        (lambda f: (f / MANIFEST).unlink(), "a", r"/run has no feeder-run.json: not the output"),
+        (lambda f: (f / MANIFEST).write_text("{half"), "a", r"/run has a feeder-run.json that is"),
+        (
+            lambda f: (f / MANIFEST).write_text(json.dumps(manifest(f) | {"complete": False})),
+            "a",
+            r"/run/feeder-run.json marks its run incomplete",
+        ),
+        (lambda f: (f / "c").write_text("3\n"), "c", r"/run/c is not an output that .* lists"),
+        (lambda f: (f / "a").unlink(), "a", r"/run/a, an output that .* lists, is missing"),
+    ],
+    ids=["edited", "line-ends", "no-manifest", "corrupt", "incomplete", "unlisted", "missing"],
+)
+def test_verified_output_refuses_what_its_run_did_not_leave(tmp_path, spoil, name, match):
+    """One line naming the file or manifest and the remedy (run it again)."""
+    folder = _run(tmp_path / "run")
+    spoil(folder)
+    with pytest.raises(InputError, match=match) as caught:
+        verified_output(folder, name)
+    assert "\n" not in str(caught.value) and "run it again" in str(caught.value)
 
 
 def test_kinematics_outputs_record_the_run(tmp_path, feeder):

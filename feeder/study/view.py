@@ -26,6 +26,7 @@ from ..chain.model.base import BaseState
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederError, InputError
+from ..files import verified_output
 from .analyze import Analysis, analyze, load_columns, mount_mechanism, q_from_columns
 from .csv import read_csv
 from .simulate import Simulation
@@ -134,29 +135,35 @@ def run_view(
     model: str | Path | None = None,
     pose: str | Path | None = None,
 ) -> MechanismView:
-    """The view of an earlier run's output folder (its ``loads.csv`` or ``states.csv``).
+    """The view of an earlier run's output folder (its ``loads.csv`` or ``states.csv``), as the
+    run wrote it: its manifest (:func:`~feeder.files.verified_output`) says the run completed
+    and the table is unchanged since.
 
     Raises:
-        InputError: No such folder, or no table of a run in it, or a table of another model.
+        InputError: No such folder, or no table of a run in it, a table edited since its run
+            (or a run that did not complete, or a folder without a manifest), times that do not
+            increase strictly, or a table of another model.
     """
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError(f"run folder not found: {folder}")
-    tables = [folder / name for name in RUN_TABLES if (folder / name).is_file()]
+    tables = [name for name in RUN_TABLES if (folder / name).is_file()]
     if not tables:
         raise InputError(
             f"{folder} holds no {' or '.join(RUN_TABLES)}: give the output folder of "
             "feeder analyze or feeder simulate"
         )
+    table = verified_output(folder, tables[0])
     spec, chain, *_ = mount_mechanism(spec_path, model, pose)
-    columns = read_csv(tables[0])
+    columns = read_csv(table)
     if "t" not in columns:
-        raise InputError(f"{tables[0]} has no column 't': it is not a table of a feeder run")
+        raise InputError(f"{table} has no column 't': it is not a table of a feeder run")
+    _check_times(table, columns["t"])
     q = q_from_columns(chain.model, columns)
     gap = float(np.abs(chain.residual(q[0])).max(initial=0.0)) if q.size else 0.0
     if gap > 1e-6:  # a run's table closes its loops to ~1e-12: this is another mechanism's
         raise InputError(
-            f"{tables[0]} does not close this mechanism's loops (residual {gap:.3g}): it is a "
+            f"{table} does not close this mechanism's loops (residual {gap:.3g}): it is a "
             "run of another mechanism or pose"
         )
     return MechanismView(
@@ -165,7 +172,18 @@ def run_view(
         columns["t"],
         q,
         columns,
-        f"run {folder.name}/{tables[0].name}",
-        f"loads of the run in {tables[0].name}",
+        f"run {folder.name}/{table.name}",
+        f"loads of the run in {table.name}",
         base_state(spec, chain, columns["t"]),
     )
+
+
+def _check_times(table: Path, t: np.ndarray) -> None:
+    """Raise :class:`InputError` unless the times t [s] (N,) of ``table`` increase strictly."""
+    steps = np.flatnonzero(np.diff(t) <= 0.0)
+    if steps.size:
+        k = int(steps[0])
+        raise InputError(
+            f"{table}: times must increase strictly from row to row, but t = {t[k + 1]:g} s "
+            f"follows t = {t[k]:g} s (data rows {k + 1} and {k + 2})"
+        )

@@ -102,7 +102,13 @@ def test_cycle_command_reads_a_base_file(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("args", "match"),
     [
-        (["--slope", "0", "95"], "90"),
+        (
+            ["--slope", "0", "95"],
+            "roll reaches ±1.658 rad (95°), beyond the plausible ±0.7854 rad (45°)",
+        ),
+        (["--slope", "60", "0"], "pitch reaches ±1.047 rad (60°)"),
+        (["--base-motion", "terrain:frequency=1e6"], "terrain frequency is 1e+06 Hz"),
+        (["--base-motion", "bump:peak=1e12"], "z acceleration reaches ±1e+12 m/s²"),
         (["--slope", "nan", "0"], "slope"),
         (["--base-motion", "earthquake"], "unknown base profile"),
         (["--base-motion", "terrain:heave=big"], "number"),
@@ -116,6 +122,27 @@ def test_cycle_command_refusals(tmp_path, capsys, args, match):
     assert code != 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and match in err[0]
+
+
+def test_cycle_command_refuses_motions_past_the_limits_together(tmp_path, capsys):
+    """A slope and a file's [base] pitch each plausible, 50° together; a hull table's roll of
+    30 (degrees in a radian column): one line each, before anything is computed."""
+    path = tmp_path / "base.toml"
+    path.write_text("[base]\npitch_deg = 30.0\n")
+    hull = tmp_path / "hull.csv"
+    hull.write_text("t,roll\n0,30\n5,30\n10,30\n")
+    args = ["cycle", "--elevation", "30", "--rate", "100", "--out", str(tmp_path / "o")]
+    for extra, match in [
+        (["--slope", "20", "0", "--base-motion", str(path)], "together (slope: pitch 20°, roll "
+         "0°; slope: pitch 30°, roll 0°): their pitch reaches ±0.8727 rad (50°)"),
+        (["--base-motion", str(hull)], "roll = 30 rad (1719°) at t = 0 s is beyond the plausible "
+         "±0.7854 rad (45°) (steeper than a vehicle stands on); if it holds degrees, name the "
+         "column roll_deg"),
+    ]:  # fmt: skip
+        assert main([*args, *extra]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and match in err[0]
+    assert not (tmp_path / "o").exists()
 
 
 def test_vehicle_cases_in_a_sweep_grid(tmp_path):

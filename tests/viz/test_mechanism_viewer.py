@@ -6,6 +6,8 @@ the command line, and the report page of ``feeder analyze`` / ``feeder simulate`
 from __future__ import annotations
 
 import base64
+import hashlib
+import json
 import re
 import shutil
 import urllib.error
@@ -20,8 +22,9 @@ from lxml import etree
 from feeder.chain import read_spec
 from feeder.cli import main
 from feeder.exceptions import FeederWarning, InputError
-from feeder.outputs import write_analysis_outputs
+from feeder.outputs import MANIFEST, write_analysis_outputs
 from feeder.study.analyze import analyze, joint_columns, q_from_columns
+from feeder.study.csv import read_csv, write_csv
 from feeder.study.view import analysis_view, pose_view, run_view
 from feeder.viz._meshcat_server import LOOPBACK
 from feeder.viz.mechanism_scene import DEFAULT_REACTIONS, MOUNT_FORCE
@@ -208,6 +211,78 @@ def test_run_folder_shows_the_run(four_bar, tmp_path):
         run_view(FOUR_BAR / "closures.toml", tmp_path / "empty")
     with pytest.raises(InputError, match="run folder not found"):
         run_view(FOUR_BAR / "closures.toml", tmp_path / "nowhere")
+
+
+def _edit_loads(folder: Path, edit, rehash: bool = False) -> None:
+    """Rewrite the run's loads.csv with ``edit(columns)`` applied; with ``rehash``, its manifest
+    records the edited file's SHA-256 (a forged run)."""
+    table = folder / "loads.csv"
+    columns = read_csv(table)
+    edit(columns)
+    write_csv(table, columns)
+    if rehash:
+        record = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        record["files"]["loads.csv"] = hashlib.sha256(table.read_bytes()).hexdigest()
+        (folder / MANIFEST).write_text(json.dumps(record), encoding="utf-8")
+
+
+def _open_loop(columns):
+    columns["q_rocker_joint"][40] += 0.3  # [rad] the loop opened at one row
+
+
+def _drive(columns):
+    columns["tau_crank_joint"][60] = 1e6  # [N·m]
+
+
+def _reverse(columns):
+    for name in columns:
+        columns[name] = columns[name][::-1].copy()
+
+
+@pytest.mark.parametrize(
+    ("edit", "rehash", "match"),
+    [
+        (_open_loop, False, r"/run/loads.csv changed since the run that wrote it \(its SHA-256"),
+        (_drive, False, r"/run/loads.csv changed since the run that wrote it"),
+        (_reverse, False, r"/run/loads.csv changed since the run that wrote it"),
+        # motion.csv ends at t = 0.99 s and 1 s: reversed, its first two rows
+        (_reverse, True, r"/run/loads.csv: times must increase strictly from row to row, but "
+         r"t = 0.99 s follows t = 1 s \(data rows 1 and 2\)"),
+    ],
+    ids=["loop-opened", "drive-1e6", "reversed", "reversed-and-rehashed"],
+)  # fmt: skip
+def test_an_edited_run_is_refused(four_bar, tmp_path, edit, rehash, match):
+    """A loads.csv edited since its run (its manifest's SHA-256 no longer matches), or whose
+    times run backwards even under a matching manifest: refused in one line naming the file."""
+    write_analysis_outputs(four_bar, tmp_path / "run")
+    _edit_loads(tmp_path / "run", edit, rehash)
+    with pytest.raises(InputError, match=match) as caught:
+        run_view(FOUR_BAR / "closures.toml", tmp_path / "run")
+    assert "\n" not in str(caught.value)
+
+
+def test_an_incomplete_or_unrecorded_run_is_refused(four_bar, tmp_path):
+    """A run whose manifest says it did not complete, or a folder without a manifest."""
+    write_analysis_outputs(four_bar, tmp_path / "run")
+    manifest = tmp_path / "run" / MANIFEST
+    record = json.loads(manifest.read_text(encoding="utf-8"))
+    manifest.write_text(json.dumps(record | {"complete": False}), encoding="utf-8")
+    with pytest.raises(InputError, match=r"feeder-run.json marks its run incomplete"):
+        run_view(FOUR_BAR / "closures.toml", tmp_path / "run")
+    manifest.unlink()
+    with pytest.raises(InputError, match=r"/run has no feeder-run.json"):
+        run_view(FOUR_BAR / "closures.toml", tmp_path / "run")
+
+
+def test_view_command_refuses_an_edited_run(four_bar, tmp_path, capsys):
+    write_analysis_outputs(four_bar, tmp_path / "run")
+    _edit_loads(tmp_path / "run", _drive)
+    page = tmp_path / "view.html"
+    args = [str(FOUR_BAR / "four_bar.urdf"), "--closures", str(FOUR_BAR / "closures.toml")]
+    assert main(["view", *args, "--run", str(tmp_path / "run"), "--html", str(page)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{tmp_path / 'run' / 'loads.csv'} changed since" in err[0]
+    assert not page.exists()
 
 
 def test_bad_reaction_is_refused():

@@ -29,32 +29,45 @@ profiles add (:class:`BaseMotion`): a slope with a ride over terrain, say.
 
 Profiles (:class:`Slope`, :class:`Terrain`, :class:`Bump`, :class:`Recoil`) have defaults that
 are *assumed* (no measured hull data is published for the M77): each says why.
+
+A hull is a ground vehicle on its suspension: the profiles and hull tables refuse a motion no
+hull makes (the limits of :mod:`feeder.chain.model.hull`: a 45° slope, 5 rad/s, 200 rad/s²,
+40 g, 20 Hz), each alone when it is made and all of them together in :class:`BaseMotion` (a
+slope plus a ride plus a table), from the bounds of their channels (:class:`BoundedProfile`). A
+profile written in code without ``peaks`` (any object with ``channels`` and ``describe``) is the
+programmer's: its channels are taken as they are.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
-from typing import ClassVar, Protocol
+from dataclasses import dataclass, field
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_number
 from .forces import Table
-
-CHANNELS = ("x", "y", "z", "roll", "pitch", "yaw")
-"""The hull motion's channels, in order (module docstring)."""
-
-UNITS = ("m", "m", "m", "rad", "rad", "rad")
-"""Their units."""
+from .hull import (
+    BUMP_SHORTEST,
+    CHANNELS,
+    FREQUENCY,
+    HEAVE,
+    PHASE,
+    G,
+    beyond,
+    check_at_most,
+    implausible,
+    limit,
+    reaches,
+    show,
+    unit_of,
+)
 
 PERPENDICULAR = 1e-6
 """Largest accepted |cos| between the forward axis and gravity: forward must be horizontal."""
-
-G = 9.81
-"""Standard gravity [m/s²], for the profiles' defaults stated in g."""
 
 
 @dataclass(frozen=True)
@@ -87,6 +100,7 @@ def _channel(t: np.ndarray, index: int, value, rate, acceleration) -> Channels:
     return out
 
 
+@runtime_checkable
 class HullProfile(Protocol):
     """A hull motion: its channels at the times t [s], (N,)."""
 
@@ -95,16 +109,49 @@ class HullProfile(Protocol):
     def describe(self) -> str: ...
 
 
+@runtime_checkable
+class BoundedProfile(HullProfile, Protocol):
+    """A hull motion that knows its peaks (every profile here, a hull table): checked against
+    the plausible limits (:mod:`feeder.chain.model.hull`) alone and with the others."""
+
+    def peaks(self) -> np.ndarray:
+        """Bounds on the magnitudes of each channel's value, rate and acceleration (3, 6): rows
+        value, rate, acceleration; columns :data:`CHANNELS` [m, rad; per s; per s²]."""
+        ...
+
+
 def _check_positive(what: str, value: float, unit: str) -> None:
     """Raise :class:`InputError` unless ``value`` [unit] is a finite number > 0."""
     if not check_number(f"{what} [{unit}]", value) > 0.0:
         raise InputError(f"{what} must be positive, got {value} {unit}")
 
 
+def _check_frequency(what: str, value: float) -> None:
+    """Raise :class:`InputError` unless ``value`` [Hz] is in (0, :data:`FREQUENCY`]."""
+    _check_positive(what, value, "Hz")
+    check_at_most(what, value, FREQUENCY, "Hz", "above a hull's ride and wheel-hop frequencies")
+
+
+def _check_plausible(profile: BoundedProfile) -> None:
+    """Raise :class:`InputError` if the profile's peaks pass a plausible limit."""
+    peaks = profile.peaks()
+    excess = implausible(peaks)
+    if excess is not None:
+        raise InputError(f"{profile.describe()}: its {reaches(peaks, *excess)}")
+
+
+def _peaks(channel: int, value: float, rate: float, acceleration: float) -> np.ndarray:
+    """The peaks (3, 6) of a profile that moves one channel (:meth:`BoundedProfile.peaks`)."""
+    out = np.zeros((3, 6))
+    out[:, channel] = value, rate, acceleration
+    return out
+
+
 @dataclass(frozen=True)
 class Slope:
     """The hull standing still on a slope: constant pitch and roll [rad] (module docstring's
-    signs: a positive pitch lowers the nose, a positive roll the right side)."""
+    signs: a positive pitch lowers the nose, a positive roll the right side), each within
+    ±:data:`~feeder.chain.model.hull.ATTITUDE`."""
 
     pitch: float = 0.0
     roll: float = 0.0
@@ -112,14 +159,16 @@ class Slope:
 
     def __post_init__(self):
         for name in ("pitch", "roll"):
-            value = check_number(f"slope {name} [rad]", getattr(self, name))
-            if abs(value) >= math.pi / 2:
-                raise InputError(f"slope {name} must be within ±90°, got {math.degrees(value)}°")
+            check_number(f"slope {name} [rad]", getattr(self, name))
+        _check_plausible(self)
 
     def channels(self, t: np.ndarray) -> Channels:
         out = _zero(t)
         out.value[:, 3], out.value[:, 4] = self.roll, self.pitch
         return out
+
+    def peaks(self) -> np.ndarray:
+        return _peaks(3, abs(self.roll), 0.0, 0.0) + _peaks(4, abs(self.pitch), 0.0, 0.0)
 
     def describe(self) -> str:
         return f"slope: pitch {math.degrees(self.pitch):g}°, roll {math.degrees(self.roll):g}°"
@@ -139,8 +188,10 @@ class Terrain:
     (front and rear road wheels meet a bump one after the other), roll is in phase.
 
     Attributes:
-        heave: Amplitude [m]. pitch, roll: Amplitudes [rad]. frequency: [Hz].
-        pitch_phase, roll_phase: [rad].
+        heave: Amplitude [m], at most :data:`~feeder.chain.model.hull.HEAVE`. pitch, roll:
+            Amplitudes [rad]. frequency: [Hz], at most
+            :data:`~feeder.chain.model.hull.FREQUENCY`. pitch_phase, roll_phase: [rad], within
+            ±:data:`~feeder.chain.model.hull.PHASE`.
     """
 
     heave: float = 0.04
@@ -152,14 +203,18 @@ class Terrain:
     ANGLES: ClassVar[tuple[str, ...]] = ("pitch", "roll", "pitch_phase", "roll_phase")
 
     def __post_init__(self):
-        for name in ("heave", "pitch", "roll", "pitch_phase", "roll_phase"):
-            value = check_number(f"terrain {name}", getattr(self, name))
-            if name in ("heave", "pitch", "roll") and value < 0.0:
+        for name, unit in (("heave", "m"), ("pitch", "rad"), ("roll", "rad")):
+            if check_number(f"terrain {name} [{unit}]", getattr(self, name)) < 0.0:
                 raise InputError(
-                    f"terrain {name} is an amplitude, ≥ 0, got {value:g}: the phases give the "
-                    "signs (pitch_phase, roll_phase)"
+                    f"terrain {name} is an amplitude, ≥ 0, got {getattr(self, name):g}: the "
+                    "phases give the signs (pitch_phase, roll_phase)"
                 )
-        _check_positive("terrain frequency", self.frequency, "Hz")
+        for name in ("pitch_phase", "roll_phase"):
+            value = check_number(f"terrain {name} [rad]", getattr(self, name))
+            check_at_most(f"terrain {name}", value, PHASE, "rad", "one turn")
+        check_at_most("terrain heave", self.heave, HEAVE, "m", "a hull's travel on its wheels")
+        _check_frequency("terrain frequency", self.frequency)
+        _check_plausible(self)
 
     def channels(self, t: np.ndarray) -> Channels:
         w = 2.0 * math.pi * self.frequency
@@ -172,6 +227,13 @@ class Terrain:
             s, c = np.sin(w * t + phase), np.cos(w * t + phase)
             out = out + _channel(t, index, amplitude * s, amplitude * w * c, -amplitude * w**2 * s)
         return out
+
+    def peaks(self) -> np.ndarray:
+        w = 2.0 * math.pi * self.frequency
+        return sum(
+            _peaks(index, amplitude, amplitude * w, amplitude * w**2)
+            for index, amplitude in ((2, self.heave), (3, self.roll), (4, self.pitch))
+        )
 
     def describe(self) -> str:
         return (
@@ -192,7 +254,9 @@ class Bump:
     a peak of 2 g over 0.1 s is assumed for a hull crossing a ditch edge at low speed.
 
     Attributes:
-        peak: Peak vertical acceleration [m/s²]. duration: [s]. start: [s].
+        peak: Peak vertical acceleration [m/s²], within
+            ±:data:`~feeder.chain.model.hull.ACCELERATION`. duration: [s], at least
+            :data:`~feeder.chain.model.hull.BUMP_SHORTEST`. start: [s].
     """
 
     peak: float = 2.0 * G
@@ -204,6 +268,12 @@ class Bump:
         check_number("bump peak [m/s²]", self.peak)
         check_number("bump start [s]", self.start)
         _check_positive("bump duration", self.duration, "s")
+        if self.duration < BUMP_SHORTEST:
+            raise InputError(
+                f"bump duration is {self.duration:g} s, shorter than the plausible "
+                f"{BUMP_SHORTEST:g} s (half a period at {FREQUENCY:g} Hz, a hull's fastest)"
+            )
+        _check_plausible(self)
 
     def channels(self, t: np.ndarray) -> Channels:
         w = math.pi / self.duration
@@ -214,6 +284,11 @@ class Bump:
         rate = self.peak / w * (1.0 - np.cos(w * tau))
         value = self.peak / w * (tau - np.sin(w * tau) / w) + 2.0 * self.peak / w * after
         return _channel(t, 2, value, rate, acceleration)
+
+    def peaks(self) -> np.ndarray:
+        """The peaks (:meth:`BoundedProfile.peaks`); z grows without bound after the pulse."""
+        rise = 2.0 * abs(self.peak) * self.duration / math.pi
+        return _peaks(2, math.inf, rise, abs(self.peak))
 
     def describe(self) -> str:
         return (
@@ -236,7 +311,8 @@ class Recoil:
     for ride), and 2° of rocking amplitude.
 
     Attributes:
-        amplitude: [rad]. frequency: ω_n / 2π [Hz]. damping: ζ, 0 ≤ ζ < 1. start: [s].
+        amplitude: [rad]. frequency: ω_n / 2π [Hz], at most
+            :data:`~feeder.chain.model.hull.FREQUENCY`. damping: ζ, 0 ≤ ζ < 1. start: [s].
     """
 
     amplitude: float = math.radians(2.0)
@@ -248,9 +324,10 @@ class Recoil:
     def __post_init__(self):
         check_number("recoil amplitude [rad]", self.amplitude)
         check_number("recoil start [s]", self.start)
-        _check_positive("recoil frequency", self.frequency, "Hz")
+        _check_frequency("recoil frequency", self.frequency)
         if not 0.0 <= check_number("recoil damping", self.damping) < 1.0:
             raise InputError(f"recoil damping ratio must be in [0, 1), got {self.damping}")
+        _check_plausible(self)
 
     def channels(self, t: np.ndarray) -> Channels:
         wn = 2.0 * math.pi * self.frequency
@@ -265,6 +342,13 @@ class Recoil:
         acceleration = k * e * ((sigma**2 - wd**2) * s - 2.0 * sigma * wd * c)
         return _channel(t, 4, value, rate, acceleration)
 
+    def peaks(self) -> np.ndarray:
+        """The peaks (:meth:`BoundedProfile.peaks`): with σ² + ω_d² = ω_n², the rate's
+        factor (ω_d cos − σ sin) is at most ω_n and the acceleration's at most ω_n²."""
+        wn = 2.0 * math.pi * self.frequency
+        amplitude = abs(self.amplitude)
+        return _peaks(4, amplitude, amplitude * wn, amplitude * wn**2)
+
     def describe(self) -> str:
         return (
             f"recoil rocking: {math.degrees(self.amplitude):g}° at {self.frequency:g} Hz, "
@@ -272,20 +356,65 @@ class Recoil:
         )
 
 
+COLUMNS = tuple(f"{prefix}{channel}" for prefix in ("", "v_", "a_") for channel in CHANNELS)
+"""A hull table's 18 columns, in order: the channels' values, rates (``v_``) and accelerations
+(``a_``), angles in radians."""
+
+
 @dataclass(frozen=True)
 class HullTable:
-    """The hull's measured or simulated motion: a :class:`Table` of 18 columns against time, the
-    six channels' values, rates and accelerations (module docstring's units), linearly
-    interpolated; times outside the table are refused."""
+    """The hull's measured or simulated motion: a :class:`Table` of the 18 :data:`COLUMNS`
+    against time (module docstring's units), linearly interpolated; times outside the table are
+    refused, and so are values past the plausible limits (:mod:`feeder.chain.model.hull`).
+
+    Attributes:
+        table: Times t [s] (K,) and values (K, 18).
+        columns: The columns' names as the user gave them, for messages (a file's ``roll_deg``,
+            converted to radians in the table); default :data:`COLUMNS`.
+    """
 
     table: Table
+    columns: tuple[str, ...] = field(default=COLUMNS, compare=False)
 
     def __post_init__(self):
+        if not isinstance(self.table, Table):
+            raise InputError(
+                f"a hull table is a Table (feeder.chain.model.forces: t [s], values (K, 18)), "
+                f"got {self.table!r}"
+            )
         if self.table.values.shape[1] != 18:
             raise InputError(
                 f"{self.table.source}: a hull table has 18 columns (value, rate, acceleration "
                 f"of {', '.join(CHANNELS)}), got {self.table.values.shape[1]}"
             )
+        names = self.columns
+        if (
+            not isinstance(names, tuple)
+            or len(names) != 18
+            or not all(isinstance(name, str) for name in names)
+        ):
+            raise InputError(f"{self.table.source}: columns must be 18 names, got {names!r}")
+        self._check_plausible()
+
+    def _check_plausible(self) -> None:
+        """Raise :class:`InputError` if a column passes its plausible limit: its name as given,
+        the value and its time, and for an angle in radians that would be plausible in degrees,
+        the column's ``_deg`` form."""
+        excess = implausible(self.peaks())
+        if excess is None:
+            return
+        level, channel = excess
+        k = 6 * level + channel
+        row = int(np.argmax(np.abs(self.table.values[:, k])))
+        value = float(self.table.values[row, k])
+        hint = ""
+        degrees = abs(math.radians(value)) <= limit(level, channel)[0]
+        if channel >= 3 and self.columns[k] == COLUMNS[k] and degrees:
+            hint = f"; if it holds degrees, name the column {COLUMNS[k]}_deg (angles are radians)"
+        raise InputError(
+            f"{self.table.source}: {self.columns[k]} = {show(value, unit_of(level, channel))} at "
+            f"t = {self.table.t[row]:g} s is {beyond(level, channel)}{hint}"
+        )
 
     def channels(self, t: np.ndarray) -> Channels:
         lo, hi = self.table.t[0], self.table.t[-1]
@@ -298,6 +427,11 @@ class HullTable:
             [np.interp(t, self.table.t, column) for column in self.table.values.T]
         )
         return Channels(values[:, :6], values[:, 6:12], values[:, 12:])
+
+    def peaks(self) -> np.ndarray:
+        """The peaks (:meth:`BoundedProfile.peaks`): the largest |entry| of each column (the
+        table is interpolated linearly between its rows)."""
+        return np.abs(self.table.values).max(axis=0).reshape(3, 6)
 
     def describe(self) -> str:
         return f"hull motion table {self.table.source}"
@@ -379,27 +513,58 @@ def attitude(channels: Channels) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return rotation, omega, alpha
 
 
+def _check_profiles(profiles: object) -> tuple[HullProfile, ...]:
+    """``profiles`` as a tuple, if it is a list or tuple of hull profiles (objects with
+    ``channels`` and ``describe``), else raise :class:`InputError` naming the argument."""
+    kinds = "Slope, Terrain, Bump, Recoil, HullTable or objects with channels(t) and describe()"
+    if not isinstance(profiles, list | tuple):
+        one = " (one profile: (profile,))" if isinstance(profiles, HullProfile) else ""
+        raise InputError(
+            f"BaseMotion profiles must be a list or tuple of {kinds}, got {profiles!r}{one}"
+        )
+    for index, profile in enumerate(profiles):
+        if not isinstance(profile, HullProfile) or isinstance(profile, type):
+            raise InputError(
+                f"BaseMotion profiles[{index}] must be one of {kinds}, got {profile!r}"
+            )
+    return tuple(profiles)
+
+
 @dataclass(frozen=True)
 class BaseMotion:
     """The base's prescribed motion: the sum of the profiles' channels, with the vehicle's
     forward axis in the model's axes.
 
     Attributes:
-        profiles: :class:`Slope`, :class:`Terrain`, :class:`Bump`, :class:`Recoil`,
-            :class:`HullTable` (or any object with ``channels(t)`` and ``describe()``).
+        profiles: A list or tuple of :class:`Slope`, :class:`Terrain`, :class:`Bump`,
+            :class:`Recoil`, :class:`HullTable` (or any object with ``channels(t)`` and
+            ``describe()``); together within the plausible limits (:mod:`feeder.chain.model.hull`:
+            the sum of the peaks of those that have them, :class:`BoundedProfile`).
         forward: The vehicle's forward axis in the model's axes (3,), horizontal.
+
+    Raises:
+        InputError: Profiles that are not a list or tuple of profiles, profiles whose motions
+            together pass a plausible limit (e.g. two slopes of 30°), a bad forward axis.
     """
 
     profiles: tuple[HullProfile, ...] = ()
     forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
 
     def __post_init__(self):
+        object.__setattr__(self, "profiles", _check_profiles(self.profiles))
         forward = check_finite("base forward axis", self.forward)
         if forward.shape != (3,) or not np.linalg.norm(forward) > 0.0:
             raise InputError(f"the base's forward axis must be 3 numbers, not zero: {forward}")
         unit = forward / np.linalg.norm(forward)
         object.__setattr__(self, "forward", tuple(float(x) for x in unit))
-        object.__setattr__(self, "profiles", tuple(self.profiles))
+        bounded = [p for p in self.profiles if isinstance(p, BoundedProfile)]
+        peaks = sum((p.peaks() for p in bounded), np.zeros((3, 6)))
+        excess = implausible(peaks)
+        if excess is not None:
+            raise InputError(
+                f"the base's profiles together ({'; '.join(p.describe() for p in bounded)}): "
+                f"their {reaches(peaks, *excess)}"
+            )
 
     @property
     def timed(self) -> bool:

@@ -24,17 +24,20 @@ On the command line a profile is ``NAME`` or ``NAME:key=value,key=value`` (the k
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import tomllib
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_number, check_path
-from ..model.base import CHANNELS, PROFILES, BaseMotion, HullProfile, HullTable, Slope
+from ..model.base import COLUMNS, PROFILES, BaseMotion, HullProfile, HullTable, Slope
 from ..model.forces import Table
+from ..model.hull import CHANNELS
 from .motion_table import read_columns
 
 BASE_KEYS = {"forward", "pitch_deg", "roll_deg", "table", "profile"}
@@ -69,7 +72,18 @@ def make_profile(name: object, values: dict, where: str) -> HullProfile:
             arguments[key[:-4]] = math.radians(number)
         else:
             arguments[key] = number
-    return kind(**arguments)
+    with _within(where):
+        return kind(**arguments)
+
+
+@contextlib.contextmanager
+def _within(where: str) -> Iterator[None]:
+    """Name ``where`` (the file and table, or the option) in an :class:`InputError` raised in
+    the block by a profile's or the base's own checks."""
+    try:
+        yield
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
 
 
 def parse_profile(text: str) -> HullProfile:
@@ -100,7 +114,8 @@ def read_hull_table(path: str | Path) -> HullTable:
 
     Raises:
         InputError: A missing or malformed file, an unknown column, a channel given both in
-            radians and in degrees, too few rows to differentiate.
+            radians and in degrees, too few rows to differentiate, a value past a plausible
+            limit (:class:`~feeder.chain.model.base.HullTable`).
     """
     path, header, columns = read_columns(path, "the hull motion file")
     t = columns.pop("t")
@@ -117,6 +132,7 @@ def read_hull_table(path: str | Path) -> HullTable:
                 f"{', '.join(CHANNELS)} [m, rad] (or roll_deg …), v_… and a_… for their rates"
             )
     values = np.zeros((t.size, 18))
+    names = list(COLUMNS)  # as given, for messages
     for k, channel in enumerate(CHANNELS):
         for level, prefix in enumerate(("", "v_", "a_")):
             plain, degrees = f"{prefix}{channel}", f"{prefix}{channel}_deg"
@@ -126,6 +142,7 @@ def read_hull_table(path: str | Path) -> HullTable:
                 values[:, 6 * level + k] = columns[plain]
             elif degrees in columns:
                 values[:, 6 * level + k] = np.radians(columns[degrees])
+                names[6 * level + k] = degrees
             elif level and any(
                 name in columns for name in (channel, f"{channel}_deg")
             ):  # a rate left out of a given channel: differentiated
@@ -137,7 +154,8 @@ def read_hull_table(path: str | Path) -> HullTable:
                 values[:, 6 * level + k] = np.gradient(
                     values[:, 6 * (level - 1) + k], t, edge_order=2
                 )
-    return HullTable(Table(t, values, source=f"hull motion {path.name}"))
+                names[6 * level + k] = f"{plain} (differentiated)"
+    return HullTable(Table(t, values, source=f"hull motion {path.name}"), tuple(names))
 
 
 def read_base(
@@ -169,12 +187,10 @@ def read_base(
         raise InputError(f"{where}: unknown keys {unknown} in [base]; keys: {sorted(BASE_KEYS)}")
     profiles: list[HullProfile] = []
     if "pitch_deg" in table or "roll_deg" in table:
-        profiles.append(
-            Slope(
-                math.radians(check_number(f"{where} pitch_deg", table.get("pitch_deg", 0.0))),
-                math.radians(check_number(f"{where} roll_deg", table.get("roll_deg", 0.0))),
-            )
-        )
+        pitch = check_number(f"{where} pitch_deg", table.get("pitch_deg", 0.0))
+        roll = check_number(f"{where} roll_deg", table.get("roll_deg", 0.0))
+        with _within(f"{where} [base]"):
+            profiles.append(Slope(math.radians(pitch), math.radians(roll)))
     if "table" in table:
         if not isinstance(table["table"], str):
             raise InputError(f"{where}: [base] table must be a file name, got {table['table']!r}")
@@ -192,7 +208,9 @@ def read_base(
         forward = table.get("forward", [1.0, 0.0, 0.0])
         if not isinstance(forward, list) or len(forward) != 3:
             raise InputError(f"{where}: [base] forward must be 3 numbers, got {forward!r}")
-    return BaseMotion(tuple(profiles), tuple(check_finite(f"{where} forward", forward)))
+    forward = tuple(check_finite(f"{where} forward", forward))
+    with _within(f"{where} [base]"):
+        return BaseMotion(tuple(profiles), forward)
 
 
 def read_base_file(

@@ -98,3 +98,72 @@ def test_base_table_refusals(tmp_path):
     ]:
         with pytest.raises(InputError, match=match):
             read_base(table, tmp_path, "m.toml")
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        (
+            "t,roll\n0,0\n1,30\n2,0\n",
+            r"roll = 30 rad \(1719°\) at t = 1 s .* name the column roll_deg",
+        ),
+        (
+            "t,roll_deg\n0,0\n1,1719\n2,0\n",
+            r"roll_deg = 30 rad \(1719°\) at t = 1 s is beyond [^;]*$",
+        ),
+        ("t,pitch\n0,0\n1,0.1\n2,0.2\n", None),
+        ("t,z\n0,0\n0.01,0.5\n0.02,0\n", r"a_z \(differentiated\) = -1e\+04 m/s² at t = 0 s"),
+        (
+            "t,a_x\n0,0\n1,1e12\n",
+            r"a_x = 1e\+12 m/s² at t = 1 s is beyond the plausible ±392.4 m/s²",
+        ),
+    ],
+    ids=["roll-in-degrees", "roll-deg-too-steep", "plausible", "differentiated", "acceleration"],
+)
+def test_hull_table_limits(tmp_path, text, match):
+    """A hull table past a plausible limit names the file, the column as given, the value in
+    radians and degrees and its time; a radian column that would be plausible in degrees, its
+    _deg name. The differentiated z is the parabola through its three rows: z̈ = −2 · 0.5 m /
+    (0.01 s)² = −1e4 m/s² at every row."""
+    path = tmp_path / "hull.csv"
+    path.write_text(text)
+    if match is None:
+        read_hull_table(path)
+        return
+    with pytest.raises(InputError, match=f"^hull motion hull.csv: {match}"):
+        read_hull_table(path)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("terrain:frequency=1e6", r"^base profile: terrain frequency is 1e\+06 Hz"),
+        (
+            "recoil:amplitude_deg=1e6",
+            r"^base profile: recoil .*: its pitch reaches ±1.745e\+04 rad",
+        ),
+        ("bump:peak=1e12", r"^base profile: bump: .*: its z acceleration reaches ±1e\+12 m/s²"),
+        ("terrain:pitch_deg=1000", r"pitch reaches ±17.45 rad \(1000°\)"),
+        ("terrain:roll_phase_deg=400", r"roll_phase is 6.981 rad \(400°\)"),
+    ],
+)
+def test_implausible_profiles_from_the_command_line(text, match):
+    with pytest.raises(InputError, match=match):
+        parse_profile(text)
+
+
+def test_base_table_limits(tmp_path):
+    """Each alone, and the slope with a ride together, named with the file and [base]."""
+    terrain = {"type": "terrain", "pitch_deg": 20.0}
+    for table, match in [
+        ({"roll_deg": 60.0}, r"^m.toml \[base\]: slope: pitch 0°, roll 60°: its roll reaches"),
+        ({"profile": [{"type": "bump", "peak": 1e12}]}, r"^m.toml \[\[base.profile\]\] #1: bump"),
+        (
+            {"pitch_deg": 30.0, "profile": [terrain]},
+            r"^m.toml \[base\]: the base's profiles together \(slope: pitch 30°, roll 0°; "
+            r"terrain: .*\): their pitch reaches ±0.8727 rad \(50°\)",
+        ),
+    ]:
+        with pytest.raises(InputError, match=match):
+            read_base(table, tmp_path, "m.toml")
+    read_base({"pitch_deg": 20.0, "profile": [terrain]}, tmp_path, "m.toml")
