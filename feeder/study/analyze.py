@@ -2,15 +2,17 @@
 followed on one assembly branch, and the loads and reactions of every joint and cut.
 
 Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder.chain.ClosedChain`
-→ mobility report at the first sample (:mod:`feeder.chain.mobility`) → the motion table's
-independent coordinates tracked by continuation (:meth:`~feeder.chain.Partition.track`) →
-inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
-(:meth:`Analysis.columns`) and its summary.
+→ the closed pose nearest to the reference (the assembled pose) and the mobility report there
+(:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
+coordinates tracked by continuation from it (:meth:`~feeder.chain.Partition.track`) → inverse
+dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
+(:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
 """
 
 from __future__ import annotations
 
 import re
+import textwrap
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -61,7 +63,7 @@ class Analysis:
         q, v, a: The whole chain's motion, (N, nq), (N, nv), (N, nv).
         gain: Velocity gain at every sample, (N,) (distance to a singular pose).
         loads: Actuator loads, closure forces and every joint's reaction.
-        report: Mobility at the first sample.
+        report: Mobility at the assembled pose (as ``feeder analyze --check`` reports it).
         reference: The pose the mechanism was mounted from (nq,): the model's zero pose or the
             user's pose file.
         assembled: The closed pose nearest to it (nq,), where the motion starts from.
@@ -94,10 +96,15 @@ class Analysis:
         )
 
     def summary(self) -> str:
-        """The mobility report, peaks of the loads and the indeterminacy convention, as text."""
+        """The mobility report at the assembled pose and that pose (:func:`mount_lines`, as
+        ``feeder analyze --check`` prints them), the motion, the peaks of the loads and the
+        indeterminacy convention, as text."""
         t = self.motion.t
-        lines = [self.report.text(), *self.pose_lines()]
-        lines.append(f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s")
+        lines = mount_lines(self.report, self.chain.model, self.reference, self.assembled)
+        lines.append(
+            f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s, its first sample reached from "
+            "the assembled pose by continuation"
+        )
         lines.append(f"  {gravity_text(self.spec, self.chain)}")
         base = self.spec.base.describe() if self.spec.base else "standing level"
         lines.append(f"  base: {base}")
@@ -112,13 +119,12 @@ class Analysis:
                 + ", ".join(self.motion.differentiated)
             )
         k = int(np.argmax(self.gain))
-        lines.append(f"  largest velocity gain {self.gain[k]:.3g} at t = {t[k]:.4g} s")
+        lines.append(
+            f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, largest "
+            f"{self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
+        )
         peaks = load_peaks(self.chain.model, t, self.loads, self.spec.forces)
         return "\n".join(lines + peaks)
-
-    def pose_lines(self) -> list[str]:
-        """The assembled pose as text (:func:`pose_lines`)."""
-        return pose_lines(self.chain.model, self.reference, self.assembled)
 
 
 def gravity_text(spec: MechanismSpec, chain: ClosedChain) -> str:
@@ -419,6 +425,18 @@ def pose_lines(model: pin.Model, reference: np.ndarray, assembled: np.ndarray) -
     ]
 
 
+def mount_lines(
+    report: MobilityReport, model: pin.Model, reference: np.ndarray, assembled: np.ndarray
+) -> list[str]:
+    """The mobility report measured at the assembled pose, under a heading that says so, then
+    that pose (:func:`pose_lines`): the summaries' first lines."""
+    return [
+        "mobility at the assembled pose (the closed pose nearest to the reference, below):",
+        textwrap.indent(report.text(), "  "),
+        *pose_lines(model, reference, assembled),
+    ]
+
+
 def mount_mechanism(spec_path, model, pose):
     """The side-file, its chain, the partition of its independent joints, the reference pose
     (the pose file, or the side-file's pose, or the model's zero pose) and the closed pose
@@ -433,15 +451,36 @@ def mount_mechanism(spec_path, model, pose):
     return spec, chain, partition, reference, partition.mount(reference)
 
 
+@dataclass(frozen=True)
+class MechanismCheck:
+    """A mechanism's mobility report at its assembled pose (``feeder analyze --check``).
+
+    Attributes:
+        report: The report, for the side-file's independent joints.
+        text: The report and the assembled pose as text (:func:`mount_lines`).
+    """
+
+    report: MobilityReport
+    text: str
+
+    @property
+    def drives(self) -> bool:
+        """Whether the independent joints determine the mechanism there (up to idle motions), as
+        ``feeder analyze`` needs: :attr:`MobilityReport.determined` is None."""
+        return self.report.determined is None
+
+
 def check_mechanism(
     spec_path: str | Path, model: str | Path | None = None, pose: str | Path | None = None
-) -> str:
+) -> MechanismCheck:
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
-    the closed pose nearest to the reference (the model's zero pose, or the pose file), which the
-    report prints."""
+    the closed pose nearest to the reference (the model's zero pose, or the pose file), where
+    ``feeder analyze`` starts and measures its own report."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
-    report = mobility(chain, assembled, spec.independent).text()
-    return "\n".join([report, *pose_lines(chain.model, reference, assembled)])
+    report = mobility(chain, assembled, spec.independent)
+    return MechanismCheck(
+        report, "\n".join(mount_lines(report, chain.model, reference, assembled))
+    )
 
 
 def analyze(
@@ -470,5 +509,5 @@ def analyze(
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
     loads = inverse_dynamics(dyn, q, v, a, t=table.t)
     warn_if_gravity_idle(spec, chain, q)
-    report = mobility(chain, q[0], spec.independent)
+    report = mobility(chain, assembled, spec.independent)
     return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)

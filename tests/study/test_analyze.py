@@ -4,10 +4,12 @@ consistency with the generic layer."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
 
+from feeder.chain import Partition
 from feeder.exceptions import FeederWarning, InputError, SingularPoseError
 from feeder.study.analyze import analyze, check_mechanism
 from feeder.study.csv import write_csv
@@ -27,8 +29,23 @@ def analysis(request):
 
 
 def test_check_reports_one_degree_of_freedom(analysis):
-    text = check_mechanism(REPO / "examples" / analysis.spec.model.stem / "closures.toml")
-    assert "actual mobility 3 − 2 = 1" in text and "redundant closure rows (3" in text
+    check = check_mechanism(REPO / "examples" / analysis.spec.model.stem / "closures.toml")
+    assert "actual mobility 3 − 2 = 1" in check.text and "redundant closure rows (3" in check.text
+    assert check.drives
+
+
+def test_check_and_analyze_report_the_same_pose_under_its_name(analysis):
+    """Both measure the mobility at the assembled pose and say so; the analysis names the first
+    sample where it gives that sample's gain (the crank-rocker's is not the assembled pose's)."""
+    check = check_mechanism(REPO / "examples" / analysis.spec.model.stem / "closures.toml")
+    summary = analysis.summary()
+    assert summary.startswith(check.text + "\n")
+    assert check.text.startswith("mobility at the assembled pose (the closed pose nearest")
+    gains = f"velocity gain at the first sample (t = 0 s) {analysis.gain[0]:.3g}, largest"
+    assert gains in summary
+    partition = Partition(analysis.chain, analysis.spec.independent)
+    assert analysis.report.gain == partition.gain(analysis.assembled)
+    assert analysis.gain[0] == pytest.approx(partition.gain(analysis.q[0]), rel=1e-12)
 
 
 def test_table_has_every_joint_and_the_drive(analysis):
@@ -143,7 +160,10 @@ def test_a_motion_through_a_dead_centre_is_a_singular_pose_at_any_sampling(tmp_p
     spec, motion = _rocker_swing(tmp_path, top, samples)
     with pytest.raises(SingularPoseError, match=r"^sample \d+ \(t = 0\.[345]\d* s\): ") as caught:
         analyze(spec, motion, model=REPO / "examples" / "four_bar" / "four_bar.urdf")
-    assert "singular pose" in str(caught.value) and "q = [" in str(caught.value)
+    message = str(caught.value)  # one line: the loop, the joints by name, values with units
+    assert "singular pose" in message and "\n" not in message and "q = [" not in message
+    assert "loop coupler_tip-rocker_tip (crank_joint = " in message
+    assert re.search(r"at rocker_joint = 2\.2\d* rad[:,]", message)
 
 
 def test_a_coarse_motion_short_of_the_dead_centre_is_followed(tmp_path):
