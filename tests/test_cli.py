@@ -623,6 +623,27 @@ def test_analyze_check_prints_the_mobility_report(capsys):
     assert "actual mobility 3 − 2 = 1" in out and "admissible independent joints" in out
 
 
+def test_analyze_check_is_a_gate_for_scripts(tmp_path, capsys):
+    """The 5-bar export with one motor of its two: --check prints the report, says in one line
+    that the independent joints cannot drive the mechanism, and exits with status 2, as
+    ``analyze`` of any motion then does; the help says so."""
+    cad = REPO / "examples" / "cad" / "5bar_linkage"
+    side = (cad / "robot.yaml").read_text(encoding="utf-8")
+    assert "name_mot: ['mot1', 'mot2']" in side
+    (tmp_path / "robot.yaml").write_text(side.replace("['mot1', 'mot2']", "['mot1']"))
+    arguments = [str(cad / "robot.urdf"), "--closures", str(tmp_path / "robot.yaml"), "--check"]
+    assert main(["analyze", *arguments]) == 2
+    captured = capsys.readouterr()
+    assert "with independent ['mot1']: the closure does not determine" in captured.out
+    (error,) = [line for line in captured.err.splitlines() if "error" in line]
+    assert error.startswith("feeder: error: the independent joints ['mot1'] cannot drive")
+    with pytest.raises(SystemExit):
+        main(["analyze", "--help"])
+    assert "exit status 0 when the independent joints drive" in " ".join(
+        capsys.readouterr().out.split()
+    )
+
+
 def test_analyze_reads_a_cad_export_as_shipped(tmp_path, capsys):
     """The Cassie-like leg from its Extended-URDF side-file: mobility with its two idle rod spins
     and the assembled pose (--check), then its motion's loads and the pose written."""
@@ -701,7 +722,7 @@ def test_simulate_runs_the_squeezer_from_its_two_files(tmp_path, capsys):
     beta = reference["final"]["q"][0]
     # the default tolerances (rtol 1e-8) give q(0.03) to ~1e-9 relative (measured 9e-10)
     assert table["t"].size == 31 and abs(table["q_beta"][-1] - beta) <= 1e-8 * abs(beta)
-    for column in ("spring:D_body3-C_ground_force", "F_body2-F_body3_force_x", "energy_balance"):
+    for column in ("spring_D_body3_C_ground_force", "F_body2_F_body3_force_x", "energy_balance"):
         assert column in table
     summary = (out / "summary.txt").read_text(encoding="utf-8")
     assert "energy balance" in summary and "largest drift" in summary

@@ -43,6 +43,17 @@ def test_mechanisms_guide_python_example_runs(monkeypatch):
     exec(compile(block, "docs/MECHANISMS.md", "exec"), {})
 
 
+def test_mechanisms_guide_check_report_is_the_program_s():
+    """The guide's --check example is what the command prints for the four-bar, every number
+    (the report once said 0.146 and 1.8 where the program said 0.157 and 1.42)."""
+    from feeder.study.analyze import check_mechanism
+
+    guide = (REPO / "docs" / "MECHANISMS.md").read_text(encoding="utf-8")
+    block = re.search(r"## The mobility report \(`--check`\)\n+```\n(.*?)```", guide, flags=re.S)
+    check = check_mechanism(REPO / "examples" / "four_bar" / "closures.toml")
+    assert block.group(1) == check.text + "\n"
+
+
 def _pictures_script():
     """docs/pictures.py, imported from its file (it is a script, not a module of the package)."""
     spec = importlib.util.spec_from_file_location("pictures", REPO / "docs" / "pictures.py")

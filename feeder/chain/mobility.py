@@ -17,9 +17,11 @@ the admissible choices of independent joints, and the distance to a singular pos
   origin, frame or centre of gravity (a rod spinning about its axis); the report names the joints
   of each. The chosen joints are admissible *up to idle motions* when they determine everything
   else.
-* Distance to a singular pose: the smallest singular value of the closure Jacobian's dependent
-  columns relative to the largest of the whole Jacobian, and the velocity gain
-  ‖J_dep⁺ J_ind‖₂ (:data:`~feeder.chain.assembly.partition.MAX_GAIN`).
+* Distance to a singular pose: the velocity gain, the largest dependent speed per unit
+  independent speed, dimensionless (lengths' speeds in units of the mechanism's reach; defined
+  in :mod:`feeder.chain.assembly.partition`, which refuses a pose past
+  :data:`~feeder.chain.assembly.partition.MAX_GAIN`): ~1 for a linkage of comparable links
+  driven by a crank, the reach over the lever arm for one driven by a cylinder, ∞ at a toggle.
 """
 
 from __future__ import annotations
@@ -62,10 +64,9 @@ class MobilityReport:
             QR, the enumeration being too long).
         choices: Number of combinations the complete list would have to test.
         singular_values: Singular values of the closure Jacobian, descending.
-        margin: For the choice ``independent``: smallest singular value of the dependent
-            columns over the Jacobian's largest, σ_min/σ_max (0 at a singular pose), or None.
-        gain: For that choice, the velocity gain (∞ at a singular pose), or None.
-        independent: The choice the margin and gain refer to, or None.
+        gain: For the choice ``independent``, the velocity gain (∞ at a singular pose), or None.
+        gain_definition: What the gain is and its unit (the reach it counts lengths in), or None.
+        independent: The choice the gain refers to, or None.
         idle: For that choice, its idle motions: the joints each one moves, or None.
         determined: For that choice, None if it determines the mechanism up to its idle
             motions, else the reason it does not.
@@ -83,8 +84,8 @@ class MobilityReport:
     complete: bool
     choices: int
     singular_values: np.ndarray
-    margin: float | None
     gain: float | None
+    gain_definition: str | None
     independent: tuple[str, ...] | None
     idle: tuple[tuple[str, ...], ...] | None = None
     determined: str | None = None
@@ -121,8 +122,8 @@ class MobilityReport:
                 lines.append(
                     f"with independent {list(self.independent)}: determined "
                     + (f"up to {count} idle motion(s)" if count else "(no idle motion)")
-                    + f"; distance to singularity σ_min/σ_max = {self.margin:.3g}, velocity "
-                    f"gain {self.gain:.3g}"
+                    + f"; velocity gain {self.gain:.3g} ({self.gain_definition}; → ∞ at a "
+                    "singular pose)"
                 )
             else:
                 lines.append(f"with independent {list(self.independent)}: {self.determined}")
@@ -179,15 +180,9 @@ def mobility(
                 admissible.append(choice)
     else:
         admissible = _pivoted_choice(jac, joints, columns, rank, tolerance)
-    margin = gain = idle = determined = None
+    gain = definition = idle = determined = None
     if independent is not None:
         independent = tuple(independent)
-        chosen = chain.coordinate_columns(independent, "independent").tolist()
-        others = [i for i in range(dof) if i not in chosen]
-        dependent = jac[:, others]
-        values = np.linalg.svd(dependent, compute_uv=False) if dependent.size else np.zeros(0)
-        rank_dep = int(np.sum(values > tolerance))
-        margin = float(values[rank_dep - 1] / scale) if rank_dep > 0 else 0.0
         partition = Partition(chain, independent)
         try:
             motions = partition.idle_motions(q)
@@ -196,7 +191,7 @@ def mobility(
             determined = str(exc)
             motions = np.zeros((0, dof))
         idle = tuple(moved_joints(model, motion) for motion in _localised(motions))
-        gain = partition.gain(q)
+        gain, definition = partition.gain(q), partition.gain_definition
     tree = tuple(
         model.names[j] + (f" ({model.joints[j].nv})" if model.joints[j].nv != 1 else "")
         for j in range(1, model.njoints)
@@ -214,8 +209,8 @@ def mobility(
         complete=choices <= MAX_CHOICES,
         choices=choices,
         singular_values=singular,
-        margin=margin,
         gain=gain,
+        gain_definition=definition,
         independent=independent,
         idle=idle,
         determined=determined,

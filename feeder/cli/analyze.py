@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..exceptions import InputError
+from ..exceptions import InputError, SingularPoseError
 from .options import (
     Once,
     add_command,
@@ -43,7 +43,9 @@ def add(commands: argparse._SubParsersAction) -> None:
         analyze,
         "--check",
         "check",
-        "print the mobility report and the assembled pose instead (default: off)",
+        "print the mobility report and the assembled pose instead; exit status 0 when the "
+        "independent joints drive the mechanism there, 2 when they cannot (then analyze would "
+        "fail too) or on bad input (default: off)",
     )
 
 
@@ -53,7 +55,14 @@ def run(args: argparse.Namespace) -> int:
     from ..study.analyze import analyze, check_mechanism
 
     if args.check:
-        print(check_mechanism(args.closures, args.model, args.pose))
+        check = check_mechanism(args.closures, args.model, args.pose)
+        print(check.text)
+        if not check.drives:
+            raise SingularPoseError(
+                f"the independent joints {list(check.report.independent)} cannot drive the "
+                "mechanism at its assembled pose (the report above says why): feeder analyze "
+                "would refuse the motion"
+            )
         return 0
     if args.motion is None or args.out is None:
         raise InputError("give --motion FILE and --out DIR (or --check for the mobility report)")

@@ -2,14 +2,17 @@
 followed on one assembly branch, and the loads and reactions of every joint and cut.
 
 Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder.chain.ClosedChain`
-→ mobility report at the first sample (:mod:`feeder.chain.mobility`) → the motion table's
-independent coordinates tracked by continuation (:meth:`~feeder.chain.Partition.track`) →
-inverse dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
-(:meth:`Analysis.columns`) and its summary.
+→ the closed pose nearest to the reference (the assembled pose) and the mobility report there
+(:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
+coordinates tracked by continuation from it (:meth:`~feeder.chain.Partition.track`) → inverse
+dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
+(:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
 """
 
 from __future__ import annotations
 
+import re
+import textwrap
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -21,7 +24,9 @@ import pinocchio as pin
 from ..chain.assembly.partition import Partition
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.dynamics.reactions import MountWrench
+from ..chain.kinematics.coordinates import coordinates, pose_values
 from ..chain.kinematics.joints import kind_of
+from ..chain.kinematics.tree import reach
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.model.forces import ForceElement, JointSpring
@@ -38,6 +43,14 @@ perpendicular to every joint's motion (−z on revolute joints about z) gives ex
 round-off (~1e-16 of that scale per body, measured 0 on the four-bar); a mechanism whose plane
 of motion is tilted from gravity by 1e-9 rad feels a gravity it could neglect anyway."""
 
+ROUND_OFF = 1e-9
+"""A load's peak at most this share of its scale (:func:`load_scale`) is round-off: the summaries
+print it as 0, without a time. The loads are accepted where their equations hold to
+:data:`~feeder.chain.dynamics.inverse.CONSISTENCY` (1e-9) of their largest term, so nothing
+below that share is resolved; a load that is zero in exact arithmetic comes out at ~1e-16 to
+1e-13 of the scale (a free joint's reaction, a drive that gravity perpendicular to the motion
+does not load)."""
+
 
 @dataclass(frozen=True)
 class Analysis:
@@ -50,7 +63,7 @@ class Analysis:
         q, v, a: The whole chain's motion, (N, nq), (N, nv), (N, nv).
         gain: Velocity gain at every sample, (N,) (distance to a singular pose).
         loads: Actuator loads, closure forces and every joint's reaction.
-        report: Mobility at the first sample.
+        report: Mobility at the assembled pose (as ``feeder analyze --check`` reports it).
         reference: The pose the mechanism was mounted from (nq,): the model's zero pose or the
             user's pose file.
         assembled: The closed pose nearest to it (nq,), where the motion starts from.
@@ -75,16 +88,23 @@ class Analysis:
         the accelerations include the idle motions', :attr:`ChainLoads.accelerations`);
         ``velocity_gain``; the loads (:func:`load_columns`).
         """
-        cols: dict[str, np.ndarray] = {"t": self.motion.t}
-        cols |= joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations)
-        cols["velocity_gain"] = self.gain
-        return cols | load_columns(self.loads)
+        return merge_columns(
+            {"t": self.motion.t},
+            joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations),
+            {"velocity_gain": self.gain},
+            load_columns(self.loads),
+        )
 
     def summary(self) -> str:
-        """The mobility report, peaks of the loads and the indeterminacy convention, as text."""
+        """The mobility report at the assembled pose and that pose (:func:`mount_lines`, as
+        ``feeder analyze --check`` prints them), the motion, the peaks of the loads and the
+        indeterminacy convention, as text."""
         t = self.motion.t
-        lines = [self.report.text(), *self.pose_lines()]
-        lines.append(f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s")
+        lines = mount_lines(self.report, self.chain.model, self.reference, self.assembled)
+        lines.append(
+            f"motion: {t.size} samples over {t[-1] - t[0]:.4g} s, its first sample reached from "
+            "the assembled pose by continuation"
+        )
         lines.append(f"  {gravity_text(self.spec, self.chain)}")
         base = self.spec.base.describe() if self.spec.base else "standing level"
         lines.append(f"  base: {base}")
@@ -99,13 +119,12 @@ class Analysis:
                 + ", ".join(self.motion.differentiated)
             )
         k = int(np.argmax(self.gain))
-        lines.append(f"  largest velocity gain {self.gain[k]:.3g} at t = {t[k]:.4g} s")
+        lines.append(
+            f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, largest "
+            f"{self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
+        )
         peaks = load_peaks(self.chain.model, t, self.loads, self.spec.forces)
         return "\n".join(lines + peaks)
-
-    def pose_lines(self) -> list[str]:
-        """The assembled pose as text (:func:`pose_lines`)."""
-        return pose_lines(self.chain.model, self.reference, self.assembled)
 
 
 def gravity_text(spec: MechanismSpec, chain: ClosedChain) -> str:
@@ -159,32 +178,65 @@ def load_unit(model: pin.Model, joint: str) -> str:
 
 
 def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
-    """The loads as table columns (N,), SI units, world axes: ``tau_<joint>`` of the actuated
-    joints (N or N·m along the joint axis); ``<closure>_force_x|y|z`` and
-    ``<closure>_moment_x|y|z`` (the cut's wrench on the body of its first frame, moment about
-    that frame's origin); ``<joint>_force_x|y|z`` and ``<joint>_moment_x|y|z`` (the wrench the
-    parent exerts on the child, about the joint's origin) and their magnitudes
-    ``<joint>_force``, ``<joint>_moment``; ``<element>_force`` of each force element (a
-    spring's or cylinder's tension [N], positive pulling its frames together; a joint spring's
-    resistance [N·m or N]); the mount's wrench on the mechanism (about the model's origin)
-    ``mount_force_x|y|z``, ``mount_moment_x|y|z`` in the level (world) axes and
-    ``mount_force_vehicle_x|y|z``, ``mount_moment_vehicle_x|y|z`` in the base's axes, moving
-    with it (the axes of every other column; the same on a base at rest)."""
-    cols: dict[str, np.ndarray] = {}
-    for name, values in loads.actuators.items():
-        cols[f"tau_{name}"] = values
+    """The loads as table columns (N,), SI units, world axes, every joint, closure and element
+    named as :func:`column_stem` writes it: ``tau_<joint>`` of the actuated joints (N or N·m
+    along the joint axis); ``<closure>_force_x|y|z`` and ``<closure>_moment_x|y|z`` (the cut's
+    wrench on the body of its first frame, moment about that frame's origin; the closure's label
+    ``frame_a-frame_b`` written ``frame_a_frame_b``); ``<joint>_force_x|y|z`` and
+    ``<joint>_moment_x|y|z`` (the wrench the parent exerts on the child, about the joint's
+    origin) and their magnitudes ``<joint>_force``, ``<joint>_moment`` (none for a joint that
+    transmits no wrench, a free-flyer); ``<element>_force`` of each force element (a spring's or
+    cylinder's tension [N], positive pulling its frames together; a joint spring's resistance
+    [N·m or N]; the default label ``cylinder:a-b`` written ``cylinder_a_b``); the mount's wrench
+    on the mechanism (about the model's origin) ``mount_force_x|y|z``, ``mount_moment_x|y|z`` in
+    the level (world) axes and ``mount_force_vehicle_x|y|z``, ``mount_moment_vehicle_x|y|z`` in
+    the base's axes, moving with it (the axes of every other column; the same on a base at rest).
+
+    Raises:
+        InputError: Two columns of one name (:func:`merge_columns`).
+    """
+    parts = [{f"tau_{column_stem(name)}": values} for name, values in loads.actuators.items()]
     for label, wrench in loads.closures.items():
-        for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
-            for k, axis in enumerate("xyz"):
-                cols[f"{label}_{what}_{axis}"] = vector[:, k]
+        parts.append(_vector_columns(column_stem(label), wrench.force, wrench.moment, False))
     for name, wrench in loads.joints.items():
-        for what, vector in (("force", wrench.force), ("moment", wrench.moment)):
-            cols[f"{name}_{what}"] = np.linalg.norm(vector, axis=1)
-            for k, axis in enumerate("xyz"):
-                cols[f"{name}_{what}_{axis}"] = vector[:, k]
-    for name, values in loads.elements.items():
-        cols[f"{name}_force"] = values
-    return cols | mount_columns(loads.mount)
+        parts.append(_vector_columns(column_stem(name), wrench.force, wrench.moment, True))
+    parts += [{f"{column_stem(name)}_force": values} for name, values in loads.elements.items()]
+    return merge_columns(*parts, mount_columns(loads.mount))
+
+
+def _vector_columns(
+    stem: str, force: np.ndarray, moment: np.ndarray, magnitudes: bool
+) -> dict[str, np.ndarray]:
+    """``<stem>_force_x|y|z`` and ``<stem>_moment_x|y|z`` of a wrench ((N, 3) each), after
+    ``<stem>_force`` and ``<stem>_moment``, their magnitudes, if ``magnitudes``."""
+    cols: dict[str, np.ndarray] = {}
+    for what, vector in (("force", force), ("moment", moment)):
+        if magnitudes:
+            cols[f"{stem}_{what}"] = np.linalg.norm(vector, axis=1)
+        for k, axis in enumerate("xyz"):
+            cols[f"{stem}_{what}_{axis}"] = vector[:, k]
+    return cols
+
+
+def merge_columns(*parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The columns of every part, in order, in one table.
+
+    Raises:
+        InputError: Two columns of one name (two joints, closures or force elements whose names
+            :func:`column_stem` writes alike, such as ``a-b`` and ``a.b``; or a joint named
+            ``mount``), the name given.
+    """
+    cols: dict[str, np.ndarray] = {}
+    for part in parts:
+        for key in part:
+            if key in cols:
+                raise InputError(
+                    f"two columns of the table would be named {key!r}: rename one of the "
+                    "joints, closures or force elements whose names give it (characters other "
+                    "than letters, digits and '_' are written '_')"
+                )
+        cols |= part
+    return cols
 
 
 def mount_columns(mount: MountWrench) -> dict[str, np.ndarray]:
@@ -216,34 +268,45 @@ def load_peaks(
     elements: Sequence[ForceElement],
     drives: bool = True,
 ) -> list[str]:
-    """The peak of every drive load (if ``drives``), reaction force and element force with its
-    time, and the statically indeterminate rows, as summary lines."""
-    lines = []
-    for name, values in loads.actuators.items() if drives else ():
+    """The peak of every drive load (if ``drives``), reaction force, mount wrench and element
+    force with its time — or "0 to round-off", without a time, for one that stays within
+    :data:`ROUND_OFF` of its scale (:func:`load_scale`) —, the joints that transmit no wrench,
+    and the statically indeterminate rows, as summary lines."""
+    force_scale = load_scale(model, loads, elements)
+    scales = {"N": force_scale, "N·m": force_scale * reach(model, pin.neutral(model)[None])}
+
+    def peak(values: np.ndarray, unit: str) -> str:
+        """The largest |value| of ``values`` (N,) [unit], its sign and time; or 0 to round-off."""
         k = int(np.argmax(np.abs(values)))
-        unit = load_unit(model, name)
-        lines.append(
-            f"  peak actuator load {name}: max |τ| = {abs(values[k]):.4g} {unit} "
-            f"(sign {'+' if values[k] >= 0 else '−'}) at t = {t[k]:.4g} s"
-        )
+        if abs(values[k]) <= ROUND_OFF * scales[unit]:
+            return f"0 {unit} to round-off (below {ROUND_OFF:g} of {scales[unit]:.4g} {unit})"
+        sign = "" if np.all(values >= 0.0) else f" (sign {'+' if values[k] >= 0 else '−'})"
+        return f"{abs(values[k]):.4g} {unit}{sign} at t = {t[k]:.4g} s"
+
+    lines = [
+        f"  peak actuator load {name}: max |τ| = {peak(values, load_unit(model, name))}"
+        for name, values in (loads.actuators.items() if drives else ())
+    ]
     for name, wrench in loads.joints.items():
         force = np.linalg.norm(wrench.force, axis=1)
-        k = int(np.argmax(force))
-        lines.append(f"  peak reaction force in {name}: {force[k]:.4g} N at t = {t[k]:.4g} s")
+        lines.append(f"  peak reaction force in {name}: {peak(force, 'N')}")
+    lines += [
+        f"  no reaction in {model.names[j]}: free in all six directions (a free-flyer), it "
+        "transmits no force and no moment"
+        for j in range(1, model.njoints)
+        if model.names[j] not in loads.joints
+    ]
     for what, unit, vector in (
         ("force", "N", loads.mount.level_force),
         ("moment", "N·m", loads.mount.level_moment),
     ):
         size = np.linalg.norm(vector, axis=1)
-        k = int(np.argmax(size))
         lines.append(
-            f"  peak mount {what} (on the mechanism, about the model's origin): {size[k]:.4g} "
-            f"{unit} at t = {t[k]:.4g} s"
+            f"  peak mount {what} (on the mechanism, about the model's origin): {peak(size, unit)}"
         )
     units = element_units(model, elements)
     for name, values in loads.elements.items():
-        k = int(np.argmax(np.abs(values)))
-        lines.append(f"  peak force of {name}: {values[k]:.4g} {units[name]} at t = {t[k]:.4g} s")
+        lines.append(f"  peak force of {name}: {peak(values, units[name])}")
     if loads.indeterminate:
         lines.append(
             "  statically indeterminate closure rows: "
@@ -253,59 +316,76 @@ def load_peaks(
     return lines
 
 
+def load_scale(model: pin.Model, loads: ChainLoads, elements: Sequence[ForceElement]) -> float:
+    """The loads' scale [N]: the largest force of the run (a joint's, the mount's, a cut's, an
+    element's, a prismatic drive's), or its largest moment over the mechanism's size
+    (:func:`~feeder.chain.kinematics.tree.reach` at the model's zero pose) if that is larger; a
+    moment's scale is this times the size."""
+    size = reach(model, pin.neutral(model)[None])
+    units = element_units(model, elements) | {
+        name: load_unit(model, name) for name in loads.actuators
+    }
+    scalars = loads.elements | loads.actuators
+    wrenches = [(w.force, w.moment) for w in (*loads.joints.values(), *loads.closures.values())]
+    wrenches.append((loads.mount.level_force, loads.mount.level_moment))
+    forces = [np.abs(x) for name, x in scalars.items() if units[name] == "N"]
+    moments = [np.abs(x) for name, x in scalars.items() if units[name] == "N·m"]
+    forces += [np.linalg.norm(force, axis=1) for force, _ in wrenches]
+    moments += [np.linalg.norm(moment, axis=1) for _, moment in wrenches]
+    largest_force = max(float(x.max(initial=0.0)) for x in forces)
+    largest_moment = max(float(x.max(initial=0.0)) for x in moments)
+    return max(largest_force, largest_moment / size)
+
+
+def column_stem(name: str) -> str:
+    """``name`` (a joint's, a closure's or a force element's) as it appears in the tables'
+    column names: each run of characters other than ASCII letters, digits and ``_`` replaced by
+    one ``_`` (``cylinder:boom-rod`` → ``cylinder_boom_rod``), so that every column name is one
+    that ``numpy.genfromtxt(names=True)``, pandas' attribute access and spreadsheets keep as it
+    is."""
+    return re.sub(r"[^A-Za-z0-9_]+", "_", name)
+
+
 def joint_columns(
     model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray
 ) -> dict[str, np.ndarray]:
-    """Every joint's coordinates, rates and accelerations as table columns (N,), SI units:
+    """Every joint's coordinates, rates and accelerations as table columns (N,), SI units, the
+    joint's name as :func:`column_stem` writes it:
 
-    * revolute, prismatic: ``q_<j>``, ``v_<j>``, ``a_<j>`` (rad or m, and rates);
-    * continuous: the same, ``q_<j>`` the angle atan2(sin, cos) in (−π, π];
-    * ball (quaternion): ``q_<j>_rx|ry|rz``, its rotation vector [rad] (axis × angle, child
-      relative to parent, parent axes), and ``q_<j>_qx|qy|qz|qw`` the unit quaternion;
-      ``v_<j>_x|y|z``, ``a_<j>_x|y|z`` the angular velocity and acceleration in the child's axes;
-    * universal, ball (ZYX), planar, free-flyer, translation: ``q_<j>_<k>``, ``v_<j>_<k>``,
-      ``a_<j>_<k>`` for each of Pinocchio's coordinates and velocities k = 1, 2, … (planar:
-      x, y, cos θ, sin θ and v_x, v_y, ω; free-flyer: position, quaternion and linear, angular
-      velocity in the child's axes).
+    * one-coordinate joints (revolute, continuous, prismatic): ``q_<j>``, ``v_<j>``, ``a_<j>``
+      (rad or m, and rates; a continuous joint's angle atan2(sin, cos) in (−π, π]);
+    * the others: ``q_<j>_<c>`` for each shown coordinate c and ``v_<j>_<r>``, ``a_<j>_<r>`` for
+      each velocity component r, named as in :mod:`feeder.chain.kinematics.coordinates`
+      (a free-flyer: ``q_<j>_x|y|z``, ``q_<j>_rx|ry|rz``, ``q_<j>_qx|qy|qz|qw``,
+      ``v_<j>_vx|vy|vz|wx|wy|wz``).
+
+    Raises:
+        InputError: Two joints whose names :func:`column_stem` writes alike (named).
     """
-    cols: dict[str, np.ndarray] = {}
-    for j in range(1, model.njoints):
-        cols |= _joint_columns(model, j, q, v, a)
-    return cols
+    return merge_columns(*(_joint_columns(model, j, q, v, a) for j in range(1, model.njoints)))
+
+
+def _key(prefix: str, joint: str, suffix: str) -> str:
+    """The column ``<prefix>_<joint>[_<suffix>]`` (:func:`joint_columns`)."""
+    return f"{prefix}_{column_stem(joint)}" + (f"_{suffix}" if suffix else "")
 
 
 def _joint_columns(
     model: pin.Model, j: int, q: np.ndarray, v: np.ndarray, a: np.ndarray
 ) -> dict[str, np.ndarray]:
     """The columns of :func:`joint_columns` for joint ``j``."""
-    cols: dict[str, np.ndarray] = {}
-    joint, name = model.joints[j], model.names[j]
-    qj = q[:, joint.idx_q : joint.idx_q + joint.nq]
-    vj, aj = (x[:, joint.idx_v : joint.idx_v + joint.nv] for x in (v, a))
-    if joint.nv == 1:
-        angle = np.arctan2(qj[:, 1], qj[:, 0]) if joint.nq == 2 else qj[:, 0]
-        cols |= {f"q_{name}": angle, f"v_{name}": vj[:, 0], f"a_{name}": aj[:, 0]}
-    elif joint.shortname() == "JointModelSpherical":
-        rotation = np.array([pin.log3(pin.Quaternion(x).matrix()) for x in qj])
-        for k, axis in enumerate("xyz"):
-            cols[f"q_{name}_r{axis}"] = rotation[:, k]
-        for k, part in enumerate(("qx", "qy", "qz", "qw")):
-            cols[f"q_{name}_{part}"] = qj[:, k]
-        for k, axis in enumerate("xyz"):
-            cols[f"v_{name}_{axis}"] = vj[:, k]
-            cols[f"a_{name}_{axis}"] = aj[:, k]
-    else:
-        for k in range(joint.nq):
-            cols[f"q_{name}_{k + 1}"] = qj[:, k]
-        for k in range(joint.nv):
-            cols[f"v_{name}_{k + 1}"] = vj[:, k]
-            cols[f"a_{name}_{k + 1}"] = aj[:, k]
+    joint, name, table = model.joints[j], model.names[j], coordinates(model, j)
+    shown = table.show(q[:, joint.idx_q : joint.idx_q + joint.nq])
+    cols = {_key("q", name, suffix): shown[:, k] for k, (suffix, _) in enumerate(table.shown)}
+    for prefix, x in (("v", v), ("a", a)):
+        for k, (suffix, _) in enumerate(table.rates):
+            cols[_key(prefix, name, suffix)] = x[:, joint.idx_v + k]
     return cols
 
 
 def q_from_columns(model: pin.Model, cols: Mapping[str, np.ndarray]) -> np.ndarray:
     """The configurations (N, nq) a table's coordinate columns hold: the inverse of
-    :func:`joint_columns` (a continuous joint's angle back to its cos, sin; a ball joint from its
+    :func:`joint_columns` (a continuous joint's angle back to its cos, sin; a rotation from its
     quaternion columns).
 
     Raises:
@@ -320,43 +400,40 @@ def q_from_columns(model: pin.Model, cols: Mapping[str, np.ndarray]) -> np.ndarr
     n = len(next(iter(cols.values())))
     q = np.empty((n, model.nq))
     for j in range(1, model.njoints):
-        joint, name = model.joints[j], model.names[j]
-        first = joint.idx_q
-        if joint.nv == 1 and joint.nq == 2:
-            angle = column(f"q_{name}")
-            q[:, first], q[:, first + 1] = np.cos(angle), np.sin(angle)
-        elif joint.nv == 1:
-            q[:, first] = column(f"q_{name}")
-        elif joint.shortname() == "JointModelSpherical":
-            for k, part in enumerate(("qx", "qy", "qz", "qw")):
-                q[:, first + k] = column(f"q_{name}_{part}")
-        else:
-            for k in range(joint.nq):
-                q[:, first + k] = column(f"q_{name}_{k + 1}")
+        joint, name, table = model.joints[j], model.names[j], coordinates(model, j)
+        shown = np.column_stack([column(_key("q", name, suffix)) for suffix, _ in table.shown])
+        q[:, joint.idx_q : joint.idx_q + joint.nq] = table.store(shown)
     return q
 
 
 def pose_rows(model: pin.Model, q: np.ndarray) -> list[tuple[str, str, float]]:
-    """A pose (nq,) as (joint, coordinate, value) rows, the coordinates of
-    :func:`joint_columns`."""
-    zero = np.zeros((1, model.nv))
-    rows = []
-    for j in range(1, model.njoints):
-        name = model.names[j]
-        for key, value in _joint_columns(model, j, q[None, :], zero, zero).items():
-            if key.startswith("q_"):
-                coordinate = key[len(name) + 2 :].lstrip("_") or "q"
-                rows.append((name, coordinate, float(value[0])))
-    return rows
+    """A pose (nq,) as (joint, coordinate, value) rows, SI units: the shown coordinates of
+    :mod:`feeder.chain.kinematics.coordinates` (``q`` for a one-coordinate joint's)."""
+    return [(name, suffix or "q", value) for name, suffix, value, _ in pose_values(model, q)]
 
 
 def pose_lines(model: pin.Model, reference: np.ndarray, assembled: np.ndarray) -> list[str]:
     """The assembled pose as text: its distance from the reference and each joint's coordinates
-    (:func:`pose_rows`)."""
+    with their units (:func:`~feeder.chain.kinematics.coordinates.pose_values`)."""
     distance = float(np.linalg.norm(pin.difference(model, reference, assembled)))
     return [
         f"assembled pose (the closed pose nearest to the reference, ‖Δq‖ = {distance:.4g}):",
-        *(f"  {name} {part} = {value:.9g}" for name, part, value in pose_rows(model, assembled)),
+        *(
+            f"  {name} {suffix or 'q'} = {value:.9g}{'' if unit == '–' else ' ' + unit}"
+            for name, suffix, value, unit in pose_values(model, assembled)
+        ),
+    ]
+
+
+def mount_lines(
+    report: MobilityReport, model: pin.Model, reference: np.ndarray, assembled: np.ndarray
+) -> list[str]:
+    """The mobility report measured at the assembled pose, under a heading that says so, then
+    that pose (:func:`pose_lines`): the summaries' first lines."""
+    return [
+        "mobility at the assembled pose (the closed pose nearest to the reference, below):",
+        textwrap.indent(report.text(), "  "),
+        *pose_lines(model, reference, assembled),
     ]
 
 
@@ -374,15 +451,36 @@ def mount_mechanism(spec_path, model, pose):
     return spec, chain, partition, reference, partition.mount(reference)
 
 
+@dataclass(frozen=True)
+class MechanismCheck:
+    """A mechanism's mobility report at its assembled pose (``feeder analyze --check``).
+
+    Attributes:
+        report: The report, for the side-file's independent joints.
+        text: The report and the assembled pose as text (:func:`mount_lines`).
+    """
+
+    report: MobilityReport
+    text: str
+
+    @property
+    def drives(self) -> bool:
+        """Whether the independent joints determine the mechanism there (up to idle motions), as
+        ``feeder analyze`` needs: :attr:`MobilityReport.determined` is None."""
+        return self.report.determined is None
+
+
 def check_mechanism(
     spec_path: str | Path, model: str | Path | None = None, pose: str | Path | None = None
-) -> str:
+) -> MechanismCheck:
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
-    the closed pose nearest to the reference (the model's zero pose, or the pose file), which the
-    report prints."""
+    the closed pose nearest to the reference (the model's zero pose, or the pose file), where
+    ``feeder analyze`` starts and measures its own report."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
-    report = mobility(chain, assembled, spec.independent).text()
-    return "\n".join([report, *pose_lines(chain.model, reference, assembled)])
+    report = mobility(chain, assembled, spec.independent)
+    return MechanismCheck(
+        report, "\n".join(mount_lines(report, chain.model, reference, assembled))
+    )
 
 
 def analyze(
@@ -411,5 +509,5 @@ def analyze(
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
     loads = inverse_dynamics(dyn, q, v, a, t=table.t)
     warn_if_gravity_idle(spec, chain, q)
-    report = mobility(chain, q[0], spec.independent)
+    report = mobility(chain, assembled, spec.independent)
     return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)

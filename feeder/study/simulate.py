@@ -29,8 +29,8 @@ from .analyze import (
     joint_columns,
     load_columns,
     load_peaks,
+    mount_lines,
     mount_mechanism,
-    pose_lines,
     warn_if_gravity_idle,
 )
 
@@ -48,7 +48,7 @@ class Simulation:
         elements: The force elements that acted.
         chain: The closed chain.
         run: The run (states, accelerations, loads, drift, energy and work).
-        report: Mobility at the first sample.
+        report: Mobility at the assembled pose, where the run starts.
         reference: The pose the mechanism was mounted from (nq,).
         assembled: The closed pose nearest to it, where the run starts at rest (nq,).
         method, rtol, atol: The integrator and its tolerances.
@@ -89,7 +89,7 @@ class Simulation:
         balance, and the peaks of the loads, as text."""
         run = self.run
         t = run.t
-        lines = [self.report.text(), *pose_lines(self.chain.model, self.reference, self.assembled)]
+        lines = mount_lines(self.report, self.chain.model, self.reference, self.assembled)
         lines.append(
             f"forward run: {t[-1] - t[0]:.4g} s from rest, {t.size} output samples; "
             f"{self.method} at rtol {self.rtol:g}, atol {self.atol:g}: {run.steps} steps, "

@@ -14,11 +14,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 from matplotlib.figure import Figure
 
 from ..chain.dynamics.inverse import ChainLoads
-from ..chain.kinematics.tree import frame_placements, tree_motion
+from ..chain.kinematics.tree import reach
 from ..study.analyze import Analysis, load_unit
 from ..study.simulate import Simulation
 from .axes import (
@@ -55,10 +54,6 @@ enough for its legend's tallest column."""
 LEGEND_WRAP = 40
 """Longest line of a legend entry [characters]: longer labels (curves named together,
 ``a = b = … = 0``) are wrapped onto more lines."""
-
-MIN_REACH = 1e-3
-"""Smallest mechanism size [m] taken for the moments' round-off level (a mechanism whose frames
-all sit at the world origin has none)."""
 
 
 @dataclass(frozen=True)
@@ -169,19 +164,6 @@ def loads_figure(analysis: Analysis) -> Figure:
         reference=1.0,
     )
     return stacked_figure(analysis.motion.t, [loads, gain])
-
-
-def reach(model: pin.Model, q: np.ndarray) -> float:
-    """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
-    frame's origin (joints, links, cut frames) from the world origin, at least
-    :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this
-    (world axes)."""
-    motion = tree_motion(model, q)
-    distances = (
-        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
-        for f in range(model.nframes)
-    )
-    return max(max(distances, default=0.0), MIN_REACH)
 
 
 def reactions_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:

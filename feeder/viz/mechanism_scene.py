@@ -38,6 +38,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from ..chain.kinematics.joints import joint_axes, kind_of
 from ..chain.readers.urdf import mesh_path
 from ..exceptions import FeederWarning, InputError, UrdfError
+from ..study.analyze import column_stem
 from ..study.view import MechanismView
 from .scene import (
     BASE,
@@ -216,7 +217,7 @@ def reaction_peaks(view: MechanismView) -> dict[str, float]:
     model = view.chain.model
     peaks = {}
     for name in list(model.names)[1:]:
-        keys = [f"{name}_force_{axis}" for axis in "xyz"]
+        keys = [f"{column_stem(name)}_force_{axis}" for axis in "xyz"]
         if all(key in view.columns for key in keys):
             force = np.column_stack([view.columns[key] for key in keys])
             peaks[name] = float(np.linalg.norm(force, axis=1).max())
@@ -258,10 +259,10 @@ def _arrows(
     lever = float(np.ptp(origins.reshape(-1, 3), axis=0).max())
     zero = []
     for name in list(model.names)[1:]:
-        if f"tau_{name}" not in columns:
+        tau = columns.get(f"tau_{column_stem(name)}")
+        if tau is None:
             continue
         j = model.getJointId(name)
-        tau = columns[f"tau_{name}"]
         prismatic = kind_of(model.joints[j]) == "prismatic"
         if np.abs(tau).max() <= ROUND_OFF * force_scale * (1.0 if prismatic else lever):
             zero.append(name)
@@ -273,7 +274,7 @@ def _arrows(
             moments[f"drive moment of {name} [N·m]"] = (vector, origins[:, j])
     for name in reactions:
         j = model.getJointId(name)
-        force = np.column_stack([columns[f"{name}_force_{axis}"] for axis in "xyz"])
+        force = np.column_stack([columns[f"{column_stem(name)}_force_{axis}"] for axis in "xyz"])
         forces[f"reaction force in {name} [N]"] = (force, origins[:, j])
     mount = [f"mount_force_vehicle_{axis}" for axis in "xyz"]
     if all(key in columns for key in mount):

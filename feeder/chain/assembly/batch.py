@@ -35,6 +35,7 @@ from ...exceptions import SingularPoseError, UnreachablePoseError
 from ..kinematics.rows import closure_kinematics
 from ..kinematics.tree import tree_motion
 from .newton import CONTINUATION_STEP, POSITION_TOLERANCE, RANK_TOLERANCE
+from .rank import velocity_gain
 
 STRIDE = 32
 """Samples between two sequentially continued ones (32 measured fastest on the benchmarks'
@@ -63,8 +64,6 @@ def batch_track(
         BatchFallback: A check failed on some sample.
         FeederError: The sequential continuation of the coarse samples refused one.
     """
-    if partition._prismatic.size:
-        raise BatchFallback("prismatic speeds are scaled per sample")
     kept = _independent_rows(partition.chain.jacobian(q_first), partition)
     q, jacobian = _positions(partition, q_first, x, kept)
     v, a, gain = _rates(partition, q, jacobian, dx, ddx, kept)
@@ -243,9 +242,8 @@ def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarra
     if not np.all(squares < RANK_TOLERANCE**-2):
         raise BatchFallback("a rank drop")
     gains_map = inverse @ jac_ind  # J_dep⁺ J_ind, (n, n_dep, n_ind)
-    gain = np.sqrt(
-        np.linalg.eigvalsh(np.swapaxes(gains_map, 1, 2) @ gains_map)[:, -1].clip(min=0.0)
-    )
+    scale = partition._scale
+    gain = velocity_gain(gains_map, scale[dependent], scale[independent])
     if np.any(gain > partition.max_gain):
         raise BatchFallback("near a singular pose")
     v = np.zeros((n, model.nv))

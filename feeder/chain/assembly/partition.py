@@ -22,9 +22,18 @@ independent joints, or a singular pose: refused.
 The rank tests run at each solution: the independent joints must be able to move freely (the
 dependent part of the Jacobian has the whole Jacobian's rank), and the dependent coordinates must
 be determined up to idle motions. Near a singular pose (a toggle, a dead centre) the dependent
-velocities grow without bound for a bounded independent motion; the *velocity gain*
-‖J_dep⁺ J_ind‖₂ measures it, and a pose whose gain exceeds ``max_gain`` (default
-:data:`MAX_GAIN`) is refused with :class:`~feeder.exceptions.SingularPoseError`.
+velocities grow without bound for a bounded independent motion; the *velocity gain* measures it,
+and a pose whose gain exceeds ``max_gain`` (default :data:`MAX_GAIN`) is refused with
+:class:`~feeder.exceptions.SingularPoseError`. The gain is ‖S_dep⁻¹ J_dep⁺ J_ind S_ind‖₂: the
+largest dependent speed per unit independent speed, every length's speed (a prismatic joint's,
+the linear ones of planar, translation and free-flyer joints) counted in units of the
+mechanism's reach L (:attr:`Partition.length`: the largest distance of a frame's origin from the
+world's at the model's zero pose), every angle's in rad/s. It is dimensionless, rad/rad for a
+mechanism of revolute joints, and the same for a mechanism scaled up or down: a cylinder acting
+at a lever arm h on a mechanism of reach L has a gain of about L/h (an excavator's boom cylinder,
+h ≈ 0.25 m on L ≈ 6 m: ~25), a crank driving a rocker of comparable length about 1; the limit
+refuses a lever arm shrunk to a thousandth of the reach, the same pose for a 1 m model as for
+the 30 m machine it scales.
 """
 
 from __future__ import annotations
@@ -37,7 +46,9 @@ import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number, check_samples, check_vector
+from ..kinematics.coordinates import length_rates, pose_text
 from ..kinematics.joints import kind_of
+from ..kinematics.tree import reach
 from ..model.closure import ClosedChain
 from .batch import MIN_SAMPLES, BatchFallback, batch_track
 from .newton import (
@@ -52,9 +63,9 @@ from .newton import (
 from .rank import IDLE_TOLERANCE, moved_joints, point_rows, truncated_inverse, velocity_gain
 
 MAX_GAIN = 1e3
-"""Largest accepted velocity gain ‖J_dep⁺ J_ind‖₂ (dependent speed per unit independent speed,
-SI units): a coordinate that must move a thousand times faster than the driving ones is at a
-toggle for every practical purpose (the device's 5° transmission limit is a gain of ~3)."""
+"""Largest accepted velocity gain (module docstring: dimensionless, lengths in units of the
+mechanism's reach): a coordinate that must move a thousand times faster than the driving ones is
+at a toggle for every practical purpose (the device's 5° transmission limit is a gain of ~3)."""
 
 MOUNT_STEP = 0.05
 """Largest step [rad, m] of the independent coordinates when they are moved from the mounted
@@ -85,6 +96,9 @@ class Partition:
     Attributes:
         independent: Velocity indices of the independent joints, in the order given.
         dependent: The other velocity indices, ascending.
+        length: The mechanism's reach L [m] (:func:`~feeder.chain.kinematics.tree.reach` at the
+            model's zero pose): the unit of lengths' speeds in the velocity gain, and of the
+            idle-motion test's lever arms.
 
     Raises:
         InputError: An unknown joint name, a name given twice, a multi-coordinate joint.
@@ -102,9 +116,9 @@ class Partition:
         mask[self.independent] = False
         self.dependent = np.flatnonzero(mask)
         kinds = {j: kind_of(model.joints[j]) for j in range(1, model.njoints)}
-        self._prismatic = np.array(
-            [model.joints[j].idx_v for j, kind in kinds.items() if kind == "prismatic"], dtype=int
-        )
+        self.length = reach(model, pin.neutral(model)[None])
+        self._lengths = length_rates(model)
+        self._scale = np.where(self._lengths, self.length, 1.0)  # S of the velocity gain
         angles = [
             model.joints[j]
             for j, kind in kinds.items()
@@ -124,6 +138,10 @@ class Partition:
         self._idle_count = 0
         """Idle motions verified at a pose (their number is structural: a pose with as many
         dependent-rank deficiencies needs no new check, one with more is examined again)."""
+        self._loops = [
+            (closure.label, _loop_joints(model, ids))
+            for closure, ids in zip(chain.closures, chain.frame_ids, strict=True)
+        ]  # each closure's label and the ids of the joints of its loop, for messages
         self._inputs = []  # (idx_q, continuous) of each independent joint, in the given order
         self._times: np.ndarray | None = None  # the samples' times [s] (track's), for messages
         for name in self.independent_joints:
@@ -143,40 +161,72 @@ class Partition:
             UnreachablePoseError: q does not close the loops.
         """
         q = self.chain.check_q(q)
-        gap = float(np.abs(self.chain.residual(q)).max(initial=0.0))
+        residual = np.abs(self.chain.residual(q))
+        gap = float(residual.max(initial=0.0))
         if gap > tolerance:
+            worst = [float(residual[rows].max()) for rows in self.chain.row_slices]
+            label, joints = self._loops[int(np.argmax(worst))]
             raise UnreachablePoseError(
-                f"q = {np.round(q, 6)} does not close the loops: residual {gap:.3e} > "
-                f"{tolerance:g} (assemble it first)"
+                f"loop {label} is open by {gap:.3e} [m, rad] > {tolerance:g} at "
+                f"{pose_text(self.chain.model, q, joints)}: not a closed pose (assemble it first)"
             )
         return q
 
     def gain(self, q: np.ndarray) -> float:
-        """Velocity gain ‖J_dep⁺ J_ind‖₂ at ``q`` (J_dep⁺ truncated: idle motions do not count):
-        the largest dependent speed per unit independent speed, prismatic speeds counted in units
-        of the mechanism's size (:meth:`length_scale`)."""
+        """The velocity gain at ``q`` (module docstring; idle motions do not count), without the
+        tests of :meth:`velocity`: also past :attr:`max_gain` (at an exactly singular pose the
+        truncated pseudo-inverse drops the lost direction)."""
         q = self.chain.check_q(q)
-        return self._gain(q, self.chain.jacobian(q))
+        jac = self.chain.jacobian(q)
+        pinv, _, _ = truncated_inverse(jac[:, self.dependent], self._rank_tolerance(jac))
+        return self._gain(pinv, jac)
 
-    def length_scale(self, q: np.ndarray) -> float:
-        """The mechanism's size [m] at ``q``: the largest distance of a joint from the base
-        (≥ 1 mm). Prismatic speeds divided by it compare with angular ones."""
-        pin.forwardKinematics(self.chain.model, self.chain.data, q)
-        return self._reach()
-
-    def _reach(self) -> float:
-        """:meth:`length_scale` at the placements already in the chain's data."""
-        model, data = self.chain.model, self.chain.data
-        reach = max(
-            (np.linalg.norm(data.oMi[j].translation) for j in range(1, model.njoints)), default=0.0
+    @property
+    def gain_definition(self) -> str:
+        """What the velocity gain is and its unit, for reports (module docstring)."""
+        if not self._lengths.any():
+            return "largest dependent speed per unit independent speed [rad/rad]"
+        return (
+            "largest dependent speed per unit independent speed, lengths' speeds in units of the "
+            f"mechanism's reach L = {self.length:.4g} m [–]"
         )
-        return max(float(reach), 1e-3)
 
-    def _gain(self, q: np.ndarray, jac: np.ndarray) -> float:
-        if self._prismatic.size:
-            jac = jac.copy()
-            jac[:, self._prismatic] *= self.length_scale(q)
-        return velocity_gain(*self._split(jac))
+    def _gain(self, pinv: np.ndarray, jac: np.ndarray) -> float:
+        """The velocity gain from the truncated pseudo-inverse (n_dep, nc) of the dependent
+        columns of the closure Jacobian ``jac`` (nc, nv)."""
+        rates = pinv @ jac[:, self.independent]
+        return velocity_gain(rates, self._scale[self.dependent], self._scale[self.independent])
+
+    @staticmethod
+    def _rank_tolerance(jac: np.ndarray) -> float:
+        """Singular values of the closure Jacobian ``jac`` at or below this are zero."""
+        return RANK_TOLERANCE * (float(np.abs(jac).max(initial=0.0)) or 1.0)
+
+    def _inputs_text(self, q: np.ndarray) -> str:
+        """The independent joints' values at ``q``, labelled with their units (``this pose``
+        without independent joints)."""
+        model = self.chain.model
+        ids = [model.getJointId(name) for name in self.independent_joints]
+        return pose_text(model, q, ids) or "this pose"
+
+    def _involved_text(self, q: np.ndarray, names: Sequence[str]) -> str:
+        """``loop <label>`` (or ``loops …``) of the loops through the joints ``names``, and those
+        joints' values at ``q``, labelled with their units: ``loop a-b (j = 0.3 rad)``."""
+        model = self.chain.model
+        ids = {model.getJointId(name) for name in names}
+        loops = [label for label, joints in self._loops if joints & ids]
+        where = f"loop{'s' if len(loops) > 1 else ''} {', '.join(loops)}" if loops else "the tree"
+        return f"{where} ({pose_text(model, q, sorted(ids))})"
+
+    def _weakest(self, jac: np.ndarray) -> tuple[str, ...]:
+        """The dependent joints that the weakest direction of the closure Jacobian's dependent
+        columns ``jac[:, dependent]`` moves (its smallest singular value above the rank
+        tolerance: the motion a toggle frees), largest share first."""
+        _, s, vt = np.linalg.svd(jac[:, self.dependent], full_matrices=False)
+        kept = np.flatnonzero(s > self._rank_tolerance(jac))
+        motion = np.zeros(self.chain.model.nv)
+        motion[self.dependent] = vt[kept[-1] if kept.size else -1]
+        return moved_joints(self.chain.model, motion)
 
     def _split(self, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return jac[:, self.dependent], jac[:, self.independent]
@@ -210,16 +260,16 @@ class Partition:
         motions[:, self.dependent] = free
         points = point_rows(self.chain)  # (3 p, nv): joint origins, frames, centres of gravity
         moved = np.abs(points @ motions.T).max(axis=0)
-        if np.all(moved <= IDLE_TOLERANCE * self._reach()):
+        if np.all(moved <= IDLE_TOLERANCE * self.length):
             return motions
         # The locked-input motions that move points: name the joints of the worst one.
         names = moved_joints(model, motions[int(np.argmax(moved))])
         raise SingularPoseError(
             f"the closure does not determine the {self.dependent.size} dependent coordinates "
-            f"at q = {np.round(q, 6)}: dependent Jacobian rank {rank}; with "
-            f"{list(self.independent_joints)} locked, {', '.join(names)} can still move "
-            f"(up to {moved.max():.3g} m per unit rate: not an idle motion; too few independent "
-            "joints, or a singular pose)"
+            f"at {self._inputs_text(q)}: dependent Jacobian rank {rank}; with "
+            f"{list(self.independent_joints)} locked, {', '.join(names)} can still move in "
+            f"{self._involved_text(q, names)}, up to {moved.max():.3g} m per unit rate: not an "
+            "idle motion (too few independent joints, or a singular pose)"
         )
 
     def _check_pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
@@ -232,7 +282,7 @@ class Partition:
             return self._last[1]
         jac = self.chain.jacobian(q)
         jac_dep, jac_ind = self._split(jac)
-        tolerance = RANK_TOLERANCE * (float(np.abs(jac).max(initial=0.0)) or 1.0)
+        tolerance = self._rank_tolerance(jac)
         pinv, rank_dep, range_dep = truncated_inverse(jac_dep, tolerance)
         # The whole Jacobian has a larger rank than its dependent part iff some independent
         # column reaches outside the range of the dependent ones (J_ind's part off that range).
@@ -246,22 +296,24 @@ class Partition:
             names = [name for name, size in pairs if size > tolerance]
             raise SingularPoseError(
                 f"the dependent coordinates cannot follow the independent ones at "
-                f"q = {np.round(q, 6)}: closure Jacobian rank {rank_full}, dependent part rank "
-                f"{rank_dep}; moving {', '.join(names)} opens the loops whatever the dependent "
-                "joints do (not an admissible choice of independent joints, or a singular pose)"
+                f"{self._inputs_text(q)}: moving {', '.join(names)} opens "
+                f"{self._involved_text(q, names)} whatever the dependent joints do (closure "
+                f"Jacobian rank {rank_full}, dependent part rank {rank_dep}: not an admissible "
+                "choice of independent joints, or a singular pose)"
             )
         deficiency = self.dependent.size - rank_dep
         if deficiency and deficiency != self._idle_count:
             self._idle_count = self._idle(q, jac).shape[0]  # raises unless all are idle
-        if self._prismatic.size:
-            gain = self._gain(q, jac)
-        else:
-            gain = float(np.linalg.norm(pinv @ jac_ind, 2)) if jac_ind.size else 0.0
+        gain = self._gain(pinv, jac)
         if gain > self.max_gain:
+            weakest = self._weakest(jac)
             raise SingularPoseError(
-                f"q = {np.round(q, 6)} is near a singular pose (toggle, dead centre): a unit "
-                f"speed of {list(self.independent_joints)} needs dependent speeds up to "
-                f"{gain:.3g} (limit {self.max_gain:g}); the loads grow without bound there"
+                f"near a singular pose (toggle, dead centre) at {self._inputs_text(q)}: "
+                f"{', '.join(weakest)} must move up to {gain:.3g} times as fast as "
+                f"{', '.join(self.independent_joints)} in "
+                f"{self._involved_text(q, weakest)} (velocity gain {gain:.4g} > "
+                f"limit {self.max_gain:g}; {self.gain_definition}); the loads grow without bound "
+                "there"
             )
         self._last = (key, (jac, pinv, gain))
         return jac, pinv, gain
@@ -388,9 +440,9 @@ class Partition:
             self._check_pose(q)
         except SingularPoseError as exc:
             raise SingularPoseError(
-                f"the loop closes only to {norm:.3e} near q = {np.round(q, 6)}, at a singular "
-                "pose (toggle, dead centre): the given independent coordinates are at or beyond "
-                f"the end of the mechanism's travel ({exc})"
+                f"the loops close only to {norm:.3e} [m, rad], near a singular pose (toggle, dead "
+                "centre): the given independent coordinates are at or beyond the end of the "
+                f"mechanism's travel ({exc})"
             ) from None
         raise UnreachablePoseError(
             f"the loop does not close at the given independent coordinates (best residual "
@@ -597,12 +649,13 @@ class Partition:
                     continue
                 part /= 2.0
                 if part < MIN_FRACTION:
+                    weakest = self._weakest(self.chain.jacobian(q))
                     raise SingularPoseError(
                         f"the motion reaches a singular pose (a dead centre, or assembly branches "
-                        f"meeting) at {list(self.independent_joints)} = {np.round(start, 6)}, "
-                        f"q = {np.round(q, 6)}, velocity gain {self.gain(q):.3g}: it cannot be "
-                        "followed past there; end the motion before it, or choose other "
-                        "independent joints"
+                        f"meeting) at {self._inputs_text(self.with_independent(q, start))}, in "
+                        f"{self._involved_text(q, weakest)}, velocity gain {self.gain(q):.3g}: "
+                        "it cannot be followed past there; end the motion before it, or choose "
+                        "other independent joints"
                     )
             q = self.wrap(q)
             self._check_limits(q)
@@ -639,3 +692,10 @@ class Partition:
         delta[self.independent] = step
         delta[self.dependent] = -pinv @ (jac[:, self.independent] @ step)
         return pin.integrate(self.chain.model, q, delta)
+
+
+def _loop_joints(model: pin.Model, frames: tuple[int, int]) -> set[int]:
+    """Ids of the joints of a closure's loop: those that carry one of its two ``frames`` (ids)
+    but not the other (the tree's path between the two frames' bodies)."""
+    a, b = (model.frames[f].parentJoint for f in frames)
+    return (set(model.supports[a]) ^ set(model.supports[b])) - {0}

@@ -1,5 +1,6 @@
 """The linear algebra of the rank tests: which points a locked-input motion moves (idle motions
-move none), truncated pseudo-inverses that give idle motions no share, and the velocity gain.
+move none), truncated pseudo-inverses that give idle motions no share, and the velocity gain
+(:func:`velocity_gain`: dimensionless, lengths' speeds in units of the mechanism's reach).
 """
 
 from __future__ import annotations
@@ -9,7 +10,6 @@ import pinocchio as pin
 
 from ..model.closure import ClosedChain
 from ..model.jacobians import frame_jacobian, joint_jacobian
-from .newton import RANK_TOLERANCE
 
 IDLE_TOLERANCE = 1e-9
 """An idle direction (unit vector of joint rates) may move a joint origin, frame or centre of
@@ -47,15 +47,24 @@ def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray,
     return (vt[keep].T / s[keep]) @ u[:, keep].T, int(keep.sum()), u[:, keep]
 
 
-def velocity_gain(jac_dep: np.ndarray, jac_ind: np.ndarray) -> float:
-    """‖J_dep⁺ J_ind‖₂ with J_dep⁺ truncated at :data:`RANK_TOLERANCE` (idle motions, whose
-    singular values are round-off, do not count; a pose approaching a toggle has a small but
-    resolved singular value and a large gain)."""
-    if jac_dep.shape[1] == 0 or jac_ind.size == 0:
-        return 0.0
-    scale = max(1.0, float(np.abs(np.hstack([jac_dep, jac_ind])).max(initial=0.0)))
-    pinv, _, _ = truncated_inverse(jac_dep, RANK_TOLERANCE * scale)
-    return float(np.linalg.norm(pinv @ jac_ind, 2))
+def velocity_gain(
+    rates: np.ndarray, dependent: np.ndarray, independent: np.ndarray
+) -> float | np.ndarray:
+    """The velocity gain ‖S_dep⁻¹ R S_ind‖₂ of the rate map R = ∂q̇_dep/∂q̇_ind, (n_dep, n_ind)
+    or (N, n_dep, n_ind) (then one gain per sample): the largest dependent speed per unit
+    independent speed, each speed divided by its coordinate's scale S (the mechanism's reach L
+    [m] for a length's rate, 1 for an angle's), so that it is dimensionless — rad/rad for a
+    mechanism of revolute joints — and the same for a mechanism scaled up or down. 0 without
+    dependent or independent coordinates.
+
+    Args:
+        rates: R, the minimum-norm solution's map (idle motions get no share).
+        dependent, independent: The scales S (n_dep,), (n_ind,) [m or 1].
+    """
+    if rates.shape[-1] == 0 or rates.shape[-2] == 0:
+        return 0.0 if rates.ndim == 2 else np.zeros(rates.shape[0])
+    gain = np.linalg.norm(rates * (independent / dependent[:, None]), ord=2, axis=(-2, -1))
+    return float(gain) if rates.ndim == 2 else gain
 
 
 def moved_joints(model: pin.Model, motion: np.ndarray) -> tuple[str, ...]:

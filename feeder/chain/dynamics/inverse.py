@@ -110,7 +110,8 @@ class ChainLoads:
         actuators: Actuated joint name → its generalized force [N or N·m], (N,).
         closure_forces: λ, one column per closure row (:meth:`ClosedChain.row_labels`), (N, nc).
         closures: Closure label → :class:`ClosureWrench`.
-        joints: Joint name → :class:`JointWrench` (every joint of the tree).
+        joints: Joint name → :class:`JointWrench` (every joint of the tree but a free-flyer,
+            which transmits no wrench).
         indeterminate: Labels of the closure rows whose forces are statically indeterminate
             (reported with the convention :data:`CONVENTION`).
         convention: How indeterminate forces were chosen.

@@ -111,7 +111,8 @@ def joint_reactions(
     external: list[tuple[int, np.ndarray]],
     rotation: np.ndarray | None = None,
 ) -> tuple[dict[str, JointWrench], MountWrench]:
-    """Every joint's reaction wrench, and the mount's, with the wrenches ``external`` ((frame
+    """Every joint's reaction wrench (but a free-flyer's, which is zero by definition: it
+    transmits no force and no moment), and the mount's, with the wrenches ``external`` ((frame
     id, world wrench (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`)
     acting on the tree; ``rotation`` (N, 3, 3): the base's axes in the level ones
     (:class:`~feeder.chain.model.base.BaseState`), None for a base at rest."""
@@ -128,6 +129,8 @@ def joint_reactions(
         )
     joints = {}
     for j in range(1, model.njoints):
+        if model.joints[j].nv == 6:
+            continue  # free in every direction (a free-flyer): it transmits no wrench
         linear, angular = motion.linear[j], motion.angular[j]
         drive = np.einsum("nik,ni->nk", linear, force[j]) + np.einsum(
             "nik,ni->nk", angular, moment[j]

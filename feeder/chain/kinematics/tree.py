@@ -39,6 +39,10 @@ import pinocchio as pin
 from ..model.base import BaseState
 from .joints import joint_axes, kind_of, relative_motion
 
+MIN_REACH = 1e-3
+"""Smallest mechanism size [m] :func:`reach` gives (a mechanism whose frames all sit at the world
+origin has none)."""
+
 
 @dataclass(frozen=True)
 class TreeMotion:
@@ -185,6 +189,19 @@ def frame_placements(
     rotation = _rows(motion.rotation[j], placement.rotation)
     origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
     return rotation, origin
+
+
+def reach(model: pin.Model, q: np.ndarray) -> float:
+    """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
+    frame's origin (joints, links, cut frames) from the world origin, at least
+    :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this; a
+    prismatic speed divided by it compares with an angular one."""
+    motion = tree_motion(model, q)
+    distances = (
+        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
+        for f in range(model.nframes)
+    )
+    return max(max(distances, default=0.0), MIN_REACH)
 
 
 def point_jacobian(model: pin.Model, motion: TreeMotion, frame: int) -> np.ndarray:

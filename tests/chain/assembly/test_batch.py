@@ -1,6 +1,7 @@
 """Batched continuation (feeder.chain.assembly.batch) against the sequential one, sample by
 sample: the same poses, rates, accelerations and gains, on a planar four-bar turning twice
-(redundant rows, wrapped angles) and on the CAD biped (ball and universal joints, 6 welds)."""
+(redundant rows, wrapped angles), a slider-crank (a prismatic joint) and on the CAD biped (ball
+and universal joints, 6 welds)."""
 
 from __future__ import annotations
 
@@ -35,6 +36,20 @@ def four_bar():
     return chain, ["crank_joint"], q0, (x, np.full_like(x, 3.0 * np.pi), np.zeros_like(x))
 
 
+def slider_crank():
+    """A prismatic joint among the dependent ones: its gain counts the slider's speed in units
+    of the reach, fixed for the mechanism, so the batched path takes it."""
+    chain = load_closed_chain(
+        REPO / "examples" / "slider_crank" / "slider_crank.urdf",
+        [Closure("rod_tip", "slider_pin", "revolute")],
+    )
+    partition = Partition(chain, ["crank_joint"])
+    q0 = partition.mount(np.zeros(3))
+    t = np.linspace(0.0, 1.0, 300)[:, None]
+    x = partition.independent_values(q0) + 3.0 * np.pi * t
+    return chain, ["crank_joint"], q0, (x, np.full_like(x, 3.0 * np.pi), np.zeros_like(x))
+
+
 def biped():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", FeederWarning)
@@ -52,7 +67,9 @@ def biped():
     return chain, list(spec.independent), q0, (x, 0.05 * w * np.cos(w * t) * ones, None)
 
 
-@pytest.mark.parametrize("case", [four_bar, biped], ids=["four_bar", "biped"])
+@pytest.mark.parametrize(
+    "case", [four_bar, slider_crank, biped], ids=["four_bar", "slider_crank", "biped"]
+)
 def test_batched_and_sequential_continuation_agree(case, monkeypatch):
     chain, independent, q0, (x, dx, ddx) = case()
     assert x.shape[0] >= MIN_SAMPLES
