@@ -26,7 +26,7 @@ import yaml
 
 from ...exceptions import FeederWarning, InputError
 from ...validation import check_path
-from ..model.closure import Closure
+from ..model.closure import Closure, repeated_cut
 from .joint_types import joint_model
 from .spec import SIDE_FILE_MAX_DEPTH, MechanismSpec, read_side_text, too_deep
 
@@ -117,7 +117,7 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
     Raises:
         InputError: Unreadable YAML, one beyond the limits (module docstring), a missing or
             mistyped key (named), lists of different lengths, an unknown closure or joint type,
-            no model file, a path that is not text or a path.
+            the same loop twice, no model file, a path that is not text or a path.
     """
     path = check_path("the closure file", path)
     model = None if model is None else check_path("the model file", model)
@@ -129,6 +129,13 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
         warnings.warn(f"{path}: keys {unknown} are not used", FeederWarning, stacklevel=3)
     where = str(path)
     loops = _names(document.get("closed_loop", []), "closed_loop", where, pairs=True)
+    repeated = repeated_cut(loops)
+    if repeated is not None:
+        i, j = repeated
+        raise InputError(
+            f"{where}: closed_loop entries #{i + 1} {loops[i]} and #{j + 1} {loops[j]} join the "
+            "same frames: one loop listed twice is not two cuts; list it once"
+        )
     types = document.get("type", ["6d"] * len(loops))
     if not isinstance(types, list) or len(types) != len(loops):
         raise InputError(f"{where}: 'type' must give one type per closed_loop pair, got {types!r}")

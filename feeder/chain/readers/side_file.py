@@ -34,7 +34,7 @@ from pathlib import Path
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_path
-from ..model.closure import KINDS, Closure
+from ..model.closure import KINDS, Closure, repeated_cut
 from .base_motion import read_base
 from .forces import read_forces
 from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
@@ -80,7 +80,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         InputError: Missing or malformed file, one beyond the side-file limits
             (:data:`~feeder.chain.readers.spec.SIDE_FILE_MAX_BYTES`, ``SIDE_FILE_MAX_DEPTH``), a
             missing or mistyped key (named; a closure's ``type`` is required), an unknown
-            closure type, a path that is not text or a path.
+            closure type, the same cut twice, a path that is not text or a path.
     """
     path = check_path("the closure file", path)
     text = read_side_text(path, "TOML")
@@ -155,6 +155,13 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         closures.append(closure)
         if "stiffness" in entry:
             stiffness[closure.label] = tuple(check_finite(f"{here} stiffness", entry["stiffness"]))
+    repeated = repeated_cut([(c.frame_a, c.frame_b) for c in closures])
+    if repeated is not None:
+        i, j = repeated
+        raise InputError(
+            f"{path}: [[closure]] #{i + 1} and #{j + 1} both join {closures[i].frame_a!r} and "
+            f"{closures[i].frame_b!r}: one loop listed twice is not two cuts; list it once"
+        )
     return MechanismSpec(
         model=model_path,
         model_format=model_format,

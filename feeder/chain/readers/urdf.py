@@ -232,8 +232,8 @@ def load_closed_chain(
         UrdfError: Missing or malformed file.
         InertiaError: A non-physical link inertia.
         ClosureFrameError: A closure frame that is not in the model.
-        InputError: ``urdf`` not text or a path, ``closures`` not closures or name pairs, or a
-            pair of frames on the same body.
+        InputError: ``urdf`` not text or a path, ``closures`` not closures or name pairs, a
+            pair of frames on the same body, or the same pair twice (in either order).
     """
     xml = read_urdf(urdf)
     return ClosedChain(build_model(xml, str(urdf)), closures)

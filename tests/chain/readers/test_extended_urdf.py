@@ -1,5 +1,5 @@
-"""The Extended-URDF side-file (YAML) within its limits: size, nesting, aliases. Each refusal is
-one line that names the file and the limit."""
+"""The Extended-URDF side-file (YAML) within its limits (size, nesting, aliases), and a loop
+listed twice. Each refusal is one line that names the file (and the limit)."""
 
 from __future__ import annotations
 
@@ -87,3 +87,14 @@ def test_a_file_larger_than_the_limit_is_refused_unread(tmp_path):
 
 def test_malformed_yaml_is_refused_in_one_line(tmp_path):
     assert "not a readable YAML file" in _refusal(_side_file(tmp_path, "closed_loop: [[A, B]\n"))
+
+
+@pytest.mark.parametrize(
+    "loops", ["[[A, B], [B, A]]", "[[A, B], [C, D], [A, B]]"], ids=["reversed", "repeated"]
+)
+def test_a_loop_listed_twice_is_refused(tmp_path, loops):
+    """The same frame pair, in either order, would be taken as two cuts of one joint."""
+    text = f"closed_loop: {loops}\nname_mot: [m]\n"
+    message = _refusal(_side_file(tmp_path, text))
+    assert "closed_loop entries #1 ['A', 'B'] and #" in message
+    assert "join the same frames" in message

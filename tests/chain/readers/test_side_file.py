@@ -145,6 +145,16 @@ def test_a_side_file_larger_than_the_limit_is_refused(tmp_path):
         read_spec(path)
 
 
+@pytest.mark.parametrize("frames", [("b", "a"), ("a", "b")], ids=["reversed", "repeated"])
+def test_a_loop_listed_twice_is_refused(tmp_path, frames):
+    """Two [[closure]] tables joining the same frames, in either order, are not two cuts."""
+    closure = '[[closure]]\nframes = ["{}", "{}"]\ntype = "point"\n'
+    path = tmp_path / "closures.toml"
+    path.write_text(MECHANISM + closure.format("a", "b") + closure.format(*frames))
+    with pytest.raises(InputError, match=r"\[\[closure\]\] #1 and #2 both join 'a' and 'b'"):
+        read_spec(path)
+
+
 def test_missing_files(tmp_path):
     with pytest.raises(InputError, match="not found"):
         read_spec(tmp_path / "missing.toml")
