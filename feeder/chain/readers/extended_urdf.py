@@ -44,14 +44,14 @@ make 9⁹ ≈ 4·10⁸ values, and an error message printing them would run out 
 
 
 class _LimitedLoader(yaml.SafeLoader):
-    """PyYAML's safe loader of the side-file ``path`` that refuses, while it composes the
-    document (before any value is built), nesting deeper than
+    """PyYAML's safe loader of the ``text`` of the side-file ``path`` that refuses, while it
+    composes the document (before any value is built), nesting deeper than
     :data:`~feeder.chain.readers.spec.SIDE_FILE_MAX_DEPTH`, more than :data:`YAML_MAX_VALUES`
     values with the aliases expanded, and an alias inside its own anchor (a value that contains
     itself)."""
 
-    def __init__(self, path: Path):
-        super().__init__(read_side_text(path, "YAML"))
+    def __init__(self, text: str, path: Path):
+        super().__init__(text)
         self._path = path
         self._depth = 0
         self._values: dict[int, int] = {}  # id(node) → its values, aliases expanded
@@ -88,14 +88,16 @@ def _load(path: Path) -> object:
     Raises:
         InputError: Unreadable or malformed YAML, or a limit passed (named).
     """
-    loader = _LimitedLoader(path)
+    text = read_side_text(path, "YAML")
     try:
-        return loader.get_single_data()
+        loader = _LimitedLoader(text, path)  # its reader refuses control characters here
+        try:
+            return loader.get_single_data()
+        finally:
+            loader.dispose()
     except yaml.YAMLError as exc:
         detail = " ".join(str(exc).split())  # PyYAML's message spans lines
         raise InputError(f"{path}: not a readable YAML file: {detail}") from exc
-    finally:
-        loader.dispose()
 
 
 def _names(value: object, key: str, where: str, pairs: bool = False) -> list:

@@ -96,9 +96,10 @@ def check_depth(value: object, path: Path, level: int = 1) -> None:
     """
     if level > SIDE_FILE_MAX_DEPTH:
         raise InputError(too_deep(path))
-    children = value.values() if isinstance(value, dict) else value
-    if isinstance(value, dict | list):
-        for child in children:
+    if isinstance(value, dict):
+        value = list(value.values())
+    if isinstance(value, list):
+        for child in value:
             check_depth(child, path, level + 1)
 
 

@@ -85,8 +85,11 @@ def test_a_file_larger_than_the_limit_is_refused_unread(tmp_path):
     assert f"larger than {SIDE_FILE_MAX_BYTES} bytes" in message
 
 
-def test_malformed_yaml_is_refused_in_one_line(tmp_path):
-    assert "not a readable YAML file" in _refusal(_side_file(tmp_path, "closed_loop: [[A, B]\n"))
+@pytest.mark.parametrize(
+    "text", ["closed_loop: [[A, B]\n", "name_mot: [m\x07]\n"], ids=["syntax", "control-character"]
+)
+def test_malformed_yaml_is_refused_in_one_line(tmp_path, text):
+    assert "not a readable YAML file" in _refusal(_side_file(tmp_path, text))
 
 
 @pytest.mark.parametrize(
