@@ -17,7 +17,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from ...exceptions import ModelFolderError
+from ...exceptions import ModelFolderError, UrdfError
 
 _COLLADA = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
 
@@ -27,8 +27,12 @@ def inside_folder(path: Path, folder: Path, what: str) -> Path:
 
     Raises:
         ModelFolderError: It lies outside (``what`` names it in the message).
+        UrdfError: Its symbolic links form a loop.
     """
-    resolved = (folder / path).resolve()
+    try:
+        resolved = (folder / path).resolve()
+    except (OSError, RuntimeError) as exc:  # a loop of links (RuntimeError before 3.13)
+        raise UrdfError(f"{what} cannot be resolved: {exc}") from None
     if not resolved.is_relative_to(folder.resolve()):
         raise ModelFolderError(
             f"{what} lies outside the model's folder {folder} (it resolves to {resolved}): "

@@ -221,3 +221,10 @@ def test_a_mesh_path_inside_the_model_folder_is_resolved(tmp_path):
     assert mesh_path("link.stl", urdf) == mesh.resolve()
     with pytest.raises(UrdfError, match="not found"):
         mesh_path("meshes/other.stl", urdf)
+
+
+def test_a_mesh_path_through_a_loop_of_links_is_refused(tmp_path):
+    (tmp_path / "a.stl").symlink_to(tmp_path / "b.stl")
+    (tmp_path / "b.stl").symlink_to(tmp_path / "a.stl")
+    with pytest.raises(UrdfError, match=r"mesh 'a.stl' of .* cannot be resolved"):
+        mesh_path("a.stl", tmp_path / "robot.urdf")
