@@ -30,6 +30,11 @@ class ClosureFrameError(UrdfError):
     """A frame named in a loop closure does not exist in the model."""
 
 
+class ModelFolderError(UrdfError):
+    """A file a model names (a mesh, a mesh's texture or material library) lies outside the
+    model's folder once ``..`` and symbolic links are resolved: it is never read."""
+
+
 class InertiaError(FeederError, ValueError):
     """A link's mass or inertia tensor is not physical.
 

@@ -760,7 +760,7 @@ def test_a_cad_export_without_its_meshes_is_run_and_drawn(tmp_path, capsys):
     assert "UserWarning" not in err  # matplotlib's "Tight layout not applied" among them
     for folder in (run, loads):
         page = (folder / "report.html").read_text(encoding="utf-8")
-        assert "bodies as a stick figure (their mesh files are not found)" in page
+        assert "bodies as a stick figure (their mesh files are missing or unusable)" in page
         assert (folder / "joint_reactions.png").stat().st_size > 10_000
 
 

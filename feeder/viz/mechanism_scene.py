@@ -2,12 +2,13 @@
 its bodies, its closure cuts and its load arrows, animated over its motion.
 
 Bodies: the URDF's visuals — meshes (STL, DAE, OBJ; ``package://``, ``file://`` and relative
-paths resolved beside the model, :func:`~feeder.chain.readers.urdf.mesh_path`) or primitives —
-with their materials' colours. A visual whose mesh file is not found is left out, with one
-warning naming the missing files (the loads need no meshes; the legend names the bodies left
-out). A model without visuals (an MJCF or SDF file, a URDF whose links have none, or none of
-whose mesh files are found) is drawn as a stick figure: a ball at every joint and a rod from each
-joint to its children's joints and to the closure frames on its body.
+paths resolved inside the model's folder, :func:`~feeder.chain.readers.urdf.mesh_path`) or
+primitives — with their materials' colours. A visual whose mesh file is not found, lies outside
+the model's folder or does not load is left out, with one warning per kind naming the files
+(:func:`visual_model`; the legend names the bodies left out). A model without visuals (an MJCF or
+SDF file, a URDF whose links have none, or none of whose mesh files are usable) is drawn as a
+stick figure: a ball at every joint and a rod from each joint to its children's joints and to
+the closure frames on its body.
 
 Arrows, from the loads table of :class:`~feeder.study.view.MechanismView`: each actuated
 joint's drive load at the joint's origin (a prismatic joint's force along its axis; a revolute
@@ -36,8 +37,9 @@ from lxml import etree
 from pinocchio.visualize import MeshcatVisualizer
 
 from ..chain.kinematics.joints import joint_axes, kind_of
-from ..chain.readers.urdf import mesh_path
-from ..exceptions import FeederWarning, InputError, UrdfError
+from ..chain.readers.model_files import inside_folder, mesh_references
+from ..chain.readers.urdf import mesh_path, parse_xml_file
+from ..exceptions import FeederWarning, InputError, ModelFolderError, UrdfError
 from ..study.analyze import column_stem
 from ..study.view import MechanismView
 from .scene import (
@@ -78,24 +80,37 @@ moment) is round-off, not drawn: the loads come from solves whose relative error
 the largest load (condition numbers up to ~1e3 on the shipped mechanisms)."""
 _LEGEND_NAMES = 4  # links named in one legend entry before "and k more"
 
+LEFT_OUT = {
+    "missing": "not found beside the model",
+    "outside": "outside the model's folder, not read (copy them into it)",
+    "unreadable": "not readable as meshes (STL, DAE, OBJ)",
+}
+"""Why a visual's mesh file is not drawn, by kind, as the warning says it."""
+
 
 def visual_model(view: MechanismView) -> tuple[pin.GeometryModel, str, tuple[str, ...]]:
     """The bodies to draw, what they are, and the links whose visuals are left out: the URDF's
-    visuals (meshes resolved beside the model; a visual whose mesh file is not found left out,
-    with a :class:`~feeder.exceptions.FeederWarning` naming the files) or, without any, a stick
-    figure."""
+    visuals or, without any, a stick figure.
+
+    A visual whose mesh file is not found, lies outside the model's folder (or names a texture
+    or material file outside it, :mod:`~feeder.chain.readers.model_files`) or does not load
+    (garbage bytes, an empty file) is left out, with one
+    :class:`~feeder.exceptions.FeederWarning` per kind naming the files: the loads need no
+    meshes, so a report is still worth drawing without them, as it is for a missing mesh; and a
+    file outside the folder is never opened, so no secret can reach the page."""
     model, path = view.chain.model, view.spec.model
     left_out: tuple[str, ...] = ()
     if view.spec.model_format == "urdf":
-        root = etree.parse(str(path)).getroot()
-        missing, left_out = _resolve_meshes(root, path)
-        if missing:
-            warnings.warn(
-                f"{path}: {len(missing)} mesh file(s) not found beside the model, their visuals "
-                f"not drawn (the loads need no meshes): {', '.join(missing)}",
-                FeederWarning,
-                stacklevel=2,
-            )
+        root = parse_xml_file(path, "URDF", "robot")
+        problems, left_out = _resolve_meshes(root, path)
+        for kind, uris in problems.items():
+            if uris:
+                warnings.warn(
+                    f"{path}: {len(uris)} mesh file(s) {LEFT_OUT[kind]}, their visuals not drawn "
+                    f"(the loads need no meshes): {', '.join(uris)}",
+                    FeederWarning,
+                    stacklevel=2,
+                )
         xml = etree.tostring(root, encoding="unicode")
         visuals = pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL)
         if visuals.ngeoms:
@@ -103,27 +118,56 @@ def visual_model(view: MechanismView) -> tuple[pin.GeometryModel, str, tuple[str
     return _stick_figure(view), "stick figure", left_out
 
 
-def _resolve_meshes(root: etree._Element, urdf: Path) -> tuple[list[str], tuple[str, ...]]:
-    """Point every ``<mesh>`` of the URDF ``root`` at its file's absolute path
-    (:func:`~feeder.chain.readers.urdf.mesh_path`) and remove each ``<visual>`` or
-    ``<collision>`` whose mesh file is not found; return the URIs of the visuals' missing
-    files and the links whose visuals were removed, each once, in the file's order."""
-    missing: dict[str, None] = {}
+def _resolve_meshes(
+    root: etree._Element, urdf: Path
+) -> tuple[dict[str, list[str]], tuple[str, ...]]:
+    """Point every ``<mesh>`` of a ``<visual>`` or ``<collision>`` of the URDF ``root`` at its
+    file's absolute path and remove the element if its mesh is not drawn (:data:`LEFT_OUT`; a
+    collision's mesh, which is never read, only if it is not found or lies outside the folder);
+    return the URIs of the visuals left out by kind and the links they belong to, each once, in
+    the file's order."""
+    problems: dict[str, dict[str, None]] = {kind: {} for kind in LEFT_OUT}
     links: dict[str, None] = {}
     for mesh in list(root.iter("mesh")):
+        owner = next(mesh.iterancestors("visual", "collision"), None)
+        if owner is None:  # not a body's shape: Pinocchio reads no other mesh
+            continue
         uri = mesh.get("filename")
+        path, problem = _mesh_file(uri, urdf, read=owner.tag == "visual")
+        if problem is None:
+            mesh.set("filename", str(path))
+            continue
+        link = owner.getparent()
+        link.remove(owner)
+        if owner.tag == "visual":
+            problems[problem][uri] = None
+            links[link.get("name")] = None
+    return {kind: list(uris) for kind, uris in problems.items()}, tuple(links)
+
+
+def _mesh_file(uri: str, urdf: Path, read: bool) -> tuple[Path | None, str | None]:
+    """The mesh file ``uri`` of the URDF ``urdf`` names, or why it is not drawn (a key of
+    :data:`LEFT_OUT`); if ``read``, the files it names must lie inside the model's folder too,
+    and it must load (with Pinocchio's mesh loader, coal's assimp)."""
+    import coal
+
+    try:
+        path = mesh_path(uri, urdf)
+        if read:
+            for reference in mesh_references(path):
+                inside_folder(reference, urdf.parent, f"file {reference.name!r} of mesh {uri!r}")
+    except ModelFolderError:
+        return None, "outside"
+    except UrdfError:
+        return None, "missing"
+    except OSError:
+        return None, "unreadable"
+    if read:  # loaded twice (Pinocchio's cached loader is not shared): ~10 ms per CAD mesh
         try:
-            mesh.set("filename", str(mesh_path(uri, urdf).resolve()))
-        except UrdfError:
-            owner = next(mesh.iterancestors("visual", "collision"), None)
-            if owner is None:  # not a body's shape: Pinocchio reads no other mesh
-                continue
-            link = owner.getparent()
-            link.remove(owner)
-            if owner.tag == "visual":
-                missing[uri] = None
-                links[link.get("name")] = None
-    return list(missing), tuple(links)
+            coal.MeshLoader().load(str(path))
+        except ValueError:  # assimp cannot read it: "File is empty", "Failed to determine …"
+            return None, "unreadable"
+    return path, None
 
 
 def _stick_figure(view: MechanismView) -> pin.GeometryModel:
@@ -173,9 +217,11 @@ def _body_legend(
     model: pin.Model, visuals: pin.GeometryModel, kind: str, left_out: Sequence[str] = ()
 ) -> list[LegendEntry]:
     """One entry per colour drawn, naming the links of that colour, and a note naming the links
-    ``left_out`` (their mesh files not found)."""
+    ``left_out`` (their mesh files not found or not usable, :data:`LEFT_OUT`)."""
     if kind == "stick figure":
-        why = "their mesh files are not found" if left_out else "the model has no visuals"
+        why = (
+            "their mesh files are missing or unusable" if left_out else "the model has no visuals"
+        )
         return [
             LegendEntry(
                 material_css(_STICK_COLOR),
@@ -199,7 +245,9 @@ def _body_legend(
             entries.append(LegendEntry(color, "body", shown))
     if left_out:
         entries.append(
-            LegendEntry("", "note", f"not drawn (mesh files not found): {_names(left_out)}")
+            LegendEntry(
+                "", "note", f"not drawn (mesh files missing or unusable): {_names(left_out)}"
+            )
         )
     return entries
 
@@ -306,7 +354,7 @@ def draw_mechanism(
     left_out: Sequence[str] = (),
 ) -> DrawnScene:
     """Draw and animate the mechanism's view in ``viz`` (its visual model loaded from
-    :func:`visual_model`, of ``kind``, the visuals of the links ``left_out`` not found) with the
+    :func:`visual_model`, of ``kind``, the visuals of the links ``left_out`` not drawn) with the
     reactions of ``reactions`` (picked by :func:`pick_reactions`); return the scales and the
     legend."""
     vis = viz.viewer

@@ -311,12 +311,12 @@ def test_a_missing_mesh_is_left_out_with_a_warning(tmp_path):
         if c["type"] == "set_object" and "/mechanism/visuals/" in c["path"]
     ]
     assert sorted(name.split("_")[0] for name in visuals) == ["coupler", "rocker"]
-    assert "not drawn (mesh files not found): crank" in page
+    assert "not drawn (mesh files missing or unusable): crank" in page
     boxes = iter(range(3))
     meshes_only = re.sub(r"<box [^>]*/>", lambda _: f'<mesh filename="m{next(boxes)}.stl"/>', urdf)
     with pytest.warns(FeederWarning, match=r"3 mesh file\(s\) .*: m0.stl, m1.stl, m2.stl$"):
         page = mechanism_html(pose_view(_four_bar_copy(tmp_path, meshes_only)))
-    assert "bodies as a stick figure (their mesh files are not found)" in page
+    assert "bodies as a stick figure (their mesh files are missing or unusable)" in page
 
 
 def test_server_is_on_loopback_and_silent(capfd):
@@ -453,6 +453,131 @@ def test_obj_meshes_resolved_beside_the_model(tmp_path):
     ]
     assert [m["format"] for m in meshes] == ["obj"]
     assert "v 0.04 0 0" in meshes[0]["data"]  # the file's text, not a reference to it
+
+
+SECRET = "SECRET_outside"
+"""A marker in the files outside the model's folder: it must not reach the page."""
+TRIANGLE_STL = f"solid {SECRET}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.04 0 0\n"
+TRIANGLE_STL += f"vertex 0 0.02 0\nendloop\nendfacet\nendsolid {SECRET}\n"
+TRIANGLE_OBJ = "v 0 0 0\nv 0.04 0 0\nv 0 0.02 0\nf 1 2 3\n"
+TEXTURED_DAE = """<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <library_images><image id="skin"><init_from>../texture.png</init_from></image></library_images>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="9">0 0 0 0.04 0 0 0 0.02 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3"><param name="X" type="float"/>
+      <param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common>
+    </source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n">
+    <instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"""
+"""A triangle whose image lies above the mesh's folder (Pinocchio's viewer embeds images)."""
+
+
+def _with_crank_mesh(folder: Path, uri: str) -> Path:
+    """The four-bar in ``folder`` (created), its crank's box replaced by the mesh ``uri``."""
+    folder.mkdir(exist_ok=True)
+    urdf = (FOUR_BAR / "four_bar.urdf").read_text(encoding="utf-8")
+    meshed = urdf.replace('<box size="0.04 0.02 0.01"/>', f'<mesh filename="{uri}"/>', 1)
+    return _four_bar_copy(folder, meshed)
+
+
+def _embeds_secret(page: str) -> bool:
+    """Whether the page's MeshCat commands hold :data:`SECRET`, as bytes or in base64 (a
+    texture's data URL)."""
+    secret = SECRET.encode()
+    blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]*)", page)
+    decoded = [base64.b64decode(blob) for blob in blobs]
+    return any(secret in blob or base64.b64encode(secret) in blob for blob in decoded)
+
+
+def _drawn_visuals(page: str) -> list[str]:
+    """The links whose visuals the page draws."""
+    return sorted(
+        c["path"].rsplit("/", 1)[1].split("_")[0]
+        for c in decode_commands(page)
+        if c["type"] == "set_object" and "/mechanism/visuals/" in c["path"]
+    )
+
+
+@pytest.mark.parametrize(
+    "uri", ["package:///../secret.stl", "../secret.stl", "file://{outside}/secret.stl", "link.stl"]
+)
+def test_a_mesh_outside_the_model_folder_is_never_read(tmp_path, uri):
+    """A mesh named above the model's folder, by ``..``, an absolute path or a symbolic link, is
+    left out like a missing one (one warning naming it; the loads need no meshes), and its
+    bytes never reach the page."""
+    (tmp_path / "secret.stl").write_text(TRIANGLE_STL)
+    model = tmp_path / "model"
+    model.mkdir()
+    (model / "link.stl").symlink_to(tmp_path / "secret.stl")
+    uri = uri.format(outside=tmp_path)
+    outside = r"1 mesh file\(s\) outside the model's folder"
+    with pytest.warns(FeederWarning, match=outside) as caught:
+        page = mechanism_html(pose_view(_with_crank_mesh(model, uri)))
+    (message,) = [str(w.message) for w in caught if w.category is FeederWarning]
+    assert message.endswith(f": {uri}")
+    assert _drawn_visuals(page) == ["coupler", "rocker"]
+    assert not _embeds_secret(page)
+    assert "not drawn (mesh files missing or unusable): crank" in page
+
+
+@pytest.mark.parametrize(
+    "mesh, text",
+    [("crank.dae", TEXTURED_DAE), ("crank.obj", f"mtllib ../texture.png\n{TRIANGLE_OBJ}")],
+    ids=["dae-image", "obj-materials"],
+)
+def test_a_mesh_naming_a_file_outside_the_model_folder_is_left_out(tmp_path, mesh, text):
+    """A mesh inside the folder whose image (embedded by Pinocchio's viewer) or material library
+    (read by assimp) lies above it: left out, its file never read."""
+    (tmp_path / "texture.png").write_text(SECRET)
+    model = tmp_path / "model"
+    model.mkdir()
+    (model / mesh).write_text(text)
+    with pytest.warns(FeederWarning, match=f"outside the model's folder.*: {mesh}$"):
+        page = mechanism_html(pose_view(_with_crank_mesh(model, mesh)))
+    assert _drawn_visuals(page) == ["coupler", "rocker"]
+    assert not _embeds_secret(page)
+
+
+@pytest.mark.parametrize(
+    "mesh, data",
+    [
+        ("crank.stl", bytes(range(256)) * 2),
+        ("crank.stl", b""),
+        ("crank.dae", b"<COLLADA><broken"),
+        ("crank.obj", b"not a mesh\n"),
+    ],
+    ids=["garbage-stl", "empty-stl", "malformed-dae", "text-obj"],
+)
+def test_a_corrupt_mesh_is_left_out_with_a_warning(tmp_path, mesh, data):
+    """A mesh file beside the model that does not load is handled like a missing one."""
+    (tmp_path / mesh).write_bytes(data)
+    with pytest.warns(
+        FeederWarning, match=rf"1 mesh file\(s\) not readable as meshes .*: {mesh}$"
+    ):
+        page = mechanism_html(pose_view(_with_crank_mesh(tmp_path, mesh)))
+    assert _drawn_visuals(page) == ["coupler", "rocker"]
+
+
+def test_view_draws_a_model_with_a_corrupt_mesh(tmp_path, capsys):
+    """``feeder view --html``: exit 0, the page written, one warning line, no traceback."""
+    (tmp_path / "crank.stl").write_bytes(bytes(range(256)) * 2)
+    side = _with_crank_mesh(tmp_path, "crank.stl")
+    page = tmp_path / "page.html"
+    args = [str(tmp_path / "four_bar.urdf"), "--closures", str(side), "--html", str(page)]
+    assert main(["view", *args]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines() == [
+        f"feeder: warning: {tmp_path / 'four_bar.urdf'}: 1 mesh file(s) not readable as meshes "
+        "(STL, DAE, OBJ), their visuals not drawn (the loads need no meshes): crank.stl"
+    ]
+    assert _drawn_visuals(page.read_text(encoding="utf-8")) == ["coupler", "rocker"]
 
 
 # -- a mechanism on a vehicle (its file's [base]): it rides on the base; the mount's arrow --

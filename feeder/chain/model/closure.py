@@ -125,6 +125,22 @@ def as_closure(spec: Closure | Sequence[str]) -> Closure:
     )
 
 
+def repeated_cut(pairs: Sequence[Sequence[str]]) -> tuple[int, int] | None:
+    """Positions (i, j), i < j, of the first two cuts that join the same two frames, in either
+    order, among ``pairs`` of frame names; None if there are none.
+
+    One loop listed twice would be taken as two cuts of one joint: their forces are then
+    indeterminate, and whatever split the solver picks between them is no load of the joint.
+    """
+    seen: dict[tuple[str, ...], int] = {}
+    for j, pair in enumerate(pairs):
+        key = tuple(sorted(pair))
+        if key in seen:
+            return seen[key], j
+        seen[key] = j
+    return None
+
+
 def _perpendicular_pair(axis: np.ndarray) -> np.ndarray:
     """Two unit vectors (2, 3) with (e1, e2, axis) right-handed and orthonormal."""
     helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
@@ -157,6 +173,13 @@ class ClosedChain:
         self.data = model.createData()
         self.closures = tuple(as_closure(c) for c in closures)
         labels = [closure.label for closure in self.closures]
+        repeated = repeated_cut([(c.frame_a, c.frame_b) for c in self.closures])
+        if repeated is not None:
+            i, j = repeated
+            raise InputError(
+                f"closures #{i + 1} ({labels[i]}) and #{j + 1} ({labels[j]}) join the same "
+                "frames: one loop given twice is not two cuts; give it once"
+            )
         if len(set(labels)) != len(labels):
             raise InputError(
                 f"closure names must be distinct (name= tells them apart), got {labels}"

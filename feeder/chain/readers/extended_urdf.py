@@ -11,7 +11,10 @@ joint-type overrides, beside a ``robot.urdf``::
 The model is the URDF given beside it (``feeder analyze robot.urdf --closures robot.yaml``), or
 else the ``.urdf`` of the same name in the side-file's folder. Keys this reader does not use are
 reported by a :class:`~feeder.exceptions.FeederWarning` and ignored. Read with PyYAML's safe
-loader (no object construction from the file).
+loader (no object construction from the file) within the side-file limits
+(:mod:`~feeder.chain.readers.spec`: its size and nesting depth) and :data:`YAML_MAX_VALUES`:
+aliases (``*name``) may repeat a value, but not expand the file beyond that many values (the
+"billion laughs", 9 levels of 9 aliases, would be 9⁹).
 """
 
 from __future__ import annotations
@@ -23,14 +26,78 @@ import yaml
 
 from ...exceptions import FeederWarning, InputError
 from ...validation import check_path
-from ..model.closure import Closure
+from ..model.closure import Closure, repeated_cut
 from .joint_types import joint_model
-from .side_file import MechanismSpec
+from .spec import SIDE_FILE_MAX_DEPTH, MechanismSpec, read_side_text, too_deep
 
 CUT_TYPES = {"3d": "point", "6d": "weld", "revolute": "revolute"}
 """The side-file's closure types (any case) and the closure kinds they are."""
 
 KEYS = {"closed_loop", "type", "name_mot", "joint_name", "joint_type"}
+
+YAML_MAX_VALUES = 100_000
+"""Most values (names, numbers, lists, mappings) a YAML side-file may hold once its aliases are
+expanded: twice what :data:`~feeder.chain.readers.spec.SIDE_FILE_MAX_BYTES` holds without them.
+A loop takes 4 (the shipped side-files 13–71 in all); checking or printing a value takes
+~0.1 µs, so every use of the document stays within milliseconds (9 levels of 9 aliases would
+make 9⁹ ≈ 4·10⁸ values, and an error message printing them would run out of memory)."""
+
+
+class _LimitedLoader(yaml.SafeLoader):
+    """PyYAML's safe loader of the ``text`` of the side-file ``path`` that refuses, while it
+    composes the document (before any value is built), nesting deeper than
+    :data:`~feeder.chain.readers.spec.SIDE_FILE_MAX_DEPTH`, more than :data:`YAML_MAX_VALUES`
+    values with the aliases expanded, and an alias inside its own anchor (a value that contains
+    itself)."""
+
+    def __init__(self, text: str, path: Path):
+        super().__init__(text)
+        self._path = path
+        self._depth = 0
+        self._values: dict[int, int] = {}  # id(node) → its values, aliases expanded
+
+    def compose_node(self, parent, index):
+        line = self.peek_event().start_mark.line + 1
+        if self.check_event(yaml.AliasEvent):
+            node = super().compose_node(parent, index)
+            if id(node) not in self._values:
+                raise InputError(f"{self._path}: the alias at line {line} is inside its anchor")
+            return node
+        self._depth += 1
+        if self._depth > SIDE_FILE_MAX_DEPTH:
+            raise InputError(too_deep(self._path, f" at line {line}"))
+        node = super().compose_node(parent, index)
+        self._depth -= 1
+        children = node.value if isinstance(node, yaml.SequenceNode) else ()
+        if isinstance(node, yaml.MappingNode):
+            children = [child for pair in node.value for child in pair]
+        count = 1 + sum(self._values[id(child)] for child in children)
+        if count > YAML_MAX_VALUES:
+            raise InputError(
+                f"{self._path}: aliases expand the value at line {line} to more than "
+                f"{YAML_MAX_VALUES} values, the limit of a side-file (a loop takes 4)"
+            )
+        self._values[id(node)] = count
+        return node
+
+
+def _load(path: Path) -> object:
+    """The YAML document of the side-file at ``path``, read within the limits (module
+    docstring).
+
+    Raises:
+        InputError: Unreadable or malformed YAML, or a limit passed (named).
+    """
+    text = read_side_text(path, "YAML")
+    try:
+        loader = _LimitedLoader(text, path)  # its reader refuses control characters here
+        try:
+            return loader.get_single_data()
+        finally:
+            loader.dispose()
+    except yaml.YAMLError as exc:
+        detail = " ".join(str(exc).split())  # PyYAML's message spans lines
+        raise InputError(f"{path}: not a readable YAML file: {detail}") from exc
 
 
 def _names(value: object, key: str, where: str, pairs: bool = False) -> list:
@@ -50,16 +117,13 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
     """Read and check an Extended-URDF side-file (module docstring).
 
     Raises:
-        InputError: Unreadable YAML, a missing or mistyped key (named), lists of different
-            lengths, an unknown closure or joint type, no model file, a path that is not text
-            or a path.
+        InputError: Unreadable YAML, one beyond the limits (module docstring), a missing or
+            mistyped key (named), lists of different lengths, an unknown closure or joint type,
+            the same loop twice, no model file, a path that is not text or a path.
     """
     path = check_path("the closure file", path)
     model = None if model is None else check_path("the model file", model)
-    try:
-        document = yaml.safe_load(path.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{path}: not a readable YAML file: {exc}") from exc
+    document = _load(path)
     if not isinstance(document, dict):
         raise InputError(f"{path}: expected a mapping with closed_loop, type, name_mot")
     unknown = sorted(set(map(str, document)) - KEYS)
@@ -67,6 +131,13 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
         warnings.warn(f"{path}: keys {unknown} are not used", FeederWarning, stacklevel=3)
     where = str(path)
     loops = _names(document.get("closed_loop", []), "closed_loop", where, pairs=True)
+    repeated = repeated_cut(loops)
+    if repeated is not None:
+        i, j = repeated
+        raise InputError(
+            f"{where}: closed_loop entries #{i + 1} {loops[i]} and #{j + 1} {loops[j]} join the "
+            "same frames: one loop listed twice is not two cuts; list it once"
+        )
     types = document.get("type", ["6d"] * len(loops))
     if not isinstance(types, list) or len(types) != len(loops):
         raise InputError(f"{where}: 'type' must give one type per closed_loop pair, got {types!r}")

@@ -34,10 +34,10 @@ from pathlib import Path
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_path
-from ..model.closure import KINDS, Closure
+from ..model.closure import KINDS, Closure, repeated_cut
 from .base_motion import read_base
 from .forces import read_forces
-from .spec import MechanismSpec, format_of
+from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
 """Keys of ``[mechanism]`` that name the model file, one of them."""
@@ -77,14 +77,20 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         model: The model file, overriding the side-file's (e.g. given on the command line).
 
     Raises:
-        InputError: Missing or malformed file, a missing or mistyped key (named; a closure's
-            ``type`` is required), an unknown closure type, a path that is not text or a path.
+        InputError: Missing or malformed file, one beyond the side-file limits
+            (:data:`~feeder.chain.readers.spec.SIDE_FILE_MAX_BYTES`, ``SIDE_FILE_MAX_DEPTH``), a
+            missing or mistyped key (named; a closure's ``type`` is required), an unknown
+            closure type, the same cut twice, a path that is not text or a path.
     """
     path = check_path("the closure file", path)
+    text = read_side_text(path, "TOML")
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+    except RecursionError:  # tomllib parses nested arrays and tables by recursion
+        raise InputError(too_deep(path)) from None
+    check_depth(document, path)
     unknown = set(document) - {"mechanism", "closure", "force", "base"}
     if unknown:
         raise InputError(
@@ -149,6 +155,13 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         closures.append(closure)
         if "stiffness" in entry:
             stiffness[closure.label] = tuple(check_finite(f"{here} stiffness", entry["stiffness"]))
+    repeated = repeated_cut([(c.frame_a, c.frame_b) for c in closures])
+    if repeated is not None:
+        i, j = repeated
+        raise InputError(
+            f"{path}: [[closure]] #{i + 1} and #{j + 1} both join {closures[i].frame_a!r} and "
+            f"{closures[i].frame_b!r}: one loop listed twice is not two cuts; list it once"
+        )
     return MechanismSpec(
         model=model_path,
         model_format=model_format,

@@ -1,4 +1,5 @@
-"""What a mechanism's side-file says, whatever its format (TOML, Extended-URDF YAML)."""
+"""What a mechanism's side-file says, whatever its format (TOML, Extended-URDF YAML), and the
+limits every side-file is read within (:func:`read_side_text`, :func:`check_depth`)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,18 @@ from ...exceptions import InputError
 from ..model.base import BaseMotion
 from ..model.closure import Closure
 from ..model.forces import ForceElement
+
+SIDE_FILE_MAX_BYTES = 100_000
+"""Largest side-file read [bytes]. The shipped ones take 0.1–4 kB (the largest,
+``examples/andrews_squeezer/reference.toml``, 3.7 kB) and a loop 50–100 bytes, so a mechanism
+of a thousand loops fits; PyYAML's pure-Python loader reads ~30 µs a value (measured), so the
+largest file (50 000 one-letter values) is read in ~1.5 s."""
+
+SIDE_FILE_MAX_DEPTH = 32
+"""Deepest nesting of a side-file's values, the document itself being level 1 and a name or
+number the last level. The side-files nest 4 (``closed_loop: [[A, B]]``) to 5 levels
+(``[[base.profile]]``); PyYAML and ``tomllib`` parse by recursion and run out of Python's stack
+near 300 (TOML) and 1000 (YAML) levels with a ``RecursionError``."""
 
 
 @dataclass(frozen=True)
@@ -52,3 +65,48 @@ def format_of(path: Path) -> str:
     if suffix not in formats:
         raise InputError(f"model file {path}: unknown format {suffix!r} (.urdf, .xml/.mjcf, .sdf)")
     return formats[suffix]
+
+
+def read_side_text(path: Path, kind: str) -> str:
+    """The text of the side-file at ``path`` (a ``kind`` file: "TOML" or "YAML"), read only up
+    to :data:`SIDE_FILE_MAX_BYTES`.
+
+    Raises:
+        InputError: The file cannot be read, is not UTF-8 text, or is larger than the limit.
+    """
+    try:
+        with path.open("rb") as stream:
+            data = stream.read(SIDE_FILE_MAX_BYTES + 1)
+        if len(data) > SIDE_FILE_MAX_BYTES:
+            raise InputError(
+                f"{path}: larger than {SIDE_FILE_MAX_BYTES} bytes, the limit of a side-file "
+                "(a mechanism's side-file takes a few kB): is it the right file?"
+            )
+        return data.decode("utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: not a readable {kind} file: {exc}") from exc
+
+
+def check_depth(value: object, path: Path, level: int = 1) -> None:
+    """Refuse a parsed side-file ``value`` (at nesting ``level``) whose lists and tables nest
+    deeper than :data:`SIDE_FILE_MAX_DEPTH`.
+
+    Raises:
+        InputError: Too deep (the file and the limit named).
+    """
+    if level > SIDE_FILE_MAX_DEPTH:
+        raise InputError(too_deep(path))
+    if isinstance(value, dict):
+        value = list(value.values())
+    if isinstance(value, list):
+        for child in value:
+            check_depth(child, path, level + 1)
+
+
+def too_deep(path: Path, where: str = "") -> str:
+    """The message that refuses a side-file nested deeper than :data:`SIDE_FILE_MAX_DEPTH`
+    (``where``: e.g. " at line 3")."""
+    return (
+        f"{path}: values nested deeper than {SIDE_FILE_MAX_DEPTH} levels{where}, the limit of a "
+        "side-file (its lists of names nest 4 levels)"
+    )

@@ -20,11 +20,12 @@ import numpy as np
 import pinocchio as pin
 from lxml import etree
 
-from ...exceptions import InertiaError, InputError, UrdfError
+from ...exceptions import InertiaError, InputError, ModelFolderError, UrdfError
 from ...validation import check_path
 from ..model.closure import ClosedChain, Closure
 from .bodies import check_bodies
 from .inertia import check_inertia
+from .model_files import inside_folder
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}
 _AXIS_JOINT_TYPES = {"revolute", "continuous", "prismatic", "planar"}
@@ -232,20 +233,23 @@ def load_closed_chain(
         UrdfError: Missing or malformed file.
         InertiaError: A non-physical link inertia.
         ClosureFrameError: A closure frame that is not in the model.
-        InputError: ``urdf`` not text or a path, ``closures`` not closures or name pairs, or a
-            pair of frames on the same body.
+        InputError: ``urdf`` not text or a path, ``closures`` not closures or name pairs, a
+            pair of frames on the same body, or the same pair twice (in either order).
     """
     xml = read_urdf(urdf)
     return ClosedChain(build_model(xml, str(urdf)), closures)
 
 
 def mesh_path(uri: str, urdf: str | Path) -> Path:
-    """The file a URDF mesh ``filename`` names, resolved beside the URDF: ``package:///NAME``
-    (Onshape exports), ``package://PKG/NAME`` (looked up beside the URDF as ``NAME``, then as
-    ``PKG/NAME``), ``file:///abs/path``, or a path relative to the URDF's folder.
+    """The file a URDF mesh ``filename`` names, resolved inside the URDF's folder
+    (:mod:`~feeder.chain.readers.model_files`): ``package:///NAME`` (Onshape exports),
+    ``package://PKG/NAME`` (looked up beside the URDF as ``NAME``, then as ``PKG/NAME``),
+    ``file:///abs/path``, or a path relative to the URDF's folder.
 
     Raises:
         InputError: ``uri`` not text, ``urdf`` not text or a path.
+        ModelFolderError: No candidate is a file inside the folder, and one lies outside it (it
+            is not read, nor even looked for).
         UrdfError: The file does not exist (the message names the URI and where it looked).
     """
     if not isinstance(uri, str):
@@ -253,16 +257,24 @@ def mesh_path(uri: str, urdf: str | Path) -> Path:
     folder = check_path("the URDF file", urdf).parent
     if uri.startswith("package://"):
         rest = uri[len("package://") :].lstrip("/")
-        candidates = [folder / rest]
+        names = [rest]
         if "/" in rest:
-            candidates.insert(0, folder / rest.split("/", 1)[1])
+            names.insert(0, rest.split("/", 1)[1])
     elif uri.startswith("file://"):
-        candidates = [Path(uri[len("file://") :])]
+        names = [uri[len("file://") :]]
     else:
-        candidates = [folder / uri]
+        names = [uri]
+    candidates, outside = [], None
+    for name in names:
+        try:
+            candidates.append(inside_folder(Path(name), folder, f"mesh {uri!r} of {urdf}"))
+        except ModelFolderError as exc:
+            outside = exc
     for candidate in candidates:
         if candidate.is_file():
             return candidate
+    if outside is not None:
+        raise outside
     raise UrdfError(
         f"mesh {uri!r} of {urdf} not found (looked for {', '.join(map(str, candidates))})"
     )

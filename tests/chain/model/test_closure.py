@@ -167,6 +167,23 @@ def test_closures_must_be_pairs_of_frames_on_two_bodies(fourbar_urdf, fourbar):
         fourbar.frame_id("nope")
 
 
+@pytest.mark.parametrize(
+    "second",
+    [
+        ("ground_pin", "rocker_tip"),
+        Closure("rocker_tip", "ground_pin", "weld", name="again"),
+        Closure("ground_pin", "rocker_tip", "revolute", name="reversed"),
+    ],
+    ids=["reversed-pair", "renamed-weld", "renamed-reversed-hinge"],
+)
+def test_the_same_cut_twice_is_refused(fourbar_urdf, second):
+    """One loop listed twice, in either order, whatever its kind and name, is not two cuts: the
+    message names both entries."""
+    match = r"closures #1 \(rocker_tip-ground_pin\) and #2 \(.+\) join the same frames"
+    with pytest.raises(InputError, match=match):
+        load_closed_chain(fourbar_urdf, [("rocker_tip", "ground_pin"), second])
+
+
 def _link(name: str) -> str:
     inertia = '<inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/>'
     return f'<link name="{name}"><inertial><mass value="1"/>{inertia}</inertial></link>'

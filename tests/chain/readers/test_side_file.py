@@ -11,6 +11,7 @@ from feeder.chain.assembly.partition import Partition
 from feeder.chain.mobility import mobility
 from feeder.chain.readers.mechanism import load_mechanism, read_spec
 from feeder.chain.readers.motion_table import read_motion
+from feeder.chain.readers.spec import SIDE_FILE_MAX_BYTES, SIDE_FILE_MAX_DEPTH
 from feeder.exceptions import InputError, UrdfError
 
 from ...conftest import REPO
@@ -120,6 +121,37 @@ def test_side_file_errors_name_the_key(tmp_path, text, message):
     path = tmp_path / "closures.toml"
     path.write_text(text)
     with pytest.raises(InputError, match=message):
+        read_spec(path)
+
+
+@pytest.mark.parametrize("depth", [SIDE_FILE_MAX_DEPTH - 2, 5000])
+def test_deep_nesting_is_refused(tmp_path, depth):
+    """Arrays nested one level past the limit ([mechanism] is level 2, its pose 3), or 5000 levels
+    (tomllib's recursion ran out of stack there): one line naming the file and the limit."""
+    path = tmp_path / "closures.toml"
+    path.write_text(MECHANISM + f"pose = {{a = {'[' * depth}{']' * depth}}}\n")
+    with pytest.raises(InputError) as info:
+        read_spec(path)
+    assert str(info.value) == (
+        f"{path}: values nested deeper than {SIDE_FILE_MAX_DEPTH} levels, the limit of a "
+        "side-file (its lists of names nest 4 levels)"
+    )
+
+
+def test_a_side_file_larger_than_the_limit_is_refused(tmp_path):
+    path = tmp_path / "closures.toml"
+    path.write_text(MECHANISM + "#" * SIDE_FILE_MAX_BYTES + "\n")
+    with pytest.raises(InputError, match=f"larger than {SIDE_FILE_MAX_BYTES} bytes"):
+        read_spec(path)
+
+
+@pytest.mark.parametrize("frames", [("b", "a"), ("a", "b")], ids=["reversed", "repeated"])
+def test_a_loop_listed_twice_is_refused(tmp_path, frames):
+    """Two [[closure]] tables joining the same frames, in either order, are not two cuts."""
+    closure = '[[closure]]\nframes = ["{}", "{}"]\ntype = "point"\n'
+    path = tmp_path / "closures.toml"
+    path.write_text(MECHANISM + closure.format("a", "b") + closure.format(*frames))
+    with pytest.raises(InputError, match=r"\[\[closure\]\] #1 and #2 both join 'a' and 'b'"):
         read_spec(path)
 
 

@@ -7,10 +7,10 @@ import pytest
 import yourdfpy
 
 from feeder.chain import load_closed_chain
-from feeder.chain.readers.urdf import build_model, read_urdf
+from feeder.chain.readers.urdf import build_model, mesh_path, read_urdf
 from feeder.device.builtin import PROJECTILE_FEEDER
 from feeder.device.urdf_writer import urdf_string
-from feeder.exceptions import ClosureFrameError, InertiaError, UrdfError
+from feeder.exceptions import ClosureFrameError, InertiaError, ModelFolderError, UrdfError
 
 from ...conftest import REPO
 
@@ -182,3 +182,49 @@ def test_a_non_unit_axis_is_a_direction(urdf_text):
     pin.forwardKinematics(reference, reference_data, q)
     joint = model.getJointId("cylinder_joint")
     assert data.oMi[joint].isApprox(reference_data.oMi[joint], ROUND_OFF)
+
+
+@pytest.mark.parametrize(
+    "uri",
+    [
+        "package:///../secret.stl",
+        "package://model/../secret.stl",
+        "../secret.stl",
+        "file://{outside}/secret.stl",
+        "link_out.stl",
+        "linked_folder/secret.stl",
+    ],
+)
+def test_a_mesh_path_outside_the_model_folder_is_refused(tmp_path, uri):
+    """``..``, an absolute path and symbolic links (to a file, to a folder) that lead out of the
+    URDF's folder: refused, naming the URI, although the file exists."""
+    folder = tmp_path / "model"
+    folder.mkdir()
+    (tmp_path / "secret.stl").write_text("solid secret\nendsolid secret\n")
+    (folder / "link_out.stl").symlink_to(tmp_path / "secret.stl")
+    (folder / "linked_folder").symlink_to(tmp_path, target_is_directory=True)
+    uri = uri.format(outside=tmp_path)
+    with pytest.raises(ModelFolderError) as info:
+        mesh_path(uri, folder / "robot.urdf")
+    assert str(info.value).startswith(f"mesh {uri!r} of {folder / 'robot.urdf'} lies outside the")
+
+
+def test_a_mesh_path_inside_the_model_folder_is_resolved(tmp_path):
+    """Subfolders, ``..`` that stay inside, ``file://`` to a file inside, a link inside."""
+    (tmp_path / "meshes").mkdir()
+    mesh = tmp_path / "meshes" / "crank.stl"
+    mesh.write_text("solid crank\nendsolid crank\n")
+    (tmp_path / "link.stl").symlink_to(mesh)
+    urdf = tmp_path / "robot.urdf"
+    for uri in ("meshes/crank.stl", "package://pkg/meshes/../meshes/crank.stl", f"file://{mesh}"):
+        assert mesh_path(uri, urdf) == mesh.resolve()
+    assert mesh_path("link.stl", urdf) == mesh.resolve()
+    with pytest.raises(UrdfError, match="not found"):
+        mesh_path("meshes/other.stl", urdf)
+
+
+def test_a_mesh_path_through_a_loop_of_links_is_refused(tmp_path):
+    (tmp_path / "a.stl").symlink_to(tmp_path / "b.stl")
+    (tmp_path / "b.stl").symlink_to(tmp_path / "a.stl")
+    with pytest.raises(UrdfError, match=r"mesh 'a.stl' of .* cannot be resolved"):
+        mesh_path("a.stl", tmp_path / "robot.urdf")
