@@ -193,11 +193,24 @@ def test_a_weld_cut_needs_the_same_torque_as_a_pin_cut(four_bar):
     assert {label.split(":")[1] for label in loads.indeterminate} == {"fz", "mx", "my"}
 
 
-def test_stiffness_splits_an_indeterminate_force():
-    """Two identical point cuts of one pin share its force by their stiffness (3 : 1 here),
-    a redundancy the rigid model cannot resolve alone."""
-    closures = [Closure("coupler_tip", "rocker_tip", name=name) for name in ("stiff", "soft")]
-    chain = _gravity(load_closed_chain(FOUR_BAR, closures))
+def test_stiffness_splits_an_indeterminate_force(tmp_path):
+    """Two bearings of one pin, as two point cuts at the same place (a second pair of frames on
+    the pin's axis: the same frames twice are refused as one loop given twice), share its force
+    by their stiffness (3 : 1 here), a redundancy the rigid model cannot resolve alone."""
+    text = FOUR_BAR.read_text(encoding="utf-8")
+    second = "".join(
+        f'<link name="{body}_bearing"/><joint name="{body}_bearing_joint" type="fixed">'
+        f'<origin xyz="{x} 0 0" rpy="0 0 0"/><parent link="{body}"/>'
+        f'<child link="{body}_bearing"/></joint>'
+        for body, x in (("coupler", 0.12), ("rocker", 0.08))  # the tips' offsets in the URDF
+    )
+    urdf = tmp_path / "four_bar.urdf"
+    urdf.write_text(text.replace("</robot>", second + "</robot>"), encoding="utf-8")
+    closures = [
+        Closure("coupler_tip", "rocker_tip", name="stiff"),
+        Closure("coupler_bearing", "rocker_bearing", name="soft"),
+    ]
+    chain = _gravity(load_closed_chain(urdf, closures))
     q, v, a = _motion(chain)
     stiffness = {"stiff": [3.0, 3.0, 3.0], "soft": [1.0, 1.0, 1.0]}
     loads = inverse_dynamics(ChainDynamics(chain, ["crank_joint"], stiffness), q, v, a)
