@@ -12,6 +12,7 @@ import pytest
 from feeder import files
 from feeder.exceptions import InputError, OutputBusyError
 from feeder.files import atomic_path, exclusive_lock, path_in, write_text
+from feeder.files import lock as locking
 
 LOCK_WAIT = 30.0
 """[s] Longest wait for the killed child process to be reaped."""
@@ -97,7 +98,7 @@ def test_interrupted_locking_leaves_no_lock_file(tmp_path, monkeypatch):
         if len(calls) == 1:  # the locking, not the clean-up's test of the lock
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(files.fcntl, "flock", flock_then_interrupted)
+    monkeypatch.setattr(locking.fcntl, "flock", flock_then_interrupted)
     with pytest.raises(KeyboardInterrupt), exclusive_lock(path, "the folder"):
         pass
     assert not path.exists()
@@ -107,7 +108,7 @@ def test_a_lock_file_another_run_holds_is_not_removed(tmp_path):
     """The clean-up after an interrupted locking leaves a lock that another run holds."""
     path = tmp_path / "lock"
     with exclusive_lock(path, "the folder"):
-        files._remove_if_free(path)
+        locking._remove_if_free(path)
         assert path.exists()
     assert not path.exists()
 

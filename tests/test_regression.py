@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from feeder import load_feeder, run_cycle_study
-from feeder.chain.model.base import BaseMotion, Slope
+from feeder.chain.model.base import BaseMotion
+from feeder.chain.model.profiles import Slope
 from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.study.columns import VECTORS
 

@@ -25,9 +25,11 @@ from .dynamics.forward import ForwardRun, IntegrationError, simulate
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
 from .mobility import MobilityReport, mobility
-from .model.base import BaseMotion, BaseState, Bump, HullTable, Recoil, Slope, Terrain
+from .model.base import BaseMotion, BaseState
 from .model.closure import ClosedChain, Closure
 from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
+from .model.hull_table import HullTable
+from .model.profiles import Bump, Recoil, Slope, Terrain
 from .readers.base_motion import parse_profile, read_hull_table
 from .readers.forces import read_force_file, read_table
 from .readers.inertia import check_inertia

@@ -152,7 +152,8 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
     Raises:
         InputError: A bad slope, an unreadable file, an unknown profile or parameter.
     """
-    from ..chain.model.base import BaseMotion, Slope
+    from ..chain.model.base import BaseMotion
+    from ..chain.model.profiles import Slope
     from ..chain.readers.base_motion import parse_profile, read_base_file, read_hull_table
     from ..device.parameters import VEHICLE_FORWARD
 

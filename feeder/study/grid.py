@@ -46,7 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chain.model.base import BaseMotion, HullTable
+from ..chain.model.base import BaseMotion
+from ..chain.model.hull_table import HullTable
 from ..chain.readers.base_motion import read_base
 from ..device.builtin import DEVICES
 from ..device.loop import check_device

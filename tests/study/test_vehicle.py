@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from feeder import load_feeder, run_cycle_study
-from feeder.chain.model.base import BaseMotion, Recoil, Slope, Terrain
+from feeder.chain.model.base import BaseMotion
+from feeder.chain.model.profiles import Recoil, Slope, Terrain
 from feeder.cli import main
 from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.motion.laws import CycleSpec

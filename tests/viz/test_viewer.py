@@ -26,7 +26,8 @@ import psutil
 import pytest
 import umsgpack
 
-from feeder.chain.model.base import BaseMotion, Slope, Terrain
+from feeder.chain.model.base import BaseMotion
+from feeder.chain.model.profiles import Slope, Terrain
 from feeder.cli import parser
 from feeder.cli.view import run as cmd_view
 from feeder.device.parameters import VEHICLE_FORWARD

@@ -49,7 +49,7 @@ class MountWrench:
         force: Force [N] in the model's axes (moving with the base), (N, 3).
         moment: Moment [N·m] about the model's origin, the same axes, (N, 3).
         level_force, level_moment: The same in the level axes
-            (:mod:`~feeder.chain.model.base`; equal to the others on a base at rest), (N, 3).
+            (:mod:`~feeder.chain.model.channels`; equal to the others on a base at rest), (N, 3).
     """
 
     force: np.ndarray

@@ -1,6 +1,6 @@
 """A hull's motion channels and the plausible limits of a ground vehicle's hull on them.
 
-The hull's motion (:mod:`feeder.chain.model.base`) is six channels against time, each with its
+The hull's motion (:mod:`feeder.chain.model.channels`) is six channels against time, each with its
 rate and acceleration. A profile or table that knows its *peaks* — a bound on the magnitude of
 each channel's value, rate and acceleration, an array (3, 6): rows value, rate, acceleration;
 columns :data:`CHANNELS` — is refused when a peak passes its limit (:func:`implausible`): a hull
@@ -20,7 +20,7 @@ from ...exceptions import InputError
 from ...validation import LIMIT_SLACK
 
 CHANNELS = ("x", "y", "z", "roll", "pitch", "yaw")
-"""The hull motion's channels, in order (:mod:`feeder.chain.model.base`)."""
+"""The hull motion's channels, in order (:mod:`feeder.chain.model.channels`)."""
 
 UNITS = ("m", "m", "m", "rad", "rad", "rad")
 """Their units."""
@@ -42,7 +42,7 @@ added twice."""
 ANGULAR_RATE = 5.0
 """Largest plausible |roll|, |pitch| and |yaw| rate of a hull [rad/s] (286°/s). A tracked
 vehicle pivot-turns at up to about 1 rad/s; the ride's pitch and roll rates are a few tenths of
-a rad/s (:class:`~feeder.chain.model.base.Terrain`'s defaults: 0.4 rad/s). Assumed, five times
+a rad/s (:class:`~feeder.chain.model.profiles.Terrain`'s defaults: 0.4 rad/s). Assumed, five times
 the fastest of these."""
 
 ACCELERATION = 40.0 * G
@@ -54,7 +54,7 @@ Method 519, is the structure's vibration, not the hull's motion)."""
 ANGULAR_ACCELERATION = 200.0
 """Largest plausible |roll|, |pitch| or |yaw| acceleration of a hull [rad/s²]: :data:`ACCELERATION`
 (392 m/s²) at a hull's end, about 2 m from its pitch centre (392 / 2 ≈ 200). Assumed; the ride's
-is about 3 rad/s² (:class:`~feeder.chain.model.base.Terrain`'s defaults)."""
+is about 3 rad/s² (:class:`~feeder.chain.model.profiles.Terrain`'s defaults)."""
 
 FREQUENCY = 20.0
 """Highest plausible frequency of a hull's motion [Hz]: a hull's sprung mass rides at 1–1.5 Hz
@@ -62,7 +62,7 @@ and its road wheels hop at about 10–15 Hz (J. Y. Wong, Theory of Ground Vehicl
 ch. 7); faster motion is the structure's vibration, not a rigid base's. Assumed margin: 20 Hz."""
 
 HEAVE = 1.0
-"""Largest plausible heave amplitude of a ride [m] (:class:`~feeder.chain.model.base.Terrain`):
+"""Largest plausible heave amplitude of a ride [m] (:class:`~feeder.chain.model.profiles.Terrain`):
 a hull rides on road wheels that travel a few hundred mm. Assumed, generous: a heave meant in mm
 (40 for 0.04 m) is refused."""
 

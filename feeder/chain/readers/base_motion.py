@@ -35,9 +35,12 @@ import numpy as np
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_number, check_path
-from ..model.base import COLUMNS, PROFILES, BaseMotion, HullProfile, HullTable, Slope
+from ..model.base import BaseMotion
+from ..model.channels import HullProfile
 from ..model.forces import Table
 from ..model.hull import CHANNELS
+from ..model.hull_table import COLUMNS, HullTable
+from ..model.profiles import PROFILES, Slope
 from .motion_table import read_columns
 
 BASE_KEYS = {"forward", "pitch_deg", "roll_deg", "table", "profile"}
@@ -51,7 +54,7 @@ def profile_keys(name: str) -> list[str]:
 
 
 def make_profile(name: object, values: dict, where: str) -> HullProfile:
-    """The profile ``name`` (:data:`~feeder.chain.model.base.PROFILES`) with the parameters
+    """The profile ``name`` (:data:`~feeder.chain.model.profiles.PROFILES`) with the parameters
     ``values`` (keys of :func:`profile_keys`; angles in degrees), the others at their defaults.
 
     Raises:
@@ -115,7 +118,7 @@ def read_hull_table(path: str | Path) -> HullTable:
     Raises:
         InputError: A missing or malformed file, an unknown column, a channel given both in
             radians and in degrees, too few rows to differentiate, a value past a plausible
-            limit (:class:`~feeder.chain.model.base.HullTable`).
+            limit (:class:`~feeder.chain.model.hull_table.HullTable`).
     """
     path, header, columns = read_columns(path, "the hull motion file")
     t = columns.pop("t")

@@ -17,8 +17,10 @@ import pytest
 
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
-from feeder.chain.model.base import BaseMotion, Channels, Recoil, Slope, Terrain
+from feeder.chain.model.base import BaseMotion
+from feeder.chain.model.channels import Channels
 from feeder.chain.model.forces import Load, Spring
+from feeder.chain.model.profiles import Recoil, Slope, Terrain
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError
 

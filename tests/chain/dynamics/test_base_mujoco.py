@@ -42,9 +42,12 @@ import pinocchio as pin
 import pytest
 
 from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
-from feeder.chain.model.base import BaseMotion, Channels, HullTable, Recoil, Slope, Terrain
+from feeder.chain.model.base import BaseMotion
+from feeder.chain.model.channels import Channels
 from feeder.chain.model.closure import ClosedChain
 from feeder.chain.model.forces import Table
+from feeder.chain.model.hull_table import HullTable
+from feeder.chain.model.profiles import Recoil, Slope, Terrain
 from feeder.dynamics.models import ACTUATED_JOINTS
 from feeder.motion.cycle import feeding_cycle
 

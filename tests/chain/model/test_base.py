@@ -10,19 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from feeder.chain.model.base import (
-    COLUMNS,
-    BaseMotion,
-    Bump,
-    Channels,
-    HullTable,
-    Recoil,
-    Slope,
-    Terrain,
-    attitude,
-)
+from feeder.chain.model.base import BaseMotion, attitude
+from feeder.chain.model.channels import Channels
 from feeder.chain.model.forces import Table
 from feeder.chain.model.hull import ATTITUDE, G
+from feeder.chain.model.hull_table import COLUMNS, HullTable
+from feeder.chain.model.profiles import Bump, Recoil, Slope, Terrain
 from feeder.exceptions import InputError
 
 STEP = 1e-5

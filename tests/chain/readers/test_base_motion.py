@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from feeder.chain import read_spec
-from feeder.chain.model.base import Bump, Recoil, Slope, Terrain
+from feeder.chain.model.profiles import Bump, Recoil, Slope, Terrain
 from feeder.chain.readers.base_motion import parse_profile, read_base, read_hull_table
 from feeder.exceptions import InputError
 

@@ -1,11 +1,4 @@
-"""Writing files so that nothing half-written ever looks complete, one writer at a time, and
-output folders that hold one run's files and say so.
-
-Every output is written to a temporary name in its own folder and renamed into place only when
-it is complete (a rename within one folder is atomic on POSIX): a run that fails or is
-interrupted leaves the previous file, or none, never a truncated one. A folder that a run fills
-is locked for that run (:func:`exclusive_lock`, the kernel's ``flock``: released by the kernel
-when the process ends, however it ends, so a killed run leaves no stale lock).
+"""The output folder of one run, with its manifest, and a run's output read back as it was left.
 
 An output folder (:class:`OutputFolder`) holds the outputs of one run:
 
@@ -28,31 +21,22 @@ An output folder (:class:`OutputFolder`) holds the outputs of one run:
 A command that reads a run's output back (``feeder view --run``) takes it only as its run left
 it, by the same manifest (:func:`verified_output`): a run that completed, and a file whose
 SHA-256 is the one recorded, not one edited since.
-
-An output of one file (``--out FILE``, ``--html FILE``) follows the same rule
-(:func:`check_replaceable`): a new file, or one that the same command wrote, recognised by the
-marker it writes at the file's beginning; any other file is refused, never replaced.
-
-This module imports nothing from feeder but its exceptions and input checks, so every layer
-may use it.
 """
 
 from __future__ import annotations
 
-import contextlib
-import fcntl
 import hashlib
 import importlib.metadata
 import json
-import os
-import secrets
 import warnings
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from datetime import UTC, datetime
 from pathlib import Path
 
-from .exceptions import FeederWarning, InputError, OutputBusyError
-from .validation import check_path
+from ..exceptions import FeederWarning, InputError
+from ..validation import check_path
+from .atomic import is_plain_name, path_in, write_text
+from .lock import exclusive_lock
 
 MANIFEST = "feeder-run.json"
 """The manifest of the run that wrote an output folder (JSON)."""
@@ -62,181 +46,6 @@ LOCK = ".feeder-run.lock"
 
 Writer = Callable[[Path], object]
 """Writes one output file, atomically, at the path it is given."""
-
-LOCK_ATTEMPTS = 3
-"""Tries to take a lock whose file the previous holder removed between our open and our lock
-(each such race needs another run to finish in that instant: three tries are plenty)."""
-
-
-def path_in(folder: str | Path, name: str, what: str) -> Path:
-    """``folder / name``, if ``name`` is a plain file name: not empty, ``.`` or ``..``, and no
-    folder in it (so the path cannot lie outside ``folder``).
-
-    Raises:
-        InputError: Any other name (the message names ``what``).
-    """
-    if not _plain(name):
-        raise InputError(f"{what} {name!r} is not a file name in {folder}: rename it")
-    return Path(folder) / name
-
-
-def _plain(name: object) -> bool:
-    """Whether ``name`` is a file name without a folder (nor ``.``, ``..``, empty)."""
-    return (
-        isinstance(name, str)
-        and name not in ("", ".", "..")
-        and Path(name).name == name
-        and "\\" not in name
-    )
-
-
-@contextlib.contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
-    """A temporary path beside ``path``; renamed onto ``path`` if the block completes, removed
-    if it raises.
-
-    Raises:
-        InputError: The folder does not exist or cannot be written, or the rename fails.
-    """
-    path = Path(path)
-    # Named before it exists, so that a Ctrl-C at any moment after its creation still finds it.
-    temporary: Path | None = path.with_name(f".{path.name}.{secrets.token_hex(8)}.part")
-    try:
-        try:
-            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
-        except OSError as exc:
-            temporary = None  # not created here: nothing of ours to remove
-            raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-        yield temporary
-        os.replace(temporary, path)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    finally:
-        if temporary is not None:
-            temporary.unlink(missing_ok=True)
-
-
-def write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically and return the path."""
-    path = Path(path)
-    with atomic_path(path) as temporary:
-        temporary.write_text(text, encoding="utf-8")
-    return path
-
-
-HEAD = 4096
-"""Characters at a file's beginning in which :func:`check_replaceable` looks for a marker."""
-
-
-def check_replaceable(path: str | Path, what: str, ours: str | Callable[[Path], bool]) -> Path:
-    """``path`` if a command may write its one output file there: no file yet, or a file that
-    the same command wrote, which it then replaces (an output folder's rule for one file).
-
-    Args:
-        path: The output file.
-        what: The command's own file, for the message (e.g. "a URDF file that feeder urdf
-            wrote").
-        ours: The marker that the command writes in the first :data:`HEAD` characters of its
-            files, or a test of the existing file.
-
-    Raises:
-        InputError: An empty path, a folder, or a file that is not the command's own: the
-            message names the remedy (another name, or delete the file).
-    """
-    path = check_path("the output file", path)
-    if not (path.exists() or path.is_symlink()):
-        return path
-    if path.is_file() and (ours(path) if callable(ours) else ours in _head(path)):
-        return path
-    raise InputError(
-        f"{path} exists and is not {what}: choose another name, or delete the file first"
-    )
-
-
-def _head(path: Path) -> str:
-    """The first :data:`HEAD` characters of the file ``path`` as text ('' if unreadable)."""
-    try:
-        with path.open(encoding="utf-8", errors="replace") as handle:
-            return handle.read(HEAD)
-    except OSError:
-        return ""
-
-
-@contextlib.contextmanager
-def exclusive_lock(path: str | Path, what: str) -> Iterator[Path]:
-    """Hold an exclusive lock on the file ``path`` (created) for the block; removed after it.
-
-    Args:
-        path: The lock file.
-        what: What the lock guards, for the message (e.g. "the output folder results").
-
-    Raises:
-        OutputBusyError: Another process holds the lock.
-        InputError: The lock file cannot be created.
-    """
-    path = Path(path)
-    try:
-        handle = _acquire(path, what)
-    except (InputError, OutputBusyError):
-        raise
-    except BaseException:  # e.g. Ctrl-C while locking: leave no lock file of ours behind
-        _remove_if_free(path)
-        raise
-    try:
-        yield path
-    finally:
-        path.unlink(missing_ok=True)  # before unlocking: a waiting opener then sees a new file
-        os.close(handle)
-
-
-def _acquire(path: Path, what: str) -> int:
-    """An open handle of the lock file ``path`` (created), exclusively locked."""
-    for _ in range(LOCK_ATTEMPTS):
-        try:
-            handle = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as exc:
-            raise InputError(f"cannot lock {what}: {exc.strerror or exc}") from exc
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            locked = _same_file(handle, path)
-        except BaseException as exc:
-            os.close(handle)  # releases the lock if this run took it
-            if isinstance(exc, BlockingIOError):
-                raise OutputBusyError(
-                    f"another feeder run is writing into {what} (it holds {path}); wait for "
-                    "it to finish or choose another folder"
-                ) from None
-            raise
-        if locked:
-            return handle
-        os.close(handle)  # the previous holder removed this file as we opened it: again
-    raise OutputBusyError(f"cannot lock {what}: other runs keep replacing {path}")
-
-
-def _same_file(handle: int, path: Path) -> bool:
-    """Whether the open ``handle`` is the file now at ``path``."""
-    try:
-        current = os.stat(path)
-    except FileNotFoundError:
-        return False
-    opened = os.fstat(handle)
-    return (current.st_ino, current.st_dev) == (opened.st_ino, opened.st_dev)
-
-
-def _remove_if_free(path: Path) -> None:
-    """Remove the lock file ``path`` if no process holds it (after an interrupted locking)."""
-    try:
-        handle = os.open(path, os.O_RDWR)
-    except OSError:
-        return
-    try:
-        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        if _same_file(handle, path):
-            path.unlink()
-    except OSError:
-        pass  # another run holds it, or it is gone: not this run's to remove
-    finally:
-        os.close(handle)
 
 
 class OutputFolder:
@@ -479,7 +288,7 @@ def _read_manifest(manifest: Path, what: str, remedy: str) -> dict[str, object]:
         raise InputError(
             f"{what} has a {MANIFEST} that is not a feeder manifest ({exc}): {remedy}"
         ) from exc
-    if not all(_plain(name) and name not in (MANIFEST, LOCK) for name in files):
+    if not all(is_plain_name(name) and name not in (MANIFEST, LOCK) for name in files):
         raise InputError(
             f"the manifest {manifest} lists files outside its folder: {list(files)}; {remedy}"
         )
