@@ -133,6 +133,48 @@ def test_yaml_joint_types_replace_the_urdf_joints():
     assert kinds["hipz_left"] == "JointModelRZ"
 
 
+def test_a_toml_side_file_replaces_joints_as_the_yaml_does(tmp_path):
+    """The same export written as URDF + TOML, its ball and universal joints under
+    ``[mechanism] joint_types``: the same model, joint by joint."""
+    yaml_spec = read_spec(CAD / "battobot_6d" / "robot.yaml")
+    loops = "".join(
+        f'[[closure]]\nframes = ["{c.frame_a}", "{c.frame_b}"]\ntype = "{c.kind}"\n'
+        for c in yaml_spec.closures
+    )
+    types = ", ".join(f'{name} = "{kind}"' for name, kind in yaml_spec.joint_types.items())
+    toml = tmp_path / "robot.toml"
+    toml.write_text(
+        f'[mechanism]\nurdf = "{CAD / "battobot_6d" / "robot.urdf"}"\n'
+        f"actuated = {list(yaml_spec.actuated)}\nindependent = {list(yaml_spec.independent)}\n"
+        f"joint_types = {{{types}}}\n{loops}".replace("'", '"'),
+        encoding="utf-8",
+    )
+    toml_spec = read_spec(toml)
+    assert toml_spec.joint_types == yaml_spec.joint_types and toml_spec.joint_types
+    models = [load_mechanism(spec).model for spec in (yaml_spec, toml_spec)]
+    for model in models[1:]:
+        assert [j.shortname() for j in model.joints] == [j.shortname() for j in models[0].joints]
+        assert list(model.names) == list(models[0].names)
+
+
+@pytest.mark.parametrize(
+    "types, match",
+    [
+        ('{hipz_left = "BALL"}', "joint_types.hipz_left: unknown joint type 'BALL'"),
+        ('"SPHERICAL"', "joint_types must be a table"),
+    ],
+)
+def test_bad_toml_joint_types_are_refused(tmp_path, types, match):
+    toml = tmp_path / "robot.toml"
+    toml.write_text(
+        f'[mechanism]\nurdf = "{CAD / "battobot_6d" / "robot.urdf"}"\nactuated = ["a"]\n'
+        f'independent = ["a"]\njoint_types = {types}\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(InputError, match=match):
+        read_spec(toml)
+
+
 def test_the_implausible_sphere_is_named():
     with pytest.warns(FeederWarning, match="weighs 654498 kg"):
         load_mechanism(read_spec(CAD / "5bar_linkage" / "robot.yaml"))

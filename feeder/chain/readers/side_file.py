@@ -10,6 +10,8 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF;
                                     # the summary and the manifest say when it was assumed)
     pose = {crank_joint = 0.7}      # optional: the reference pose [rad, m] that picks the branch
+    joint_types = {ankle = "UJOINT_ZY"}   # optional: URDF joints replaced by a joint URDF cannot
+                                    # write (ball, universal; :mod:`.joint_types`)
 
     [[closure]]                     # one per cut joint (none for an MJCF with equality
     frames = ["coupler_tip", "rocker_tip"]   # constraints: those are read from the model)
@@ -37,6 +39,7 @@ from ...validation import check_finite, check_path
 from ..model.closure import KINDS, Closure, repeated_cut
 from .base_motion import read_base
 from .forces import read_forces
+from .joint_types import joint_model
 from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
@@ -67,6 +70,28 @@ def _axis(entry: dict, key: str, where: str) -> tuple[float, ...] | None:
     if not isinstance(value, list) or len(value) != 3:
         raise InputError(f"{where}: '{key}' must be 3 numbers, got {value!r}")
     return tuple(float(x) for x in check_finite(f"{where} {key}", value))
+
+
+def _joint_types(table: object, model_format: str, where: str) -> dict[str, str]:
+    """``joint_types = {joint = "TYPE", …}``: checked types (:func:`.joint_types.joint_model`),
+    for a URDF only (an MJCF or SDF writes ball and universal joints itself)."""
+    if not isinstance(table, dict) or not all(
+        isinstance(name, str) and isinstance(kind, str) for name, kind in table.items()
+    ):
+        raise InputError(
+            f'{where}: joint_types must be a table {{joint = "TYPE", …}}, got {table!r}'
+        )
+    if table and model_format != "urdf":
+        raise InputError(
+            f"{where}: joint_types replaces URDF joints; an {model_format.upper()} model writes "
+            "its ball and universal joints itself"
+        )
+    for name, kind in table.items():
+        try:
+            joint_model(kind)
+        except InputError as exc:
+            raise InputError(f"{where} joint_types.{name}: {exc}") from None
+    return dict(table)
 
 
 def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
@@ -101,7 +126,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     if not isinstance(mechanism, dict):
         raise InputError(f"{path}: a [mechanism] table is required")
     where = f"{path} [mechanism]"
-    known = {"actuated", "independent", "gravity", "pose", *MODEL_KEYS}
+    known = {"actuated", "independent", "gravity", "pose", "joint_types", *MODEL_KEYS}
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
@@ -122,6 +147,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     pose = mechanism.get("pose", {})
     if not isinstance(pose, dict):
         raise InputError(f"{where}: pose must be a table {{joint = value, …}}, got {pose!r}")
+    joint_types = _joint_types(mechanism.get("joint_types", {}), model_format, where)
     closures, stiffness = [], {}
     for i, entry in enumerate(document.get("closure", [])):
         here = f"{path} [[closure]] #{i + 1}"
@@ -170,6 +196,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         independent=_names(mechanism, "independent", where),
         gravity=gravity,
         stiffness=stiffness,
+        joint_types=joint_types,
         forces=read_forces(document.get("force", []), path.parent, str(path)),
         pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
         base=read_base(document["base"], path.parent, str(path)) if "base" in document else None,
