@@ -49,7 +49,11 @@ _DEVICE = ("feeder/device/*.py", "feeder/motion/*.py", "urdf/*.urdf")
 _DYNAMICS = (*_DEVICE, "feeder/dynamics/*.py", "feeder/chain/**/*.py")
 _FIGURES = ("feeder/viz/figures.py", "feeder/viz/axes.py", "feeder/viz/catalog.py",
             "feeder/viz/report.py")  # fmt: skip
-_VIEWER = ("feeder/viz/scene.py", "feeder/viz/_overlay.py", "feeder/viz/viewer.py")
+_VIEWER = tuple(
+    f"feeder/viz/{name}.py"
+    for name in ("scene", "nodes", "legend", "placements", "arrows", "framing", "overlays",
+                 "_page", "viewer")
+)  # fmt: skip
 PICTURES: dict[str, tuple[str, ...]] = {
     "device_side_view.png": (*_DEVICE, *_FIGURES, "feeder/viz/drawings.py"),
     "fig14_piston_force.png": (*_DYNAMICS, *_FIGURES),
@@ -60,10 +64,11 @@ PICTURES: dict[str, tuple[str, ...]] = {
         "feeder/study/sweep*.py",
         "feeder/study/grid.py",
     ),  # fmt: skip
-    "viewer.png": (*_DEVICE, *_VIEWER, "feeder/viz/cycle_scene.py"),
+    "viewer.png": (*_DEVICE, *_VIEWER, "feeder/viz/device_scene.py"),
     "cad_viewer.png": (
         *_VIEWER,
-        "feeder/viz/mechanism_scene.py",
+        "feeder/viz/model_scene.py",
+        "feeder/viz/model_visuals.py",
         "feeder/study/view.py",
         "feeder/chain/**/*.py",
         "examples/cad/cassie_like/*",

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 from contextlib import suppress
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..exceptions import InputError
 from .options import (
@@ -20,6 +21,9 @@ from .options import (
     path_argument,
     study_options,
 )
+
+if TYPE_CHECKING:  # MeshCat is imported by the subcommand that draws
+    from ..viz.scene import MechanismScene
 
 
 def add(commands: argparse._SubParsersAction) -> None:
@@ -97,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     if args.closures is None:
         raise InputError("give --closures FILE with MODEL (the mechanism file)")
     from ..study.view import motion_view, pose_view, run_view
-    from ..viz.viewer import show_mechanism, write_mechanism_html
+    from ..viz.model_scene import model_scene
 
     if args.motion is not None:
         view = motion_view(args.closures, args.motion, args.model, args.pose)
@@ -105,21 +109,15 @@ def run(args: argparse.Namespace) -> int:
         view = run_view(args.closures, args.run_dir, args.model, args.pose)
     else:
         view = pose_view(args.closures, args.model, args.pose)
-    if html is not None:
-        print(f"wrote {write_mechanism_html(view, html, args.reactions, port=port)}")
-        return 0
-    with show_mechanism(view, args.reactions, port=port) as viewer, suppress(KeyboardInterrupt):
-        print(f"{args.model.name} ({view.source}): open {viewer.url}")
-        print("press Ctrl-C to stop the viewer", flush=True)
-        viewer.serve_forever()
-    return 0
+    scene = model_scene(view, args.reactions)
+    return _write_or_serve(scene, html, port, f"{args.model.name} ({view.source})")
 
 
 def _view_device(args: argparse.Namespace, html: Path | None, port: int | None) -> int:
     """``feeder view --elevation DEG``: the device's cycle."""
     from ..device.feeder import load_feeder
     from ..dynamics.cycle import cycle_dynamics
-    from ..viz.viewer import cycle_forces, show_cycle, write_html
+    from ..viz.device_scene import cycle_forces, device_scene
 
     mechanism = [flag for flag, value in (("--closures", args.closures), ("--pose", args.pose),
                  ("--motion", args.motion), ("--run", args.run_dir), ("--reactions",
@@ -133,17 +131,24 @@ def _view_device(args: argparse.Namespace, html: Path | None, port: int | None) 
     base = base_of(args)
     feeder = load_feeder(params)
     dynamics = cycle_dynamics(feeder, elevation, base=base, forward=False)
-    cycle, forces = dynamics.kinematics, cycle_forces(feeder, dynamics)
-    if html is not None:
-        print(f"wrote {write_html(feeder, cycle, html, forces, base=base, port=port)}")
-        return 0
+    scene = device_scene(feeder, dynamics.kinematics, cycle_forces(feeder, dynamics), base=base)
     where = "" if base is None else f" ({base.describe()})"
+    return _write_or_serve(
+        scene, html, port, f"{feeder.params.name} feeder at {args.elevation:g}°{where}"
+    )
+
+
+def _write_or_serve(scene: MechanismScene, html: Path | None, port: int | None, what: str) -> int:
+    """Write the scene's page to ``html`` or, without it, serve the scene until Ctrl-C (the
+    first line printed says what is shown, ``what``, and where)."""
+    from ..viz.viewer import show, write_html
+
+    if html is not None:
+        print(f"wrote {write_html(scene, html, port=port)}")
+        return 0
     # Ctrl-C is how the viewer stops: from the first line printed on, it ends with status 0.
-    with (
-        show_cycle(feeder, cycle, forces, base=base, port=port) as viewer,
-        suppress(KeyboardInterrupt),
-    ):
-        print(f"{feeder.params.name} feeder at {args.elevation:g}°{where}: open {viewer.url}")
+    with show(scene, port=port) as viewer, suppress(KeyboardInterrupt):
+        print(f"{what}: open {viewer.url}")
         print("press Ctrl-C to stop the viewer", flush=True)
         viewer.serve_forever()
     return 0

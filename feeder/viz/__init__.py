@@ -1,7 +1,9 @@
 """Figures and the 3-D viewer. Every figure function returns a
 :class:`matplotlib.figure.Figure`; :mod:`feeder.viz.report` draws a study's figures in worker
 processes and writes them. The MeshCat viewer, served on 127.0.0.1 only, is
-:mod:`feeder.viz.viewer` (imported on demand: it pulls in MeshCat).
+:mod:`feeder.viz.viewer` (imported on demand: it pulls in MeshCat); it draws one kind of scene,
+:class:`feeder.viz.scene.MechanismScene`, for the device (:mod:`feeder.viz.device_scene`) and
+for any mechanism (:mod:`feeder.viz.model_scene`).
 
 The names below load on first use, so that importing :mod:`feeder.viz.report` (the figures'
 writers) does not import matplotlib in a process that only ships data to the workers.

@@ -7,8 +7,8 @@ ZMQ port is on 127.0.0.1 already (on a free port the system gives: MeshCat's own
 6000 prints "Port: 6000 in use" for each busy one). The server runs on a background thread and
 says nothing on the terminal: MeshCat's "opened:"/"closed:" lines for each browser tab and
 tornado's access log (``404 GET /favicon.ico``) are left out. Its page
-(``/static/``) is MeshCat's with :attr:`MeshcatServer.overlay` inserted (the legend and player of
-:mod:`feeder.viz._overlay`); every other file is MeshCat's own.
+(``/static/``) is MeshCat's with :attr:`MeshcatServer.panels` inserted (the legend and player of
+:mod:`feeder.viz._page`); every other file is MeshCat's own.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from meshcat.servers import zmqserver
 from zmq.eventloop.zmqstream import ZMQStream
 
 from ..exceptions import FeederError, ViewerPortError
-from ._overlay import with_overlay
+from ._page import with_panels
 
 LOOPBACK = "127.0.0.1"
 """The only address the viewer's web server listens on."""
@@ -49,7 +49,7 @@ class _LoopbackApplication(tornado.web.Application):
 
 
 class _PageHandler(tornado.web.RequestHandler):
-    """MeshCat's viewer page with the server's overlay inserted before ``</body>``."""
+    """MeshCat's viewer page with the server's panels inserted before ``</body>``."""
 
     def initialize(self, server: MeshcatServer) -> None:
         self._server = server
@@ -61,7 +61,7 @@ class _PageHandler(tornado.web.RequestHandler):
             page = f.read()
         self.set_header("Content-Type", "text/html; charset=utf-8")
         self.set_header("Cache-Control", "no-store")
-        self.write(with_overlay(page, self._server.overlay))
+        self.write(with_panels(page, self._server.panels))
 
 
 class _QuietWebSocketHandler(zmqserver.WebSocketHandler):
@@ -113,7 +113,7 @@ class MeshcatServer:
     """A MeshCat server on a background thread, its web port on 127.0.0.1:``port``."""
 
     def __init__(self, port: int | None):
-        self.overlay = ""
+        self.panels = ""
         """HTML inserted into the viewer page (set it before a browser loads the page)."""
         try:
             sockets = tornado.netutil.bind_sockets(port or 0, address=LOOPBACK)

@@ -27,9 +27,11 @@ from feeder.study.analyze import analyze, joint_columns, q_from_columns
 from feeder.study.csv import read_csv, write_csv
 from feeder.study.view import analysis_view, pose_view, run_view
 from feeder.viz._meshcat_server import LOOPBACK
-from feeder.viz.mechanism_scene import DEFAULT_REACTIONS, MOUNT_FORCE
-from feeder.viz.scene import ARROW_LENGTH, BASE, FRAME_RATE, HEAD_LENGTH
-from feeder.viz.viewer import MechanismViewer, mechanism_html
+from feeder.viz.arrows import ARROW_LENGTH, HEAD_LENGTH
+from feeder.viz.model_scene import DEFAULT_REACTIONS, MOUNT_FORCE, model_scene
+from feeder.viz.nodes import BASE
+from feeder.viz.scene import FRAME_RATE
+from feeder.viz.viewer import SceneViewer, mechanism_html
 from tests.viz.test_viewer import (
     FLOAT32_POSITION,
     HIDE_LEGEND,
@@ -288,7 +290,7 @@ def test_view_command_refuses_an_edited_run(four_bar, tmp_path, capsys):
 def test_bad_reaction_is_refused():
     view = pose_view(FOUR_BAR / "closures.toml")
     with pytest.raises(InputError, match="no reaction of joint"):
-        MechanismViewer(view, ["no_such_joint"])
+        model_scene(view, ["no_such_joint"])
 
 
 def test_a_missing_mesh_is_left_out_with_a_warning(tmp_path):
@@ -322,7 +324,7 @@ def test_a_missing_mesh_is_left_out_with_a_warning(tmp_path):
 def test_server_is_on_loopback_and_silent(capfd):
     """MeshCat's own server prints "opened:" per tab, "Port: 6000 in use" per busy ZMQ port
     and tornado's "404 GET /favicon.ico": none of it reaches the terminal."""
-    with MechanismViewer(pose_view(FOUR_BAR / "closures.toml")) as viewer:
+    with SceneViewer(model_scene(pose_view(FOUR_BAR / "closures.toml"))) as viewer:
         assert set(listening(viewer.port)) == {LOOPBACK}
         zmq_port = int(viewer._server.zmq_url.rsplit(":", 1)[1])
         assert set(listening(zmq_port)) == {LOOPBACK}
@@ -399,7 +401,7 @@ def test_browser_draws_the_four_bar_and_plays_it(four_bar_shots):
 @needs_chromium
 def test_browser_draws_the_cad_export_with_its_meshes(cassie_page, tmp_path):
     """The Cassie-like leg, live on 127.0.0.1 and offline: its meshes cover the window's share."""
-    with MechanismViewer(pose_view(CASSIE / "robot.yaml")) as viewer:
+    with SceneViewer(model_scene(pose_view(CASSIE / "robot.yaml"))) as viewer:
         live = screenshot(viewer.url, tmp_path / "live.png")
         viewer.visualizer.viewer[f"{BASE}/mechanism"].set_property("visible", False)
         hidden = screenshot(viewer.url, tmp_path / "hidden.png")

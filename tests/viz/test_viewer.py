@@ -36,16 +36,13 @@ from feeder.exceptions import ElevationError, InputError, ViewerPortError
 from feeder.motion import feeding_cycle
 from feeder.motion.cycle import CycleKinematics
 from feeder.viz._meshcat_server import LOOPBACK
-from feeder.viz.scene import (
-    ARROW_COLORS,
-    ARROW_LENGTH,
-    BASE,
-    FRAME_RATE,
-    HULL_COLOR,
-    ROOT,
-    css,
-)
-from feeder.viz.viewer import MOUNT_FORCE, CycleViewer, cycle_forces, show_cycle, write_html
+from feeder.viz.arrows import ARROW_COLORS, ARROW_LENGTH
+from feeder.viz.device_scene import MOUNT_FORCE, cycle_forces, device_scene
+from feeder.viz.framing import HULL_COLOR
+from feeder.viz.legend import css
+from feeder.viz.nodes import BASE, ROOT
+from feeder.viz.scene import FRAME_RATE
+from feeder.viz.viewer import SceneViewer, show, write_html
 
 ELEVATION_DEG = 30.0
 WINDOW = (1000, 800)
@@ -226,7 +223,7 @@ def forces(feeder, cycle30):
 
 @pytest.fixture(scope="module")
 def viewer(feeder, cycle30, forces):
-    with show_cycle(feeder, cycle30, forces) as running:
+    with show(device_scene(feeder, cycle30, forces)) as running:
         yield running
 
 
@@ -236,7 +233,7 @@ def commands(viewer):
 
 
 def test_static_page_is_self_contained(feeder, cycle30, tmp_path):
-    path = write_html(feeder, cycle30, tmp_path / "cycle.html")
+    path = write_html(device_scene(feeder, cycle30), tmp_path / "cycle.html")
     html = path.read_text(encoding="utf-8")
     assert "new MeshCat.Viewer" in html
     assert not re.search(r"<(script|link|img)[^>]+(src|href)=", html), "page loads a file"
@@ -247,13 +244,13 @@ def test_static_page_replaces_only_a_page_the_viewer_wrote(feeder, cycle30, tmp_
     """The page carries PAGE_MARKER in its head; write_html replaces such a page only."""
     from feeder.viz.viewer import PAGE_MARKER
 
-    path = write_html(feeder, cycle30, tmp_path / "cycle.html")
+    path = write_html(device_scene(feeder, cycle30), tmp_path / "cycle.html")
     assert PAGE_MARKER in path.read_text(encoding="utf-8")[:4096]
-    assert write_html(feeder, cycle30, path) == path
+    assert write_html(device_scene(feeder, cycle30), path) == path
     table = tmp_path / "cycle.csv"
     table.write_text("t,x\n0,1\n", encoding="utf-8")
     with pytest.raises(InputError, match="is not an HTML page that feeder view wrote"):
-        write_html(feeder, cycle30, table)
+        write_html(device_scene(feeder, cycle30), table)
     assert table.read_text(encoding="utf-8") == "t,x\n0,1\n"
 
 
@@ -374,7 +371,7 @@ def test_force_arrows_to_one_scale(commands, forces, viewer, cycle30):
 )
 def test_bad_forces(feeder, cycle30, bad):
     with pytest.raises(InputError, match="f'"):
-        CycleViewer(feeder, cycle30, bad)
+        device_scene(feeder, cycle30, bad)
 
 
 def test_viewer_listens_on_loopback_only(viewer):
@@ -445,7 +442,7 @@ def view_command(
 def no_blocking(monkeypatch):
     """Make the live viewer return at once instead of serving until Ctrl-C; record its URLs."""
     served = []
-    monkeypatch.setattr(CycleViewer, "serve_forever", lambda self: served.append(self.url))
+    monkeypatch.setattr(SceneViewer, "serve_forever", lambda self: served.append(self.url))
     return served
 
 
@@ -696,7 +693,8 @@ def view_page(feeder, tmp_path_factory):
     dynamics = cycle_dynamics(feeder, math.radians(-4.0), forward=False)
     forces = cycle_forces(feeder, dynamics)
     path = tmp_path_factory.mktemp("arrows") / "view.html"
-    page = write_html(feeder, dynamics.kinematics, path, forces).read_text(encoding="utf-8")
+    scene = device_scene(feeder, dynamics.kinematics, forces)
+    page = write_html(scene, path).read_text(encoding="utf-8")
     path.write_text(page.replace("</body>", HIDE_LEGEND + "</body>"), encoding="utf-8")
     return path, dynamics, forces
 

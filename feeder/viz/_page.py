@@ -1,10 +1,12 @@
-"""The viewer page: MeshCat's, with an overlay of a legend for every colour of the scene and a
-player (play/pause, loop, a time slider with the time and the stage).
+"""The viewer's one HTML page, for the device and for any mechanism alike: MeshCat's, with two
+panels over the scene — a legend for every colour of the scene and a player (play/pause, loop,
+a time slider with the time and the stage) — and, for the static page, :data:`PAGE_MARKER`.
 
 MeshCat's own control panel ("Open Controls", top right) has play, pause, reset and a time
-scrubber deep in its Animations folder, and no loop switch; the overlay puts them in view and
-adds the loop. It is plain HTML and JavaScript that drive MeshCat's animator (the page's global
-``viewer.animator``), inserted before ``</body>`` of both the static page and the live one.
+scrubber deep in its Animations folder, and no loop switch; the player puts them in view and
+adds the loop. The panels are plain HTML and JavaScript that drive MeshCat's animator (the
+page's global ``viewer.animator``), inserted before ``</body>`` of both the static page and the
+live one (:func:`with_panels`).
 The page's address may carry ``#t=2.5`` (open paused at that time [s]) and ``#loop`` (start
 with looping on), e.g. to share one moment of the cycle.
 
@@ -20,7 +22,10 @@ import json
 import math
 import re
 
-from .scene import DrawnScene
+from .legend import DrawnScene
+
+PAGE_MARKER = '<meta name="generator" content="feeder view">'
+"""In the head of every static page of the viewer: the pages it may replace."""
 
 _STYLE = """
 #feeder-legend, #feeder-player {
@@ -108,7 +113,7 @@ _SCRIPT = """
 """
 
 
-def overlay_html(drawn: DrawnScene, title: str) -> str:
+def panels_html(drawn: DrawnScene, title: str) -> str:
     """The legend and the player for a drawn scene, as HTML to insert before ``</body>``."""
     rows = [f"<summary>{html.escape(title)}</summary>"]
     for entry in drawn.legend:
@@ -186,14 +191,16 @@ _IN_ORDER = """
 """
 
 
-def static_page(page: str, overlay: str) -> str:
-    """MeshCat's static page with its commands applied in order, and ``overlay`` inserted."""
+def static_page(page: str, panels: str) -> str:
+    """MeshCat's static page with its commands applied in order, ``panels`` inserted and
+    :data:`PAGE_MARKER` in its head."""
     commands = _FETCHED_COMMAND.findall(page)
     ordered = iter([_IN_ORDER % json.dumps(commands)])  # where the first command was
-    return with_overlay(_FETCHED_COMMAND.sub(lambda _: next(ordered, ""), page), overlay)
+    page = with_panels(_FETCHED_COMMAND.sub(lambda _: next(ordered, ""), page), panels)
+    return page.replace("<head>", f"<head>{PAGE_MARKER}", 1)
 
 
-def with_overlay(page: str, overlay: str) -> str:
-    """``page`` (MeshCat's HTML) with ``overlay`` inserted before its last ``</body>``."""
+def with_panels(page: str, panels: str) -> str:
+    """``page`` (MeshCat's HTML) with ``panels`` inserted before its last ``</body>``."""
     head, body_end, tail = page.rpartition("</body>")
-    return f"{head}{overlay}\n{body_end}{tail}"
+    return f"{head}{panels}\n{body_end}{tail}"
