@@ -798,6 +798,72 @@ def test_simulate_bad_input_exits_with_message(tmp_path, capsys, extra, message)
     assert not (tmp_path / "x").exists()
 
 
+@pytest.mark.parametrize("duration", ["1e9", "1e308"])
+def test_simulate_of_a_long_duration_stops_at_the_step_cap(
+    tmp_path, capsys, monkeypatch, duration
+):
+    """``--duration 1e9`` (or 1e308) once never answered: the run stops at the cap of steps
+    (made small here, so that the stop comes from the cap, not from the test's patience) with
+    one line naming the time reached, and writes nothing."""
+    from feeder.chain.dynamics import budget
+
+    monkeypatch.setattr(budget, "MAX_STEPS", 300)
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    out = ["--out", str(tmp_path / "x")]
+    assert main(["simulate", *arguments, "--duration", duration, *out]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert f"of {float(duration):g} s: it reached the cap of 300 integration steps" in err
+    assert "end it by t = " in err and not (tmp_path / "x").exists()
+
+
+def test_simulate_of_more_samples_than_the_cap_is_refused(tmp_path, capsys):
+    """``--samples 10000000`` once never answered (hours of post-processing, 40 GB): refused
+    before the run, naming the count and the cap."""
+    from feeder.chain.dynamics.budget import max_samples
+
+    cap = max_samples(3)  # the four-bar's three coordinates
+    assert cap < 10_000_000
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    extra = ["--duration", "1", "--samples", "10000000", "--out", str(tmp_path / "x")]
+    assert main(["simulate", *arguments, *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert f"10000000 output samples (samples) are more than the {cap}" in err
+    assert f"ask for at most {cap}" in err and not (tmp_path / "x").exists()
+
+
+def test_simulate_names_a_stiff_damper_and_radau_runs_it(tmp_path, capsys):
+    """A damper of 1e6 N·s/m on the four-bar holds DOP853's steps at ~25 µs: one warning line
+    names it and says ``--method Radau``, which runs the same motion without the warning."""
+    text = (EXAMPLE / "closures.toml").read_text(encoding="utf-8")
+    damper = '[[force]]\ntype = "spring"\nframes = ["ground", "rocker_tip"]\ndamping = 1e6\n'
+    (tmp_path / "damped.toml").write_text(f"{text}\n{damper}", encoding="utf-8")
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(tmp_path / "damped.toml")]
+    arguments += ["--duration", "0.02", "--samples", "5"]
+    assert main(["simulate", *arguments, "--out", str(tmp_path / "dop")]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "stiff" in line]
+    assert len(warned) == 1 and warned[0].startswith("feeder: warning: the run is stiff")
+    assert "spring:ground-rocker_tip" in warned[0] and "--method Radau" in warned[0]
+    radau = ["--method", "Radau", "--out", str(tmp_path / "radau")]
+    assert main(["simulate", *arguments, *radau]) == 0
+    assert "stiff" not in capsys.readouterr().err
+    explicit = read_csv(tmp_path / "dop" / "states.csv")["q_crank_joint"]
+    implicit = read_csv(tmp_path / "radau" / "states.csv")["q_crank_joint"]
+    np.testing.assert_allclose(implicit, explicit, rtol=0.0, atol=1e-9)  # rtol 1e-8 of ~0.3 rad
+
+
+def test_simulate_help_states_the_caps(capsys):
+    from feeder.chain.dynamics.budget import MAX_STEPS, SAMPLE_BYTES, SAMPLE_MEMORY
+
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"a run stops after {MAX_STEPS} integration steps" in text
+    assert f"at most {SAMPLE_MEMORY // SAMPLE_BYTES} divided by the mechanism's velocity" in text
+    assert "progress line" in text and "stiff" in text
+
+
 def test_sweep_command_follows_the_output_folder_rule(tmp_path, capsys):
     """A folder of other files is refused (docs/ with its tracked figure); a sweep's own folder
     is resumed (and says what it kept), and any feeder run takes it over."""

@@ -17,6 +17,7 @@ from .options import (
 
 def add(commands: argparse._SubParsersAction) -> None:
     """The ``simulate`` sub-parser."""
+    from ..chain.dynamics.budget import MAX_STEPS, SAMPLE_BYTES, SAMPLE_MEMORY
     from ..chain.dynamics.forward import ATOL, METHODS, RTOL
     from ..study.simulate import SAMPLES
 
@@ -33,7 +34,9 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=float,
         required=True,
         metavar="SECONDS",
-        help="length of the run [s], required",
+        help=f"length of the run [s], required; a run stops after {MAX_STEPS} integration "
+        "steps (a few minutes), naming the time it reached; a progress line with an estimate of "
+        "the time left shows on a terminal after a few seconds",
     )
     simulate.add_argument(
         "--out",
@@ -56,7 +59,10 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=int,
         default=SAMPLES,
         metavar="N",
-        help=f"output samples over the run, both ends included (default: {SAMPLES})",
+        help=f"output samples over the run, both ends included (default: {SAMPLES}; at most "
+        f"{SAMPLE_MEMORY // SAMPLE_BYTES} divided by the mechanism's velocity coordinates: "
+        f"{SAMPLE_BYTES / 1e3:g} kB of results per sample and coordinate, "
+        f"{SAMPLE_MEMORY / 1e9:g} GB in all)",
     )
     simulate.add_argument(
         "--method",
@@ -64,7 +70,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         choices=METHODS,
         default="DOP853",
         help="SciPy integrator: explicit DOP853 or RK45, implicit Radau or BDF for stiff "
-        "mechanisms (default: DOP853)",
+        "mechanisms (default: DOP853; a run whose explicit steps are held by stiffness, a stiff "
+        "damper or spring, gets a warning naming it)",
     )
     simulate.add_argument(
         "--rtol",
@@ -98,6 +105,7 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
         rtol=args.rtol,
         atol=args.atol,
+        progress=True,
     )
     with folder:
         paths = write_simulation_outputs(simulation, folder, command_line(args))

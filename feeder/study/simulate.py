@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..chain.dynamics.budget import check_sample_count
 from ..chain.dynamics.forward import ATOL, RTOL, ForwardRun, simulate
 from ..chain.dynamics.inverse import ChainDynamics
 from ..chain.mobility import MobilityReport, mobility
@@ -102,12 +103,7 @@ class Simulation:
             + f"; {gravity_text(self.spec, self.chain)}"
         )  # fmt: skip
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
-        scale = max(float(run.kinetic.max()), float(np.abs(run.work).max()), 1e-300)
-        lines.append(
-            f"  energy balance: max |E − E(0) − W| = {run.energy_error():.3g} J "
-            f"(largest kinetic energy {run.kinetic.max():.4g} J, work {run.work[-1]:.4g} J; "
-            f"relative {run.energy_error() / scale:.2g})"
-        )
+        lines.append(self.energy_line())
         if run.loads.actuators:
             worst = max(float(np.abs(x).max()) for x in run.loads.actuators.values())
             lines.append(
@@ -116,6 +112,29 @@ class Simulation:
             )
         peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=False)
         return "\n".join(lines + peaks)
+
+    def energy_line(self) -> str:
+        """The run's energy balance, as a line of the summary: relative to the largest energy
+        the run moves (:meth:`~feeder.chain.ForwardRun.energy_scales`), or, for a mechanism
+        that stays at rest (it moves no more than the integrator's tolerance on q,
+        atol + rtol max |q|), in joules alone: it has no energy to compare with."""
+        run = self.run
+        error = run.energy_error()
+        text = f"  energy balance: max |E − E(0) − W| = {error:.3g} J"
+        moved = run.displacement(self.chain.model)
+        resolution = self.atol + self.rtol * float(np.abs(run.q).max())
+        if moved <= resolution:
+            return (
+                f"{text}; the mechanism stays at rest (it moves {moved:.2g} rad or m at most, "
+                f"within the integrator's tolerance atol + rtol max |q| = {resolution:.2g}): no "
+                "energy to compare the balance with"
+            )
+        scales = run.energy_scales()
+        parts = ", ".join(f"{key} {value:.4g} J" for key, value in scales.items())
+        return (
+            f"{text}, {error / max(scales.values()):.2g} of the energy the run moves (the largest "
+            f"of: {parts})"
+        )
 
 
 def simulate_mechanism(
@@ -128,6 +147,7 @@ def simulate_mechanism(
     method: str = "DOP853",
     rtol: float = RTOL,
     atol: float = ATOL,
+    progress: bool = False,
 ) -> Simulation:
     """Run the mechanism forward from rest at its assembled pose.
 
@@ -138,8 +158,10 @@ def simulate_mechanism(
         pose: A pose file that picks the assembly branch (default: the side-file's pose, or
             the model's zero pose).
         forces: A TOML file of more ``[[force]]`` tables.
-        samples: Output samples over [0, duration] (≥ 2).
+        samples: Output samples over [0, duration] (≥ 2, at most
+            :func:`~feeder.chain.dynamics.budget.max_samples` for the mechanism).
         method, rtol, atol: The integrator (:func:`~feeder.chain.simulate`).
+        progress: Show the run's progress line on a terminal (:func:`~feeder.chain.simulate`).
 
     Raises:
         FeederError: Bad files or settings, an unreachable pose, an integration that fails
@@ -151,12 +173,17 @@ def simulate_mechanism(
     if not isinstance(samples, int) or samples < 2:
         raise InputError(f"samples must be a whole number ≥ 2, got {samples!r}")
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
+    check_sample_count("samples", samples, chain.model.nv)
     elements = spec.forces + (read_force_file(Path(forces)) if forces is not None else ())
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, elements, spec.base)
     t = np.linspace(0.0, duration, samples)
-    run = simulate(
-        dyn, t, assembled, np.zeros(chain.model.nv), method=method, rtol=rtol, atol=atol
-    )
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError(
+            f"the duration {duration!r} s is too short for {samples} distinct sample times "
+            "(double precision): a longer duration or fewer samples"
+        )
+    zero = np.zeros(chain.model.nv)
+    run = simulate(dyn, t, assembled, zero, method=method, rtol=rtol, atol=atol, progress=progress)
     warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
     return Simulation(

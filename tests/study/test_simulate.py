@@ -42,6 +42,8 @@ def test_bad_settings_are_refused():
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, samples=1)
     with pytest.raises(InputError, match="method must be one of"):
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, method="Euler")
+    with pytest.raises(InputError, match="duration 5e-324 s is too short for 1001 distinct"):
+        simulate_mechanism(FOUR_BAR / "closures.toml", 5e-324)  # once "t must be increasing"
 
 
 def test_gravity_assumed_is_said_and_gravity_doing_no_work_is_warned(tmp_path):
@@ -77,3 +79,59 @@ def test_a_free_four_bar_with_long_steps_and_coarse_outputs_runs_correctly():
     assert np.all(np.isfinite(coarse.q)) and np.all(np.isfinite(coarse.energy))
     np.testing.assert_allclose(coarse.q, free.q, rtol=0.0, atol=1e-6)
     assert coarse.energy_error() <= 1e-7  # [J] of ~0.1 J swings (tests/chain/dynamics ENERGY)
+
+
+def test_a_run_that_does_not_move_says_so(tmp_path):
+    """Gravity along −z on the four-bar moving in the x–y plane: it stays where it is released
+    (to ~1e-12 rad), and the summary says so, with the balance in joules only — once "relative 1"
+    (its balance against a kinetic energy of 1e-22 J, both round-off)."""
+    text = (FOUR_BAR / "closures.toml").read_text()
+    lines = [line for line in text.splitlines() if not line.startswith("gravity")]
+    (tmp_path / "closures.toml").write_text("\n".join(lines) + "\n")
+    with pytest.warns(FeederWarning, match="does no work"):
+        simulation = simulate_mechanism(
+            tmp_path / "closures.toml", 0.5, model=FOUR_BAR / "four_bar.urdf", samples=11
+        )
+    line = simulation.energy_line()
+    assert "the mechanism stays at rest" in line and "no energy to compare" in line
+    assert "of the energy the run moves" not in line and line in simulation.summary()
+
+
+def test_the_energy_balance_is_measured_against_the_energy_the_run_moves():
+    """The free four-bar swings: its balance is given relative to the largest of its kinetic
+    energy, its |work| and its potential energy's change (here the swing's ~6.5e-3 J; once the
+    kinetic energy alone, which is zero for a run held still while its potential changes)."""
+    simulation = simulate_mechanism(FOUR_BAR / "closures.toml", 0.05, samples=11)
+    run = simulation.run
+    potential = run.energy - run.kinetic
+    scale = max(run.kinetic.max(), np.abs(run.work).max(), np.ptp(potential))
+    line = simulation.energy_line()
+    ratio = float(line.split(" J, ")[1].split(" of the energy the run moves")[0])
+    assert ratio == pytest.approx(run.energy_error() / scale, rel=0.05)  # printed to 2 digits
+    assert f"|change of potential energy| {np.ptp(potential):.4g} J" in line
+
+
+def test_more_samples_than_the_memory_allows_are_refused_before_the_run(monkeypatch):
+    """10¹² samples once meant an array of 8 TB (a MemoryError), 10⁷ a run of hours: refused
+    with the cap before any array is made."""
+    import feeder.study.simulate as study
+    from feeder.chain.dynamics import budget
+
+    monkeypatch.setattr(study, "simulate", lambda *args, **kw: pytest.fail("the run started"))
+    cap = budget.SAMPLE_MEMORY // (budget.SAMPLE_BYTES * 3)  # the four-bar's 3 coordinates
+    for samples in (10**7, 10**12):
+        with pytest.raises(InputError, match=rf"{samples} output samples \(samples\) are more "
+                           rf"than the {cap} .* ask for at most {cap}"):  # fmt: skip
+            simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, samples=samples)
+
+
+@pytest.mark.parametrize(
+    "name", ["four_bar/closures.toml", "andrews_squeezer/squeezer.toml",
+             "slider_crank/closures.toml", "bricard/bricard.toml"],
+)  # fmt: skip
+def test_the_examples_are_not_found_stiff(name):
+    """Their steps follow their motion (Hairer's h λ at most 3.3 over them): no warning."""
+    duration = 0.03 if "squeezer" in name else 0.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FeederWarning)
+        simulate_mechanism(REPO / "examples" / name, duration, samples=3)

@@ -17,7 +17,7 @@ loads do work, reported as the power of the non-conservative forces.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -58,7 +58,7 @@ class BoundElements:
     def __init__(self, chain: ClosedChain, elements: Sequence[ForceElement] = ()):
         model = chain.model
         self.chain = chain
-        self.elements = tuple(elements)
+        self.elements = _element_tuple(elements)
         names = [element.name for element in self.elements]
         if len(set(names)) != len(names):
             raise InputError(f"force elements need distinct names, got {names}")
@@ -255,6 +255,20 @@ class _Line:
     def tension(self, length, rate, push):
         """T [N] at length ℓ [m], rate ℓ̇ [m/s] and push P [N] (floats or arrays alike)."""
         return self.stiffness * (length - self.rest_length) + self.damping * rate - push
+
+
+def _element_tuple(elements: Sequence[ForceElement]) -> tuple[ForceElement, ...]:
+    """``elements`` as a tuple, if it is a collection of them (their kinds are checked one by
+    one by :class:`BoundElements`)."""
+    kinds = "Spring, Cylinder, JointSpring, Load"
+    if isinstance(elements, ForceElement):
+        raise InputError(
+            f"elements must be a list of force elements, got the single element "
+            f"{elements.name!r}: put it in a list, [element]"
+        )
+    if isinstance(elements, str | bytes | Mapping) or not isinstance(elements, Iterable):
+        raise InputError(f"elements must be a list of force elements ({kinds}), got {elements!r}")
+    return tuple(elements)
 
 
 def _body_frame(model: pin.Model, joint: int, name: str) -> int:

@@ -38,6 +38,7 @@ every force element's force, like the tables of ``feeder analyze``.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -45,23 +46,45 @@ import numpy as np
 import pinocchio as pin
 import scipy.integrate
 
-from ...exceptions import FeederError, InputError, SingularPoseError, UnreachablePoseError
+from ...exceptions import (
+    FeederError,
+    FeederWarning,
+    InputError,
+    SingularPoseError,
+    UnreachablePoseError,
+)
 from ...validation import check_finite, check_number
 from ..assembly.newton import POSITION_TOLERANCE, RANK_TOLERANCE, newton
 from ..assembly.rank import truncated_inverse
 from ..kinematics.joints import ConfigurationRate, angle_columns, angular_difference
+from . import budget
+from .budget import (
+    Progress,
+    check_sample_count,
+    check_step_count,
+    sample_progress,
+    step_cap_message,
+)
 from .inverse import (
     MAX_FORCE_GAIN,
     ChainDynamics,
     ChainLoads,
+    check_dynamics,
     inverse_dynamics,
     load_gain,
     load_rank,
 )
+from .stiffness import StiffnessTest, step_advice, stiff_warning
 
 BAUMGARTE_RATE = 20.0
 """Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
 mechanism's motion and slow enough not to make the equations stiff."""
+
+MAX_BAUMGARTE_RATE = 1e6
+"""Largest accepted Baumgarte rate ω [1/s]. Its K_p = ω² (1e12 /s² here) multiplies the loop
+residual into an acceleration: a residual at round-off (1e-13 m) becomes 0.1 m/s², the size of a
+slow motion's accelerations, so a faster corrector drives the motion instead of correcting it
+(and it makes the equations stiff at ω: an explicit step of at most 6/ω = 6 µs)."""
 
 START_TOLERANCE = 1e-9
 """Largest accepted closure residual [m, rad] of the initial state (and of its velocity rows,
@@ -82,9 +105,6 @@ constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
 METHODS = ("DOP853", "RK45", "Radau", "BDF")
 """SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
 the implicit Radau IIA (order 5) and BDF for stiff mechanisms."""
-
-MAX_STEPS = 1_000_000
-"""Accepted steps after which a run is stopped (a mechanism crawling through a singular pose)."""
 
 PROXIMAL = pin.ProximalSettings(1e-13, 1e-10, 100)
 """Pinocchio's proximal solver: absolute accuracy 1e-13 of the constraint accelerations,
@@ -113,7 +133,7 @@ class ForwardRun:
             closure forces, every joint's reaction, every force element's force.
         residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
         energy: Kinetic, gravitational and elastic energy [J], (N,).
-        kinetic: Kinetic energy [J], (N,) (the scale of the energy balance).
+        kinetic: Kinetic energy [J], (N,).
         work: Work of the non-conservative forces since t[0] [J], (N,).
         steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
         projections: Steps projected back onto the constraints.
@@ -143,6 +163,23 @@ class ForwardRun:
     def energy_error(self) -> float:
         """Largest |E(t) − E(t₀) − W(t)| [J] (:meth:`balance`)."""
         return float(np.abs(self.balance()).max())
+
+    def energy_scales(self) -> dict[str, float]:
+        """The energies [J] the run moves, against which its balance is measured: the largest
+        kinetic energy, |work| and |change of the potential (gravitational and elastic)
+        energy| over the run, and the round-off of the total energy (ε max |E|, the floor)."""
+        potential = self.energy - self.kinetic
+        return {
+            "kinetic energy": float(self.kinetic.max()),
+            "|work|": float(np.abs(self.work).max()),
+            "|change of potential energy|": float(np.abs(potential - potential[0]).max()),
+            "round-off of the energy": float(np.finfo(float).eps * np.abs(self.energy).max()),
+        }
+
+    def displacement(self, model: pin.Model) -> float:
+        """Largest |q(t) ⊖ q(t₀)| over the run and the velocity components [rad, m]
+        (:meth:`tracking` against the first sample)."""
+        return float(self.tracking(model, np.tile(self.q[0], (self.t.size, 1))).max())
 
     def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
         """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,) (a
@@ -185,8 +222,8 @@ class _Equations:
         if self.actuation is None:
             return elements.generalized(q, v, t) if elements else (self.zero, 0.0)
         tau = np.zeros(self.model.nv)
-        u = np.asarray(self.actuation(t, q, v), dtype=float)
-        if u.shape != self.columns.shape or not np.all(np.isfinite(u)):
+        u = check_finite(f"actuation at t = {t:.6g} s [N or N·m]", self.actuation(t, q, v))
+        if u.shape != self.columns.shape:
             raise InputError(
                 f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
                 f"[N or N·m], got {u!r}"
@@ -211,7 +248,7 @@ class _Equations:
         nq, nv = self.nq, self.nv
         q, v = y[:nq], y[nq : nq + nv]
         a, power = self.accelerations(t, q, v)
-        if not math.isfinite(a @ a):  # NaN or inf (or beyond 1e154: as meaningless)
+        if not np.all(np.abs(a) < 1e154):  # NaN, inf, or as meaningless (a @ a would overflow)
             raise IntegrationError(
                 f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "
                 "that are not finite)"
@@ -236,8 +273,17 @@ def simulate(
     rate: float = BAUMGARTE_RATE,
     drift_tolerance: float = DRIFT_TOLERANCE,
     max_step: float = np.inf,
+    progress: bool = False,
 ) -> ForwardRun:
     """Run the closed chain forward from (q0, v0), results at the times ``t``.
+
+    Every run is bounded (:mod:`~feeder.chain.dynamics.budget`): at most
+    :func:`~feeder.chain.dynamics.budget.max_samples` output times (refused before the run) and
+    :data:`~feeder.chain.dynamics.budget.MAX_STEPS` integration steps (a ``max_step`` that
+    needs more is refused before the run; otherwise the run stops at the cap, naming the time
+    it reached). An explicit method whose steps are held by stiffness is told after a few
+    dozen steps (:class:`~feeder.exceptions.FeederWarning` naming the force element and the
+    implicit method to use: :mod:`~feeder.chain.dynamics.stiffness`).
 
     Args:
         dyn: The chain's dynamics: its force elements act, its actuated joints receive
@@ -247,18 +293,23 @@ def simulate(
         actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), or None.
         method: One of :data:`METHODS`.
         rtol, atol: The integrator's tolerances (> 0; rtol ≥ :data:`SMALLEST_RTOL`).
-        rate: Baumgarte rate ω [1/s] (≥ 0; 0 turns the corrector off).
+        rate: Baumgarte rate ω [1/s] (0 ≤ ω ≤ :data:`MAX_BAUMGARTE_RATE`; 0 turns the
+            corrector off).
         drift_tolerance: Closure residual [m, rad] that triggers a projection (> 0).
         max_step: Longest step [s] (> 0).
+        progress: Show a progress line with an estimate of the time left on a terminal (none
+            when stderr is not one) for a run longer than a few seconds.
 
     Raises:
-        InputError: Bad times, state or settings, an initial velocity that opens the loops, a
-            force table that does not cover the run, actuation values that are not finite, a
-            chain on a moving or tilted base (:class:`ChainDynamics` with a base).
+        InputError: Bad dynamics, times, state, actuation or settings, more output times than
+            the cap, an initial velocity that opens the loops, a force table that does not
+            cover the run, actuation values that are not finite numbers, a chain on a moving or
+            tilted base (:class:`ChainDynamics` with a base).
         UnreachablePoseError: An initial configuration that does not close the loops.
-        IntegrationError: The integrator failed (unbounded accelerations), or the run reached
-            a singular pose (module docstring); the message names the time.
+        IntegrationError: The integrator failed (unbounded accelerations), the run reached a
+            singular pose (module docstring) or the step cap; the message names the time.
     """
+    check_dynamics(dyn)
     chain = dyn.chain
     if dyn.base is not None:
         raise InputError(
@@ -266,24 +317,14 @@ def simulate(
             "([base]); its inverse dynamics (feeder analyze) take the base's motion, and a "
             "slope alone is a tilted gravity ([mechanism] gravity)"
         )
-    t = check_finite("t", t)
-    if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0.0):
-        raise InputError(f"t must be increasing output times, at least two, got shape {t.shape}")
+    t = _check_times(t, chain.model.nv)
     q, v = chain.check_q(q0), chain.check_v("v0", v0)
+    if actuation is not None and not callable(actuation):
+        raise InputError(f"actuation must be a function u(t, q, v) or None, got {actuation!r}")
     if method not in METHODS:
         raise InputError(f"method must be one of {list(METHODS)}, got {method!r}")
-    for name, value in (("rtol", rtol), ("atol", atol), ("drift_tolerance", drift_tolerance)):
-        if not check_number(name, value) > 0.0:
-            raise InputError(f"{name} must be > 0, got {value!r}")
-    if rtol < SMALLEST_RTOL:
-        raise InputError(
-            f"rtol {rtol:g} is below what double precision can meet ({SMALLEST_RTOL:.1e}, "
-            "100 × the machine epsilon, where SciPy's integrators would raise it silently)"
-        )
-    if not check_number("Baumgarte rate [1/s]", rate) >= 0.0:
-        raise InputError(f"the Baumgarte rate must be ≥ 0 [1/s], got {rate!r}")
-    if not (isinstance(max_step, int | float) and max_step > 0.0):  # inf: no limit
-        raise InputError(f"max_step must be > 0 [s], got {max_step!r}")
+    _check_settings(rtol, atol, rate, drift_tolerance, max_step)
+    check_step_count(float(t[-1] - t[0]), max_step)
     gap = float(np.abs(chain.residual(q)).max(initial=0.0))
     if gap > START_TOLERANCE:
         raise UnreachablePoseError(
@@ -295,14 +336,54 @@ def simulate(
         raise InputError(f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity")
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
     equations = _Equations(dyn, actuation, rate)
-    states, steps, projections = _integrate(
-        equations, t, np.concatenate([q, v, [0.0]]), method, rtol, atol, drift_tolerance, max_step
-    )
-    return _results(equations, t, states, steps, projections)
+    y0 = np.concatenate([q, v, [0.0]])
+    with Progress(float(t[0]), float(t[-1]), progress) as line:
+        states, steps, projections = _integrate(
+            equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line
+        )
+    return _results(equations, t, states, steps, projections, progress)
 
 
-def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
-    """The states (N, nq + nv + 1) at the times t, the accepted steps and the projections."""
+def _check_times(t: np.ndarray, nv: int) -> np.ndarray:
+    """The output times as a float array: increasing, at least two, at most the cap of
+    :func:`~feeder.chain.dynamics.budget.max_samples`, over a finite span."""
+    t = check_finite("t", t)
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(f"t must be increasing output times, at least two, got shape {t.shape}")
+    check_sample_count("t", t.size, nv)
+    with np.errstate(over="ignore"):
+        gaps = np.diff(t)
+    if np.any(gaps <= 0.0):
+        raise InputError(f"t must be increasing output times, at least two, got shape {t.shape}")
+    if not math.isfinite(float(t[-1]) - float(t[0])):
+        raise InputError(f"t spans {t[0]:g} to {t[-1]:g} s: its length is not a finite number")
+    return t
+
+
+def _check_settings(
+    rtol: float, atol: float, rate: float, drift_tolerance: float, max_step: float
+) -> None:
+    """Refuse tolerances, a Baumgarte rate or a longest step out of their ranges
+    (:func:`simulate`)."""
+    for name, value in (("rtol", rtol), ("atol", atol), ("drift_tolerance", drift_tolerance)):
+        if not check_number(name, value) > 0.0:
+            raise InputError(f"{name} must be > 0, got {value!r}")
+    if rtol < SMALLEST_RTOL:
+        raise InputError(
+            f"rtol {rtol:g} is below what double precision can meet ({SMALLEST_RTOL:.1e}, "
+            "100 × the machine epsilon, where SciPy's integrators would raise it silently)"
+        )
+    if not 0.0 <= check_number("rate (Baumgarte's) [1/s]", rate) <= MAX_BAUMGARTE_RATE:
+        raise InputError(
+            f"rate (Baumgarte's) must be ≥ 0 and ≤ {MAX_BAUMGARTE_RATE:g} [1/s], got {rate!r}"
+        )
+    if max_step != np.inf and not check_number("max_step [s]", max_step) > 0.0:  # inf: no limit
+        raise InputError(f"max_step must be > 0 [s], got {max_step!r}")
+
+
+def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line):
+    """The states (N, nq + nv + 1) at the times t, the accepted steps and the projections;
+    ``line``: the run's :class:`~feeder.chain.dynamics.budget.Progress`."""
     chain = equations.dyn.chain
     nq = equations.model.nq
     solver_class = getattr(scipy.integrate, method)
@@ -316,13 +397,15 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
     states = np.empty((t.size, y0.size))
     states[0] = y0
     k, steps, projections = 1, 0, 0
+    stiffness = StiffnessTest(method)
     rank = load_rank(equations.dyn, y0[:nq])
     if load_gain(equations.dyn, y0[:nq], rank) > MAX_FORCE_GAIN:
         raise _singular(equations, rank, t[0], t[0], lambda _: y0)
     solver = start(t[0], y0, None)
     while k < t.size:
-        if steps >= MAX_STEPS:
-            raise IntegrationError(f"{MAX_STEPS} steps reached at t = {solver.t:.6g} s")
+        if steps >= budget.MAX_STEPS:
+            advice = step_advice(equations.dyn, stiffness, solver, (solver.t - t[0]) / steps)
+            raise IntegrationError(step_cap_message(solver.t, t[-1], advice))
         message = solver.step()
         steps += 1
         if solver.status == "failed":
@@ -331,6 +414,10 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step):
                 f"{message} — the mechanism is at or near a singular pose (a toggle), or its "
                 "equations are stiff (try method='Radau')"
             )
+        if stiffness.check(solver):
+            warning = stiff_warning(equations.dyn, stiffness, solver)
+            warnings.warn(warning, FeederWarning, stacklevel=3)
+        line.update(solver.t, steps)
         if load_gain(equations.dyn, solver.y[:nq], rank) > MAX_FORCE_GAIN:
             raise _singular(equations, rank, solver.t_old, solver.t, solver.dense_output())
         if t[k] <= solver.t:  # the step passed output times: its dense output gives them
@@ -403,15 +490,22 @@ def _project(equations, y: np.ndarray) -> np.ndarray:
     return np.concatenate([q, v, y[nq + nv :]])
 
 
-def _results(equations, t, states, steps, projections) -> ForwardRun:
-    """The run's tables from the states at the output times (module docstring)."""
+def _results(equations, t, states, steps, projections, progress: bool) -> ForwardRun:
+    """The run's tables from the states at the output times (module docstring); ``progress``:
+    show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`)."""
     dyn, model = equations.dyn, equations.model
     chain = dyn.chain
     nq, nv = model.nq, model.nv
-    residual = np.array([np.abs(chain.residual(y[:nq])).max(initial=0.0) for y in states])
-    projected = np.array([_project(equations, y) for y in states])
+    residual = np.empty(t.size)
+    projected = np.empty_like(states)
+    a = np.empty((t.size, nv))
+    with sample_progress(t.size, progress) as line:
+        for k, y in enumerate(states):
+            residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
+            projected[k] = _project(equations, y)
+            a[k] = equations.accelerations(t[k], projected[k, :nq], projected[k, nq : nq + nv])[0]
+            line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]
-    a = np.array([equations.accelerations(x, y, z)[0] for x, y, z in zip(t, q, v, strict=True)])
     try:
         loads = inverse_dynamics(dyn, q, v, a, t=t)
     except SingularPoseError as exc:

@@ -167,6 +167,15 @@ class ChainDynamics:
         elements: Sequence[ForceElement] = (),
         base: BaseMotion | None = None,
     ):
+        if not isinstance(chain, ClosedChain):
+            raise InputError(
+                f"chain must be a ClosedChain (the model and its closures), got {chain!r}"
+            )
+        if stiffness is not None and not isinstance(stiffness, Mapping):
+            raise InputError(
+                "stiffness must map closure labels to their rows' stiffness (a dict), got "
+                f"{stiffness!r}"
+            )
         if base is not None and not isinstance(base, BaseMotion):
             raise InputError(f"base must be a BaseMotion, got {base!r}")
         if base is not None and base.profiles:
@@ -206,6 +215,15 @@ class ChainDynamics:
             return 0
 
 
+def check_dynamics(dyn: ChainDynamics) -> None:
+    """Refuse a ``dyn`` that is not a :class:`ChainDynamics`."""
+    if not isinstance(dyn, ChainDynamics):
+        raise InputError(
+            "dyn must be a ChainDynamics (the chain with its actuated joints and force "
+            f"elements), got {dyn!r}"
+        )
+
+
 def check_motion(
     dyn: ChainDynamics, q: np.ndarray, v: np.ndarray, a: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, TreeMotion, ClosureKinematics]:
@@ -216,6 +234,7 @@ def check_motion(
         InputError: NaN/inf, shapes, velocities or accelerations that open the loops.
         UnreachablePoseError: A configuration that does not close the loops.
     """
+    check_dynamics(dyn)
     model = dyn.chain.model
     q = check_samples("q", q, model.nq)
     v = check_samples("v", v, model.nv)

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 import re
+import sys
+import warnings
 
 import numpy as np
 import pinocchio as pin
@@ -14,7 +16,7 @@ import scipy.interpolate
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
-from feeder.chain.dynamics import forward
+from feeder.chain.dynamics import budget, forward
 from feeder.chain.dynamics.forward import IntegrationError, _Equations, simulate
 from feeder.chain.dynamics.inverse import (
     MAX_FORCE_GAIN,
@@ -23,8 +25,9 @@ from feeder.chain.dynamics.inverse import (
     load_gain,
     load_rank,
 )
-from feeder.chain.model.forces import JointSpring, Load, Spring, Table
-from feeder.exceptions import InputError
+from feeder.chain.dynamics.stiffness import element_rates
+from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
+from feeder.exceptions import FeederWarning, InputError
 
 from ...conftest import REPO
 
@@ -355,3 +358,216 @@ def test_a_spring_between_two_ground_frames_changes_nothing(tmp_path):
     run = simulate(ChainDynamics(chain, ["crank_joint"], elements=[spring]), t, q0, np.zeros(3))
     np.testing.assert_array_equal(run.q, alone.q)
     assert np.abs(run.work).max() == 0.0
+
+
+# -- bounds: every run answers ------------------------------------------------------------------
+
+
+def test_a_run_beyond_the_step_cap_stops_at_it_naming_the_time(four_bar, monkeypatch):
+    """A run of 1e9 s (or 1e308 s) once went on for a million steps: it stops at the cap of
+    steps (made small here, so that the stop comes from the cap and not from the test's
+    patience), in one line naming the time it reached, which is the time to end it by."""
+    chain, _, q0 = four_bar
+    monkeypatch.setattr(budget, "MAX_STEPS", 300)
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    for end in (1e9, 1e308):
+        with pytest.raises(IntegrationError) as caught:
+            simulate(dyn, np.array([0.0, end]), q0, np.zeros(3))
+        message = str(caught.value)
+        assert "\n" not in message and f"of {end:g} s" in message
+        assert "reached the cap of 300 integration steps" in message
+        reached = float(re.search(r"stopped at t = ([0-9.e+]+) s", message).group(1))
+        assert 0.0 < reached < 100.0  # the swing takes ~90 steps per second of motion
+        assert f"end it by t = {reached:.6g} s" in message
+
+
+def test_requests_beyond_the_caps_are_refused_before_the_run(four_bar, monkeypatch):
+    """More output times than the memory budget allows, or a longest step that needs more
+    steps than the cap for the span, are refused before any step (the integrator is not even
+    built), with the numbers and the remedy."""
+    chain, _, q0 = four_bar
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    monkeypatch.setattr(forward, "_integrate", lambda *args: pytest.fail("the run started"))
+    cap = budget.SAMPLE_MEMORY // (budget.SAMPLE_BYTES * 3)  # the four-bar's 3 coordinates
+    assert budget.max_samples(3) == cap
+    with pytest.raises(InputError, match=rf"{cap + 1} output samples \(t\) are more than the "
+                       rf"{cap} .* ask for at most {cap}"):  # fmt: skip
+        simulate(dyn, np.linspace(0.0, 1.0, cap + 1), q0, np.zeros(3))
+    with pytest.raises(InputError, match=r"max_step 1e-09 s needs at least 1e\+09 steps .* cap"):
+        simulate(dyn, np.array([0.0, 1.0]), q0, np.zeros(3), max_step=1e-9)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda c: ChainDynamics(c, ["crank_joint"], elements=Spring(("rocker_tip", "crank"))),
+         "got the single element 'spring:rocker_tip-crank': put it in a list"),
+        (lambda c: ChainDynamics(c, ["crank_joint"], elements=None), "elements must be a list"),
+        (lambda c: ChainDynamics(c, ["crank_joint"], elements="spring"), "got 'spring'"),
+        (lambda c: ChainDynamics(c, ["crank_joint"], elements=3), "elements must be a list"),
+        (lambda c: ChainDynamics("chain", ["crank_joint"]), "chain must be a ClosedChain"),
+        (lambda c: ChainDynamics(c, ["crank_joint"], stiffness=[1.0]), "stiffness must map"),
+    ],
+)  # fmt: skip
+def test_bad_dynamics_are_refused_in_one_line(four_bar, call, message):
+    chain, _, _ = four_bar
+    with pytest.raises(InputError, match=re.escape(message)) as caught:
+        call(chain)
+    assert "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    "arguments, keywords, message",
+    [
+        (("dyn",), {}, "dyn must be a ChainDynamics"),
+        ((None, lambda t, q, v: "0.5"), {}, "actuation at t = 0 s [N or N·m] must be numeric"),
+        ((None, lambda t, q, v: [True]), {}, "must be numeric, got the truth value"),
+        ((None, 0.5), {}, "actuation must be a function u(t, q, v) or None, got 0.5"),
+        ((None,), {"rate": 1e300}, "rate (Baumgarte's) must be ≥ 0 and ≤ 1e+06"),
+        ((None,), {"max_step": True}, "max_step [s] must be a number"),
+        ((None,), {"t": np.array([-1e308, 1e308])}, "its length is not a finite number"),
+    ],
+)
+def test_bad_run_arguments_are_refused_in_one_line(four_bar, arguments, keywords, message):
+    """Each once a traceback from inside Python, NumPy or SciPy (AttributeError, ValueError,
+    TypeError, OverflowError), or a truth value taken for 1 N·m."""
+    chain, _, q0 = four_bar
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    first, *rest = arguments
+    t = keywords.pop("t", np.array([0.0, 0.01]))
+    with pytest.raises(InputError, match=re.escape(message)) as caught:
+        simulate(dyn if first is None else first, t, q0, np.zeros(3), *rest, **keywords)
+    assert "\n" not in str(caught.value)
+    if first is not None:
+        with pytest.raises(InputError, match=re.escape(message)):
+            inverse_dynamics(first, q0[None], np.zeros((1, 3)), np.zeros((1, 3)))
+
+
+# -- stiffness ----------------------------------------------------------------------------------
+
+DAMPER = 1e6
+"""[N·s/m] A damper between the ground's origin and the rocker's tip of the four-bar: its rate,
+~2.5e5 /s, is four orders above the swing's, so DOP853's steps are held by its stability."""
+
+
+def _line_rate_terms(chain, q, frames):
+    """gᵀ Z (ZᵀMZ)⁻¹ Zᵀ g [1/kg] of the line between two frames at the closed pose q: g = dℓ/dq
+    by central differences of the frames' distance along the chain's free motions Z (from
+    numpy's SVD of the closure rows), M from Pinocchio's CRBA — not the code under test."""
+    model, data = chain.model, chain.model.createData()
+    _, s, vt = np.linalg.svd(chain.jacobian(q))
+    free = vt[int((s > 1e-9 * s.max()).sum()) :].T
+    mass = pin.crba(model, data, q)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+
+    def length(x):
+        pin.framesForwardKinematics(model, data, x)
+        a, b = (data.oMf[model.getFrameId(name)].translation for name in frames)
+        return np.linalg.norm(b - a)
+
+    h = 1e-6
+    ahead = np.array([length(pin.integrate(model, q, h * e)) for e in free.T])
+    behind = np.array([length(pin.integrate(model, q, -h * e)) for e in free.T])
+    g = (ahead - behind) / (2.0 * h)  # dℓ/dz along the free motions, (d,)
+    return float(g @ np.linalg.solve(free.T @ mass @ free, g))
+
+
+def test_an_elements_rate_is_that_of_its_line_against_the_mass(four_bar):
+    """At rest, a damper alone has the rate c gᵀM⁻¹g and a spring at its rest length (no
+    tension, so no stiffness of its own direction) √(k gᵀM⁻¹g), M⁻¹ the closed chain's (on its
+    free motions): the linearisation by central differences agrees to 1e-6 (its truncation error
+    is ~1e-9 of the rates, the reference's differences in ℓ ~1e-10)."""
+    chain, _, q0 = four_bar
+    frames = ("ground", "rocker_tip")
+    inverse_mass = _line_rate_terms(chain, q0, frames)
+    model, data = chain.model, chain.model.createData()
+    pin.framesForwardKinematics(model, data, q0)
+    rest = np.linalg.norm(data.oMf[chain.frame_id("rocker_tip")].translation)
+    elements = [Spring(frames, damping=DAMPER, name="damper"),
+                Spring(frames, stiffness=4e4, rest_length=rest, name="spring")]  # fmt: skip
+    rates = element_rates(ChainDynamics(chain, ["crank_joint"], elements=elements), q0,
+                          np.zeros(3), 0.0)  # fmt: skip
+    assert rates["damper"] == pytest.approx(DAMPER * inverse_mass, rel=1e-6)
+    assert rates["spring"] == pytest.approx(math.sqrt(4e4 * inverse_mass), rel=1e-6)
+
+
+def test_a_stiff_damper_is_named_and_radau_runs_it(four_bar):
+    """With the damper, DOP853 is held by its stability (Hairer's test): a warning names the
+    damper and the implicit method; Radau runs the same motion in a fraction of the steps and
+    without the warning."""
+    chain, _, q0 = four_bar
+    damper = Spring(("ground", "rocker_tip"), damping=DAMPER)
+    dyn = ChainDynamics(chain, ["crank_joint"], elements=[damper])
+    t = np.linspace(0.0, 0.02, 5)
+    with pytest.warns(FeederWarning) as caught:
+        explicit = simulate(dyn, t, q0, np.zeros(3))
+    (warning,) = [w for w in caught if "stiff" in str(w.message)]
+    text = str(warning.message)
+    assert "DOP853's steps" in text and "spring:ground-rocker_tip" in text
+    assert "--method Radau" in text and "\n" not in text
+    rate = float(re.search(r"at a rate of ≈ ([0-9.e+]+) /s", text).group(1))
+    reference = DAMPER * _line_rate_terms(chain, explicit.q[0], ("ground", "rocker_tip"))
+    assert rate == pytest.approx(reference, rel=0.1)  # Hairer's estimate, from one step
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FeederWarning)
+        implicit = simulate(dyn, t, q0, np.zeros(3), method="Radau")
+    assert implicit.steps * 10 < explicit.steps
+    # both to their tolerance (rtol 1e-8) on a creep of ~1e-5 rad
+    np.testing.assert_allclose(implicit.q, explicit.q, rtol=0.0, atol=1e-9)
+    assert implicit.energy_error() <= 1e-9 * np.abs(implicit.work).max()
+
+
+def test_the_progress_line_shows_on_a_terminal(four_bar, monkeypatch, capsys):
+    """On a terminal, past its delay (none here), a run shows its simulated time, its steps
+    against the cap and an estimate of the time left; off a terminal, or when not asked for,
+    nothing."""
+    chain, _, q0 = four_bar
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    t = np.linspace(0.0, 0.5, 3)
+    simulate(dyn, t, q0, np.zeros(3), progress=True)
+    assert capsys.readouterr().err == ""  # pytest's stderr is no terminal
+    monkeypatch.setattr(budget, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(budget, "PROGRESS_INTERVAL", 0.0)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    simulate(dyn, t, q0, np.zeros(3))
+    assert capsys.readouterr().err == ""
+    simulate(dyn, t, q0, np.zeros(3), progress=True)
+    err = capsys.readouterr().err
+    assert "simulate: 100%" in err and "0.5 of 0.5 s" in err and "left" in err
+    assert re.search(r"\d+ of at most 200000 steps", err) and "samples: 100%" in err
+
+
+def test_the_time_left_is_to_the_step_cap_when_it_comes_first():
+    """Half the steps of the cap for a tenth of the span in 10 s: 10 s more, to the cap."""
+    line = budget.Progress(0.0, 10.0, enabled=False)
+    text = line._text(1.0, budget.MAX_STEPS // 2, 10.0)
+    assert text.endswith("~00:10 left (the step cap comes first)")
+    assert line._text(5.0, 10, 10.0).endswith("~00:10 left")
+
+
+def test_a_run_at_the_step_cap_says_what_holds_its_steps(four_bar, monkeypatch):
+    """At the cap (made small here): a stiff run says so, with its element and Radau; a run
+    made fast by an element (a cylinder's bore of 80 mm typed as 80 m: 5 027 m² at 12 MPa on
+    the 0.4 kg four-bar, which Radau does not help: measured 35 686 Radau steps against
+    DOP853's 1 443 for 0.1 ms) names that element and asks to check it; a plain one neither."""
+    chain, _, q0 = four_bar
+    monkeypatch.setattr(budget, "MAX_STEPS", 200)
+    elements = {
+        "stiff": [Spring(("ground", "rocker_tip"), damping=DAMPER)],
+        "fast": [Cylinder(("ground", "rocker_tip"), bore=80.0, rod=45.0, pressure=12e6)],
+        "plain": [],
+    }
+    messages = {}
+    for key, chosen in elements.items():
+        dyn = ChainDynamics(chain, ["crank_joint"], elements=chosen)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", FeederWarning)  # the stiff run's own warning
+            with pytest.raises(IntegrationError, match="cap of 200 integration steps") as caught:
+                simulate(dyn, np.array([0.0, 1e3]), q0, np.zeros(3))
+        messages[key] = str(caught.value)
+    assert "held by stiffness from t = " in messages["stiff"]
+    assert "from spring:ground-rocker_tip" in messages["stiff"] and "Radau" in messages["stiff"]
+    fast = messages["fast"]
+    assert "its fastest force element there, cylinder:ground-rocker_tip" in fast
+    assert "check that element's values and units" in fast and "Radau" not in fast
+    assert re.fullmatch(r"the run stopped .*; end it by t = [0-9.e-]+ s", messages["plain"])
