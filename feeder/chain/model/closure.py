@@ -226,34 +226,30 @@ class ClosedChain:
         for cut, (a, b) in zip(self.cuts, self.frame_ids, strict=True):
             pa = pin.updateFramePlacement(model, data, a)
             pb = pin.updateFramePlacement(model, data, b)
-            frames = CutFrames(
-                pa.rotation[None], pb.rotation[None], pa.translation[None], pb.translation[None]
-            )
-            rows.append(cut.residual(frames)[0])
+            frames = CutFrames(pa.rotation, pb.rotation, pa.translation, pb.translation)
+            rows.append(cut.residual(frames))
         return np.concatenate(rows) if rows else np.zeros(0)
 
     def _frames(self, a: int, b: int, jacobians: bool = False, rates: bool = False) -> CutFrames:
-        """One sample's :class:`~feeder.chain.model.cuts.CutFrames` of frames a and b from
-        :attr:`data`, whose frame placements are current; with their Jacobians (the joint
-        Jacobians are current) and with their velocities and classical accelerations (the
-        forward kinematics ran with v and a)."""
+        """One sample's :class:`~feeder.chain.model.cuts.CutFrames` (without the sample axis) of
+        frames a and b from :attr:`data`, whose frame placements are current; with their
+        Jacobians (the joint Jacobians are current) and with their velocities and classical
+        accelerations (the forward kinematics ran with v and a)."""
         model, data = self.model, self.data
         placements = data.oMf
         pa, pb = placements[a], placements[b]
-        frames = CutFrames(
-            pa.rotation[None], pb.rotation[None], pa.translation[None], pb.translation[None]
-        )
+        frames = CutFrames(pa.rotation, pb.rotation, pa.translation, pb.translation)
         world = pin.LOCAL_WORLD_ALIGNED
         if jacobians:
-            frames.jacobian_a = frame_jacobian(model, data, a, world)[None]
-            frames.jacobian_b = frame_jacobian(model, data, b, world)[None]
+            frames.jacobian_a = frame_jacobian(model, data, a, world)
+            frames.jacobian_b = frame_jacobian(model, data, b, world)
         if rates:
             acc_a = pin.getFrameClassicalAcceleration(model, data, a, world)
             acc_b = pin.getFrameClassicalAcceleration(model, data, b, world)
-            frames.omega_a = pin.getFrameVelocity(model, data, a, world).angular[None]
-            frames.omega_b = pin.getFrameVelocity(model, data, b, world).angular[None]
-            frames.alpha_a, frames.alpha_b = acc_a.angular[None], acc_b.angular[None]
-            frames.acceleration_a, frames.acceleration_b = acc_a.linear[None], acc_b.linear[None]
+            frames.omega_a = pin.getFrameVelocity(model, data, a, world).angular
+            frames.omega_b = pin.getFrameVelocity(model, data, b, world).angular
+            frames.alpha_a, frames.alpha_b = acc_a.angular, acc_b.angular
+            frames.acceleration_a, frames.acceleration_b = acc_a.linear, acc_b.linear
         return frames
 
     def _jacobian_frames(self, q: np.ndarray) -> list[CutFrames]:
@@ -266,7 +262,7 @@ class ClosedChain:
         (:mod:`feeder.chain.model.cuts`). At an assembled q it spans the same rows as the
         residual's."""
         frames = self._jacobian_frames(self.check_q(q))
-        rows = [cut.jacobian(f)[0] for cut, f in zip(self.cuts, frames, strict=True)]
+        rows = [cut.jacobian(f) for cut, f in zip(self.cuts, frames, strict=True)]
         return np.vstack(rows) if rows else np.zeros((0, self.model.nv))
 
     def residual_jacobian(self, q: np.ndarray) -> np.ndarray:
@@ -274,7 +270,7 @@ class ClosedChain:
         equals :meth:`jacobian` but for a weld's rotation rows: d log3(R)/dt =
         Jlog3(R) (Rᵀ ω_a − ω_b) with R = R_a R_bᵀ, which is ω_a − ω_b only where R = I."""
         frames = self._jacobian_frames(self.check_q(q))
-        rows = [cut.residual_jacobian(f)[0] for cut, f in zip(self.cuts, frames, strict=True)]
+        rows = [cut.residual_jacobian(f) for cut, f in zip(self.cuts, frames, strict=True)]
         return np.vstack(rows) if rows else np.zeros((0, self.model.nv))
 
     def reversed_hinges(self) -> list[str]:
@@ -284,7 +280,7 @@ class ClosedChain:
         out = []
         for cut, (a, b) in zip(self.cuts, self.frame_ids, strict=True):
             alignment = cut.alignment(self._frames(a, b))
-            if alignment is not None and alignment[0] < 0.0:
+            if alignment is not None and alignment < 0.0:
                 out.append(cut.label)
         return out
 
@@ -295,7 +291,7 @@ class ClosedChain:
         pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
         pin.updateFramePlacements(model, data)
         out = [
-            cut.acceleration(self._frames(a, b, rates=True))[0]
+            cut.acceleration(self._frames(a, b, rates=True))
             for cut, (a, b) in zip(self.cuts, self.frame_ids, strict=True)
         ]
         return np.concatenate(out) if out else np.zeros(0)

@@ -3,10 +3,13 @@
 A closure joins two frames, a and b, that coincide (or turn about a common axis) when the loop
 is assembled. Each kind of cut is a :class:`Cut` subclass, registered in :data:`KINDS` under its
 name, that owns everything about its rows: their number and labels, Pinocchio's constraints that
-stand for it, and its rows' error, Jacobian, acceleration and reaction wrench. The formulas take
-the two frames' world quantities at N samples (:class:`CutFrames`): the per-sample path of
-:class:`~feeder.chain.model.closure.ClosedChain` feeds them from Pinocchio's data with N = 1,
-the batched path of :mod:`feeder.chain.kinematics.rows` from the tree's motion at every sample.
+stand for it, and its rows' error, Jacobian, acceleration and reaction wrench. Each formula is
+written once, on the two frames' world quantities (:class:`CutFrames`) at N samples: the batched
+path (:mod:`feeder.chain.kinematics.rows`) feeds them from the tree's motion at every sample,
+the per-sample path (:class:`~feeder.chain.model.closure.ClosedChain`) from Pinocchio's data,
+one sample without the sample axis. The few products the formulas are made of (:func:`_cross`,
+:func:`_turn`, :func:`_dot`, :func:`_log3`) take the cheapest numpy or Pinocchio call for one
+sample, where numpy's cost per call outweighs the arithmetic.
 
 =============  ====  ==============================================================================
 kind           rows  the cut joint and its rows (world axes; "a minus b")
@@ -31,7 +34,7 @@ A new kind (a distance constraint, a prismatic cut) is one more subclass here wi
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -45,18 +48,11 @@ NEAR_HALF_TURN = 1e-6
 """Below this sine of the angle, the rotation vector is not read off the antisymmetric part: near
 0 the factor θ / (2 sin θ) is ½, near π that part vanishes and Pinocchio's log3 takes over."""
 
-FEW_SAMPLES = 32
-"""Up to this many samples, :func:`_cross` is one ``einsum`` (measured: 2.5 µs against 10 µs for
-one sample, even at about 40)."""
-
-LEVI_CIVITA = np.zeros((3, 3, 3))
-LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0
-LEVI_CIVITA[[0, 2, 1], [2, 1, 0], [1, 0, 2]] = -1.0
-
 
 @dataclass(slots=True)
 class CutFrames:
-    """The two frames of one cut at N samples, world axes: what its rows are made of.
+    """The two frames of one cut at N samples, world axes: what its rows are made of. The shapes
+    below lose their leading N for one sample (the per-sample path).
 
     Attributes:
         rotation_a, rotation_b: World rotations R_a, R_b, (N, 3, 3).
@@ -67,6 +63,8 @@ class CutFrames:
         alpha_a, alpha_b: Angular accelerations [rad/s²], (N, 3), or None.
         acceleration_a, acceleration_b: Classical accelerations of the origins [m/s²], (N, 3),
             or None.
+        derived: What a cut computes from these frames for several of its results (a hinge's
+            world axes), kept here once computed: a new evaluation builds new frames.
     """
 
     rotation_a: np.ndarray
@@ -81,13 +79,15 @@ class CutFrames:
     alpha_b: np.ndarray | None = None
     acceleration_a: np.ndarray | None = None
     acceleration_b: np.ndarray | None = None
+    derived: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 class Cut:
     """One cut joint of a loop: its rows and everything computed from them.
 
     Subclasses set :attr:`kind` and :attr:`labels` and write the formulas; every method takes
-    the two frames at N samples (:class:`CutFrames`) and returns arrays over them.
+    the two frames at N samples (:class:`CutFrames`) and returns arrays over them (without
+    their leading N for one sample without it).
 
     Attributes:
         label: The closure's name in reports.
@@ -198,13 +198,13 @@ class PointCut(Cut):
         return frames.origin_a - frames.origin_b
 
     def jacobian(self, frames):
-        return frames.jacobian_a[:, :3] - frames.jacobian_b[:, :3]
+        return frames.jacobian_a[..., :3, :] - frames.jacobian_b[..., :3, :]
 
     def acceleration(self, frames):
         return frames.acceleration_a - frames.acceleration_b
 
     def wrench(self, frames, forces):
-        force = forces[:, :3]
+        force = forces[..., :3]
         return force, np.zeros_like(force)
 
 
@@ -220,8 +220,8 @@ class WeldCut(PointCut):
         return [self._constraint(model, frame_a, frame_b, pin.ContactType.CONTACT_6D)]
 
     def residual(self, frames):
-        relative = frames.rotation_a @ np.swapaxes(frames.rotation_b, 1, 2)
-        return np.concatenate([super().residual(frames), _log3(relative)], axis=1)
+        relative = frames.rotation_a @ np.swapaxes(frames.rotation_b, -1, -2)
+        return np.concatenate([super().residual(frames), _log3(relative)], axis=-1)
 
     def jacobian(self, frames):
         return frames.jacobian_a - frames.jacobian_b
@@ -229,16 +229,19 @@ class WeldCut(PointCut):
     def residual_jacobian(self, frames):
         """The rotation rows' exact derivative: d log3(R)/dt = Jlog3(R) (Rᵀ ω_a − ω_b) with
         R = R_a R_bᵀ, which is ω_a − ω_b only where R = I."""
-        relative = frames.rotation_a @ np.swapaxes(frames.rotation_b, 1, 2)
-        turning = np.swapaxes(relative, 1, 2) @ frames.jacobian_a[:, 3:] - frames.jacobian_b[:, 3:]
-        return np.concatenate([super().jacobian(frames), _jlog3(relative) @ turning], axis=1)
+        relative = frames.rotation_a @ np.swapaxes(frames.rotation_b, -1, -2)
+        turning = (
+            np.swapaxes(relative, -1, -2) @ frames.jacobian_a[..., 3:, :]
+            - frames.jacobian_b[..., 3:, :]
+        )
+        return np.concatenate([super().jacobian(frames), _jlog3(relative) @ turning], axis=-2)
 
     def acceleration(self, frames):
         spin = frames.alpha_a - frames.alpha_b
-        return np.concatenate([super().acceleration(frames), spin], axis=1)
+        return np.concatenate([super().acceleration(frames), spin], axis=-1)
 
     def wrench(self, frames, forces):
-        return forces[:, :3], forces[:, 3:6]
+        return forces[..., :3], forces[..., 3:6]
 
 
 @register
@@ -274,49 +277,58 @@ class RevoluteCut(PointCut):
 
     def _hinge(self, frames: CutFrames) -> tuple[np.ndarray, np.ndarray]:
         """n_1, n_2 in world axes (N, 2, 3) and u_b (N, 3)."""
-        normals = np.swapaxes(frames.rotation_a @ self.normals.T, 1, 2)
-        return normals, frames.rotation_b @ self.axis_b
+        derived = frames.derived
+        if "normals" not in derived:
+            derived["normals"] = np.swapaxes(_turn(frames.rotation_a, self.normals.T), -1, -2)
+            derived["u_b"] = _turn(frames.rotation_b, self.axis_b)
+        return derived["normals"], derived["u_b"]
 
     def directions(self, frames: CutFrames) -> np.ndarray:
         """The hinge rows' directions d_k = n_k × u_b, world axes, (N, 2, 3)."""
-        normals, u_b = self._hinge(frames)
-        return _cross(normals, u_b[:, None, :])
+        if "directions" not in frames.derived:
+            normals, u_b = self._hinge(frames)
+            frames.derived["directions"] = _cross(normals, u_b[..., None, :])
+        return frames.derived["directions"]
 
     def residual(self, frames):
         normals, u_b = self._hinge(frames)
-        return np.concatenate([super().residual(frames), _dot(normals, u_b)], axis=1)
+        return np.concatenate([super().residual(frames), _dot(normals, u_b)], axis=-1)
 
     def jacobian(self, frames):
-        spin = frames.jacobian_a[:, 3:] - frames.jacobian_b[:, 3:]
-        return np.concatenate([super().jacobian(frames), self.directions(frames) @ spin], axis=1)
+        spin = frames.jacobian_a[..., 3:, :] - frames.jacobian_b[..., 3:, :]
+        hinge = self.directions(frames) @ spin
+        return np.concatenate([super().jacobian(frames), hinge], axis=-2)
 
     def acceleration(self, frames):
         """The hinge rows: d/dt (d_k · (ω_a − ω_b)) with ṅ_k = ω_a × n_k, u̇_b = ω_b × u_b."""
         normals, u_b = self._hinge(frames)
         w_a, w_b = frames.omega_a, frames.omega_b
-        rates = _cross(_cross(w_a[:, None, :], normals), u_b[:, None, :]) + _cross(
-            normals, _cross(w_b, u_b)[:, None, :]
+        rates = _cross(_cross(w_a[..., None, :], normals), u_b[..., None, :]) + _cross(
+            normals, _cross(w_b, u_b)[..., None, :]
         )
         hinge = _dot(rates, w_a - w_b) + _dot(
-            _cross(normals, u_b[:, None, :]), frames.alpha_a - frames.alpha_b
+            self.directions(frames), frames.alpha_a - frames.alpha_b
         )
-        return np.concatenate([super().acceleration(frames), hinge], axis=1)
+        return np.concatenate([super().acceleration(frames), hinge], axis=-1)
 
     def wrench(self, frames, forces):
-        moment = np.einsum("nk,nki->ni", forces[:, 3:5], self.directions(frames))
-        return forces[:, :3], moment
+        moment = np.einsum("...k,...ki->...i", forces[..., 3:5], self.directions(frames))
+        return forces[..., :3], moment
 
     def alignment(self, frames):
-        return _dot(frames.rotation_a @ self.axis, frames.rotation_b @ self.axis_b)
+        u_a, u_b = _turn(frames.rotation_a, self.axis), self._hinge(frames)[1]
+        return np.einsum("...i,...i->...", u_a, u_b)
 
 
 def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Cross products along the last axis, samples first, broadcast: on many samples six
-    products (numpy's ``cross`` is several times slower on short rows); on a few, where numpy's
-    cost per call dominates, one ``einsum`` with the Levi-Civita symbol (the same numbers: the
-    other terms are exact zeros)."""
-    if max(u.shape[0], w.shape[0]) <= FEW_SAMPLES:
-        return np.einsum("ijk,...j,...k->...i", LEVI_CIVITA, u, w)
+    """Cross products u × w along the last axis, broadcast. Where one side is a single vector
+    (one sample) it is a product with its skew matrix, n × w = n [w]×: one call instead of the
+    six products (numpy's cost per call dominates on a few vectors; its ``cross`` is several
+    times slower still)."""
+    if w.size == 3:
+        return u @ pin.skew(w.reshape(3))
+    if u.size == 3:
+        return w @ pin.skew(u.reshape(3)).T
     out = np.empty(np.broadcast_shapes(u.shape, w.shape))
     out[..., 0] = u[..., 1] * w[..., 2] - u[..., 2] * w[..., 1]
     out[..., 1] = u[..., 2] * w[..., 0] - u[..., 0] * w[..., 2]
@@ -324,17 +336,28 @@ def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
     return out
 
 
+def _turn(rotations: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """Each rotation (..., 3, 3) times one vector (3,) or matrix (3, k): (..., 3) or
+    (..., 3, k); N rotations as one (3N × 3) product (a stack of small products costs several
+    times more)."""
+    if rotations.ndim == 2:
+        return rotations @ fixed
+    product = rotations.reshape(-1, 3) @ fixed
+    return product.reshape(*rotations.shape[:-1], *fixed.shape[1:])
+
+
 def _dot(rows: np.ndarray, vectors: np.ndarray) -> np.ndarray:
-    """Each sample's rows (N, k, 3), or vector (N, 3), dotted with its vector (N, 3): (N, k),
-    or (N,)."""
-    return np.einsum("n...i,ni->n...", rows, vectors)
+    """Each sample's rows (..., k, 3) dotted with its vector (..., 3): (..., k)."""
+    if vectors.ndim == 1:
+        return rows @ vectors
+    return np.einsum("...ki,...i->...k", rows, vectors)
 
 
 def _log3(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3), angles in [0, π] (one sample:
-    Pinocchio's log3, which the per-sample path calls many times)."""
-    if rotation.shape[0] == 1:
-        return pin.log3(rotation[0])[None]
+    """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), angles in [0, π]: Pinocchio's
+    log3 for one matrix (the per-sample path), the same formula in numpy for N."""
+    if rotation.ndim == 2:
+        return pin.log3(rotation)
     cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
     angle = np.arccos(cosine)
     skew = np.stack(
@@ -355,5 +378,7 @@ def _log3(rotation: np.ndarray) -> np.ndarray:
 
 
 def _jlog3(rotation: np.ndarray) -> np.ndarray:
-    """Jacobians (N, 3, 3) of log3 at rotation matrices (N, 3, 3) (Pinocchio's Jlog3)."""
-    return np.array([pin.Jlog3(r) for r in rotation])
+    """Jacobians (..., 3, 3) of log3 at rotation matrices (..., 3, 3) (Pinocchio's Jlog3)."""
+    if rotation.ndim == 2:
+        return pin.Jlog3(rotation)
+    return np.array([pin.Jlog3(r) for r in rotation]).reshape(rotation.shape)
