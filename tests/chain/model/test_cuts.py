@@ -48,17 +48,20 @@ def states(chain: ClosedChain, rng) -> tuple[np.ndarray, np.ndarray]:
     return rng.uniform(-1.0, 1.0, (SAMPLES, n)), rng.uniform(-1.0, 1.0, (SAMPLES, n))
 
 
-def test_rows_per_sample_are_the_batched_rows(chain, rng):
-    """Residual, Jacobian and bias J̇ q̇ of one cut: ClosedChain's per-sample methods against
-    closure_kinematics over all samples (q̈ = 0, so its accelerations are the bias)."""
-    q, v = states(chain, rng)
+@pytest.mark.parametrize("count", [SAMPLES, 1], ids=["batch", "one-sample-batch"])
+def test_rows_per_sample_are_the_batched_rows(chain, count, rng):
+    """Residual, Jacobian and bias J̇ q̇ of one cut: ClosedChain's per-sample methods (arrays
+    without a sample axis) against closure_kinematics over ``count`` samples (a batch of one
+    takes the products' one-vector calls on (1, …) arrays); q̈ = 0, so its accelerations are the
+    bias."""
+    q, v = (x[:count] for x in states(chain, rng))
     rows = closure_kinematics(chain, tree_motion(chain.model, q, v, np.zeros_like(v)), v)
-    for k in range(SAMPLES):
+    for k in range(count):
         np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
         np.testing.assert_allclose(rows.jacobian[k], chain.jacobian(q[k]), atol=ROUND_OFF)
         np.testing.assert_allclose(rows.acceleration[k], chain.bias(q[k], v[k]), atol=ROUND_OFF)
     (cut,) = chain.cuts
-    assert rows.jacobian.shape == (SAMPLES, cut.rows, chain.model.nv) and chain.nc == cut.rows
+    assert rows.jacobian.shape == (count, cut.rows, chain.model.nv) and chain.nc == cut.rows
 
 
 def test_rows_are_the_derivatives_of_the_residual(chain, rng):
