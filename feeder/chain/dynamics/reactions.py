@@ -81,20 +81,12 @@ def closure_wrenches(
     λ (N, nc), and the wrenches that :func:`joint_reactions` applies: (frame id, world wrench
     [force, moment about the frame's origin] (N, 6)), on frame a and, opposite, on frame b."""
     out, terms = {}, []
-    for i, (closure, span, (a, b)) in enumerate(
-        zip(chain.closures, chain.row_slices, chain.frame_ids, strict=True)
+    for cut, span, (a, b), frames in zip(
+        chain.cuts, chain.row_slices, chain.frame_ids, rows.frames, strict=True
     ):
-        force = lam[:, span.start : span.start + 3]
-        if closure.kind == "weld":
-            moment = lam[:, span.start + 3 : span.stop]
-        elif closure.kind == "revolute":
-            moment = np.einsum(
-                "nk,nki->ni", lam[:, span.start + 3 : span.stop], rows.directions[i]
-            )
-        else:
-            moment = np.zeros_like(force)
-        rotation = rows.rotation_a[i]
-        out[closure.label] = ClosureWrench(
+        force, moment = cut.wrench(frames, lam[:, span])
+        rotation = frames.rotation_a
+        out[cut.label] = ClosureWrench(
             force,
             moment,
             np.einsum("nji,nj->ni", rotation, force),

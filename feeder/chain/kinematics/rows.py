@@ -1,14 +1,16 @@
 """The closure rows along a batched motion: their Jacobian, error, rate and acceleration at every
-sample at once (numpy; the rows are those of :class:`~feeder.chain.model.closure.ClosedChain`)."""
+sample at once (numpy; each closure's rows are its cut's, :mod:`feeder.chain.model.cuts`, fed with
+the two frames' motion from the tree's, :mod:`.tree`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
 
 from ..model.closure import ClosedChain
+from ..model.cuts import CutFrames
 from .tree import TreeMotion, cross, frame_placements, point_jacobian
 
 
@@ -20,45 +22,19 @@ class ClosureKinematics:
         jacobian: J, (N, nc, nv) ((N, nc, 0) when skipped). residual: the rows' position
             error, (N, nc).
         rate, acceleration: The rows' first and second time derivatives, (N, nc).
-        directions: Per closure, the revolute rows' moment directions (N, 2, 3) (None otherwise).
-        rotation_a: Per closure, frame a's world rotation (N, 3, 3).
-        hinge_alignment: Revolute closure label → u_a · u_b of its hinge axes (N,) (1 assembled,
-            −1 upside down).
+        frames: Per closure, its two frames' placements and motion
+            (:class:`~feeder.chain.model.cuts.CutFrames`, without their Jacobians): what its
+            cut makes its reaction wrench from.
+        hinge_alignment: Label → cosine (N,) between the two axes of each cut that has them
+            (a revolute cut: u_a · u_b of its hinge axes; 1 assembled, −1 upside down).
     """
 
     jacobian: np.ndarray
     residual: np.ndarray
     rate: np.ndarray
     acceleration: np.ndarray
-    directions: list[np.ndarray | None]
-    rotation_a: list[np.ndarray]
+    frames: list[CutFrames]
     hinge_alignment: dict[str, np.ndarray]
-
-
-NEAR_HALF_TURN = 1e-6
-"""Below this sine of the angle, the rotation vector is not read off the antisymmetric part: near
-0 the factor θ / (2 sin θ) is ½, near π that part vanishes and Pinocchio's log3 takes over."""
-
-
-def _log3(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3), angles in [0, π]."""
-    cosine = np.clip((np.trace(rotation, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(cosine)
-    skew = np.stack(
-        [
-            rotation[:, 2, 1] - rotation[:, 1, 2],
-            rotation[:, 0, 2] - rotation[:, 2, 0],
-            rotation[:, 1, 0] - rotation[:, 0, 1],
-        ],
-        axis=1,
-    )
-    sine = np.sin(angle)
-    near = sine <= NEAR_HALF_TURN
-    factor = np.where(near, 0.5, angle / np.where(near, 1.0, 2.0 * sine))
-    out = factor[:, None] * skew
-    for k in np.flatnonzero(near & (cosine < 0.0)):  # near a half turn: the skew part vanishes
-        out[k] = pin.log3(rotation[k])
-    return out
 
 
 def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
@@ -67,6 +43,28 @@ def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray
     r = point - motion.origin[j]
     w = motion.omega[j]
     return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
+
+
+def cut_frames(
+    model: pin.Model, motion: TreeMotion, a: int, b: int, jacobians: bool, rates: bool
+) -> CutFrames:
+    """Frames a and b of a cut along a batched motion: placements, and if asked their
+    Jacobians (``jacobians``) and velocities and accelerations (``rates``)."""
+    rot_a, p_a = frame_placements(model, motion, a)
+    rot_b, p_b = frame_placements(model, motion, b)
+    frames = CutFrames(rot_a, rot_b, p_a, p_b)
+    if jacobians:
+        frames.jacobian_a = point_jacobian(model, motion, a)
+        frames.jacobian_b = point_jacobian(model, motion, b)
+    else:  # no columns
+        frames.jacobian_a = frames.jacobian_b = np.zeros((p_a.shape[0], 6, 0))
+    if rates:
+        ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
+        frames.omega_a, frames.omega_b = motion.omega[ja], motion.omega[jb]
+        frames.alpha_a, frames.alpha_b = motion.alpha[ja], motion.alpha[jb]
+        frames.acceleration_a = _frame_acceleration(model, motion, a, p_a)
+        frames.acceleration_b = _frame_acceleration(model, motion, b, p_b)
+    return frames
 
 
 def closure_kinematics(
@@ -81,57 +79,20 @@ def closure_kinematics(
     jacobian = np.zeros((n, chain.nc, model.nv if with_jacobian else 0))
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
-    directions, rotations, alignment = [], [], {}
-    for closure, rows, (a, b), perpendicular in zip(
-        chain.closures, chain.row_slices, chain.frame_ids, chain.hinge_normals, strict=True
-    ):
-        rot_a, p_a = frame_placements(model, motion, a)
-        rot_b, p_b = frame_placements(model, motion, b)
-        if with_jacobian:
-            jac_a, jac_b = point_jacobian(model, motion, a), point_jacobian(model, motion, b)
-        else:  # no columns
-            jac_a = jac_b = np.zeros((n, 6, 0))
-        start = rows.start
-        jacobian[:, start : start + 3] = jac_a[:, :3] - jac_b[:, :3]
-        residual[:, start : start + 3] = p_a - p_b
+    kept, alignment = [], {}
+    for cut, rows, (a, b) in zip(chain.cuts, chain.row_slices, chain.frame_ids, strict=True):
+        frames = cut_frames(model, motion, a, b, with_jacobian, v is not None)
+        jacobian[:, rows] = cut.jacobian(frames)
+        residual[:, rows] = cut.residual(frames)
         if v is not None:
-            acceleration[:, start : start + 3] = _frame_acceleration(
-                model, motion, a, p_a
-            ) - _frame_acceleration(model, motion, b, p_b)
-        ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
-        relative = motion.omega[ja] - motion.omega[jb]
-        spin = motion.alpha[ja] - motion.alpha[jb]
-        direction = None
-        if closure.kind == "weld":
-            jacobian[:, start + 3 : rows.stop] = jac_a[:, 3:] - jac_b[:, 3:]
-            residual[:, start + 3 : rows.stop] = _log3(rot_a @ np.swapaxes(rot_b, 1, 2))
-            acceleration[:, start + 3 : rows.stop] = spin
-        elif closure.kind == "revolute":
-            normals = rot_a @ perpendicular.T  # (N, 3, 2): columns n_1, n_2
-            u_b = rot_b @ np.array(closure.axis_b)
-            normals = np.swapaxes(normals, 1, 2)  # (N, 2, 3)
-            direction = np.cross(normals, u_b[:, None, :])
-            alignment[closure.label] = np.einsum("ni,ni->n", rot_a @ np.array(closure.axis), u_b)
-            jacobian[:, start + 3 : rows.stop] = direction @ (jac_a[:, 3:] - jac_b[:, 3:])
-            residual[:, start + 3 : rows.stop] = np.einsum("nki,ni->nk", normals, u_b)
-            if v is None:
-                directions.append(direction)
-                rotations.append(rot_a)
-                continue
-            w_a, w_b = motion.omega[ja], motion.omega[jb]
-            rates = np.cross(np.cross(w_a[:, None, :], normals), u_b[:, None, :]) + np.cross(
-                normals, np.cross(w_b, u_b)[:, None, :]
-            )
-            acceleration[:, start + 3 : rows.stop] = np.einsum(
-                "nki,ni->nk", rates, relative
-            ) + np.einsum("nki,ni->nk", direction, spin)
-        directions.append(direction)
-        rotations.append(rot_a)
+            acceleration[:, rows] = cut.acceleration(frames)
+        cosine = cut.alignment(frames)
+        if cosine is not None:
+            alignment[cut.label] = cosine
+        kept.append(replace(frames, jacobian_a=None, jacobian_b=None))
     rate = (
         np.einsum("ncv,nv->nc", jacobian, v)
         if v is not None and with_jacobian
         else np.zeros((n, chain.nc))
     )
-    return ClosureKinematics(
-        jacobian, residual, rate, acceleration, directions, rotations, alignment
-    )
+    return ClosureKinematics(jacobian, residual, rate, acceleration, kept, alignment)

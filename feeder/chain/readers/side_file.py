@@ -36,7 +36,8 @@ from pathlib import Path
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_path
-from ..model.closure import KINDS, Closure, repeated_cut
+from ..model.closure import Closure, repeated_cut
+from ..model.cuts import KINDS
 from .base_motion import read_base
 from .forces import read_forces
 from .joint_types import joint_model
