@@ -58,8 +58,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         action=Once,
         type=float,
         metavar="REL",
-        help="relative finite-difference step (default: ε^(1/3) = 6.06e-6 of max(|p|, 0.1 m or "
-        "1 kg), checked by halving)",
+        help="relative finite-difference step, in (0, 0.1] (default: ε^(1/3) = 6.06e-6 of "
+        "max(|p|, 0.1 m or 1 kg), checked by halving)",
     )
     sensitivities.add_argument(
         "--rate",
