@@ -13,6 +13,9 @@ Commands:
     analyze     any closed-chain mechanism: mobility report, or its loads and every reaction
     simulate    any closed-chain mechanism run forward from rest under gravity and its force
                 elements: states, loads, reactions, drift and energy balance
+    design      designing the geometry: ``design sensitivities``, the derivative and elasticity
+                of every peak load with respect to every length and mass, at one elevation and
+                as the envelope over elevations
 
 Each command has a module of its own here: ``add(commands)`` builds its sub-parser from the
 shared option groups (:mod:`feeder.cli.options`), so that every command spells ``--device``,
@@ -34,9 +37,9 @@ import warnings
 from collections.abc import Sequence
 
 from ..exceptions import FeederError, FeederWarning, InputError
-from . import analyze, cycle, errata, kinematics, parameters, simulate, sweep, urdf, view
+from . import analyze, cycle, design, errata, kinematics, parameters, simulate, sweep, urdf, view
 
-COMMANDS = (cycle, kinematics, view, parameters, urdf, errata, sweep, analyze, simulate)
+COMMANDS = (cycle, kinematics, view, parameters, urdf, errata, sweep, analyze, simulate, design)
 """The commands' modules, in the order ``feeder --help`` lists them."""
 
 
