@@ -175,17 +175,18 @@ class LineElement(BoundElement):
         return self.stiffness * (length - self.rest_length) + self.damping * rate - push
 
     def add_generalized(self, data, q, v, t, out):
-        model = self.model
+        model, ends = self.model, self.moving_ends
         gap = self.fixed_gap
-        for frame, sign in self.moving_ends:
-            gap = gap + sign * pin.updateFramePlacement(model, data, frame).translation
+        for frame, sign in ends:  # a sign is ±1: add or subtract, one array operation
+            origin = pin.updateFramePlacement(model, data, frame).translation
+            gap = gap + origin if sign > 0.0 else gap - origin
         length = math.sqrt(gap.dot(gap))
         if length < SHORTEST_LINE:
             raise SingularPoseError(f"{self.name}: its frames coincide at t = {t:.6g} s")
-        row = 0.0  # dℓ/dq = uᵀ (J_b − J_a), (nv,)
-        for frame, sign in self.moving_ends:
-            linear = frame_jacobian(model, data, frame, WORLD)[:3]
-            row = row + (sign / length) * gap.dot(linear)
+        row = None  # dℓ/dq = uᵀ (J_b − J_a), (nv,)
+        for frame, sign in ends:
+            term = (sign / length) * gap.dot(frame_jacobian(model, data, frame, WORLD)[:3])
+            row = term if row is None else row + term
         rate = row.dot(v)
         push = self.push(t)
         out -= self.tension(length, rate, push) * row
@@ -325,9 +326,10 @@ class BoundElements:
         """Whether a force varies in time (a table or a function of t)."""
         self.data = model.createData()
         self.model, self.nv = model, model.nv
-        self.acting = [bound for bound in self.bound if bound.acts]
-        """The elements with a generalized force."""
-        self.moving = any(bound.kinematic for bound in self.acting)
+        acting = [bound for bound in self.bound if bound.acts]
+        self.adders = tuple(bound.add_generalized for bound in acting)
+        """The generalized forces of the elements that have one (bound once: the hot path)."""
+        self.moving = any(bound.kinematic for bound in acting)
         """Whether an acting element needs the joint Jacobians."""
         self.placed = any(bound.placed for bound in self.bound)
         """Whether the energy needs the frame placements."""
@@ -351,8 +353,8 @@ class BoundElements:
         power = 0.0
         if self.moving:
             pin.computeJointJacobians(self.model, data, q)
-        for bound in self.acting:
-            power += bound.add_generalized(data, q, v, t, out)
+        for add in self.adders:
+            power += add(data, q, v, t, out)
         return out, power
 
     def energy(self, q: np.ndarray) -> float:
