@@ -24,7 +24,8 @@ Each wrench is world [force (3) N, moment (3) N·m about the frame's origin], so
 power of an element's wrenches, Σ J_fᵀ w_f, and, for its elastic part, −∂E/∂q. What is not
 elastic (dampers, actuator pushes, pressures, loads) is reported as power. A new kind is a frozen
 input dataclass in :mod:`~feeder.chain.model.forces` and a :class:`BoundElement` subclass here
-with :func:`register`.
+with :func:`register`. The module is longer than the others (one concern, the element kinds on a
+chain) so that each kind's per-sample and batched formulas sit in one class.
 """
 
 from __future__ import annotations

@@ -238,6 +238,8 @@ class JointSpring:
     damping: float = 0.0
     preload: float = 0.0
     name: str = ""
+    timed: ClassVar[bool] = False
+    """Its law does not depend on time."""
 
     def __post_init__(self):
         if not isinstance(self.joint, str) or not self.joint:
@@ -248,9 +250,6 @@ class JointSpring:
             object.__setattr__(self, key, _check_nonnegative(f"{label} {key}", getattr(self, key)))
         for key in ("rest", "preload"):
             object.__setattr__(self, key, check_number(f"{label} {key}", getattr(self, key)))
-
-    timed: ClassVar[bool] = False
-    """Its law does not depend on time."""
 
     def tables(self) -> tuple[Table, ...]:
         """None: its law is constant."""
