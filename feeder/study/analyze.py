@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
+from ..chain.dynamics.elements import force_unit
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.coordinates import coordinates, pose_values
@@ -29,7 +30,7 @@ from ..chain.kinematics.joints import kind_of
 from ..chain.kinematics.tree import reach
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
-from ..chain.model.forces import ForceElement, JointSpring
+from ..chain.model.forces import ForceElement
 from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
@@ -255,10 +256,7 @@ def mount_columns(mount: MountWrench) -> dict[str, np.ndarray]:
 def element_units(model: pin.Model, elements: Sequence[ForceElement]) -> dict[str, str]:
     """The unit of each force element's reported force, by name: N for a spring or a
     cylinder (tension), N·m or N for a joint spring on a revolute or prismatic joint."""
-    return {
-        element.name: load_unit(model, element.joint) if isinstance(element, JointSpring) else "N"
-        for element in elements
-    }
+    return {element.name: force_unit(model, element) for element in elements}
 
 
 def load_peaks(

@@ -1,9 +1,11 @@
 """Force elements: what acts on a mechanism besides its actuators, the closures and gravity.
 
 Each element acts on two bodies (or one body and the ground), equal and opposite, so each has a
-reaction on both; the dynamics (:mod:`feeder.chain.dynamics.elements`) turn them into generalized
-forces for the forward runs and into body wrenches for the inverse dynamics and the joint
-reactions. SI units throughout; vectors in world axes.
+reaction on both. These classes are the inputs: checked, frozen, with their laws in time and in
+their own coordinate; the dynamics (:mod:`feeder.chain.dynamics.elements`) bind each kind to a
+chain as a class of its own that turns it into generalized forces for the forward runs and into
+body wrenches for the inverse dynamics and the joint reactions. SI units throughout; vectors in
+world axes.
 
 * :class:`Spring` — point-to-point spring–damper–actuator between the origins of two frames.
   Its *tension* T = k (ℓ − ℓ₀) + c ℓ̇ − F(t) [N] pulls the two frames together (T < 0 pushes
@@ -26,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -91,6 +94,11 @@ def profile_value(profile: Profile, time: float) -> float:
     return float(profile)
 
 
+def _tables(*profiles: Profile | None) -> tuple[Table, ...]:
+    """The :class:`Table` s among ``profiles``."""
+    return tuple(profile for profile in profiles if isinstance(profile, Table))
+
+
 def _check_profile(name: str, profile: Profile) -> Profile:
     if isinstance(profile, Table):
         if profile.values.shape[1] != 1:
@@ -136,6 +144,15 @@ class Spring:
             object.__setattr__(self, key, _check_nonnegative(f"{label} {key}", getattr(self, key)))
         object.__setattr__(self, "force", _check_profile(f"{label} force [N]", self.force))
 
+    @property
+    def timed(self) -> bool:
+        """Whether its push varies in time (a table or a function of t)."""
+        return callable(self.force)
+
+    def tables(self) -> tuple[Table, ...]:
+        """The tables it reads (to check that they cover a run)."""
+        return _tables(self.force)
+
     def push(self, time: float) -> float:
         """F(t), the actuator's push [N] at ``time`` [s]."""
         return profile_value(self.force, time)
@@ -163,6 +180,10 @@ class Cylinder:
     name: str = ""
     cap_area: float = field(init=False)
     annulus_area: float = field(init=False)
+    stiffness: ClassVar[float] = 0.0
+    """k [N/m]: a cylinder is a line element without a spring (its law is a spring's)."""
+    rest_length: ClassVar[float] = 0.0
+    """ℓ₀ [m], with no spring to rest."""
 
     def __post_init__(self):
         _check_frames(self.frames, "cylinder")
@@ -181,6 +202,15 @@ class Cylinder:
                 self, key, _check_profile(f"{label} {key} [Pa]", getattr(self, key))
             )
         object.__setattr__(self, "damping", _check_nonnegative(f"{label} damping", self.damping))
+
+    @property
+    def timed(self) -> bool:
+        """Whether a pressure varies in time (a table or a function of t)."""
+        return callable(self.pressure) or callable(self.rod_pressure)
+
+    def tables(self) -> tuple[Table, ...]:
+        """The tables it reads (to check that they cover a run)."""
+        return _tables(self.pressure, self.rod_pressure)
 
     def push(self, time: float) -> float:
         """F = p_cap A_cap − p_rod A_ann [N] at ``time`` [s] (extending positive)."""
@@ -208,6 +238,8 @@ class JointSpring:
     damping: float = 0.0
     preload: float = 0.0
     name: str = ""
+    timed: ClassVar[bool] = False
+    """Its law does not depend on time."""
 
     def __post_init__(self):
         if not isinstance(self.joint, str) or not self.joint:
@@ -218,6 +250,10 @@ class JointSpring:
             object.__setattr__(self, key, _check_nonnegative(f"{label} {key}", getattr(self, key)))
         for key in ("rest", "preload"):
             object.__setattr__(self, key, check_number(f"{label} {key}", getattr(self, key)))
+
+    def tables(self) -> tuple[Table, ...]:
+        """None: its law is constant."""
+        return ()
 
     def resistance(self, angle: float, rate: float) -> float:
         """τ [N·m or N] at joint value ``angle`` and rate ``rate``."""
@@ -271,6 +307,15 @@ class Load:
         object.__setattr__(self, "force", tuple(wrench[0]))
         object.__setattr__(self, "moment", tuple(wrench[1]))
 
+    @property
+    def timed(self) -> bool:
+        """Whether it varies in time (a table)."""
+        return self.table is not None
+
+    def tables(self) -> tuple[Table, ...]:
+        """The tables it reads (to check that they cover a run)."""
+        return _tables(self.table)
+
     def wrench(self, time: float) -> np.ndarray:
         """[force (3) N, moment (3) N·m] (6,), world axes, at ``time`` [s]."""
         if self.table is not None:
@@ -294,10 +339,4 @@ def _check_frames(frames, what: str) -> None:
 
 def tables_of(elements: tuple[ForceElement, ...]) -> list[Table]:
     """Every :class:`Table` the elements read (to check that they cover a run)."""
-    out = []
-    for element in elements:
-        for key in ("force", "pressure", "rod_pressure", "table"):
-            value = getattr(element, key, None)
-            if isinstance(value, Table):
-                out.append(value)
-    return out
+    return [table for element in elements for table in element.tables()]
