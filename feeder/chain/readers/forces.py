@@ -49,6 +49,18 @@ from ...validation import check_path
 from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .motion_table import read_columns
 
+KINDS: dict[str, type] = {
+    "spring": Spring,
+    "cylinder": Cylinder,
+    "joint_spring": JointSpring,
+    "load": Load,
+}
+"""The ``type`` of a ``[[force]]`` table and the element it makes."""
+
+REQUIRED = {"spring": ("frames",), "cylinder": ("frames", "bore", "rod"),
+            "joint_spring": ("joint",), "load": ("frame",)}  # fmt: skip
+"""The keys each ``type`` must give."""
+
 KEYS = {
     "spring": {"frames", "stiffness", "rest_length", "damping", "force", "force_table"},
     "cylinder": {
@@ -139,15 +151,12 @@ def _element(entry: object, folder: Path, where: str) -> ForceElement:
                 values[target] = read_table(folder / values.pop(key), columns)
             except InputError as exc:
                 raise InputError(f"{where}: {exc}") from exc
+    missing = [key for key in REQUIRED[kind] if key not in values]
+    if missing:
+        raise InputError(f"{where}: a {kind} needs {', '.join(map(repr, missing))}")
+    if "frames" in values:
+        values["frames"] = tuple(values["frames"])
     try:
-        if kind == "spring":
-            return Spring(tuple(values.pop("frames", ())), name=name, **values)
-        if kind == "cylinder":
-            if "bore" not in values or "rod" not in values:
-                raise InputError("a cylinder needs 'bore' and 'rod' [m]")
-            return Cylinder(tuple(values.pop("frames", ())), name=name, **values)
-        if kind == "joint_spring":
-            return JointSpring(values.pop("joint", ""), name=name, **values)
-        return Load(values.pop("frame", ""), name=name, **values)
+        return KINDS[kind](name=name, **values)
     except (InputError, TypeError) as exc:
         raise InputError(f"{where}: {exc}") from exc

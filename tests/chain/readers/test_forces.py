@@ -83,7 +83,7 @@ table = "load.csv"
         ('type = "spring"\nframes = ["a", "b"]\nstifness = 1.0', "unknown keys \\['stifness'\\]"),
         ('type = "spring"\nframes = ["a", "b"]\nforce = 1.0\nforce_table = "x.csv"', "not both"),
         ('type = "spring"\nframes = ["a", "b"]\nforce_table = "missing.csv"', "not found"),
-        ('type = "cylinder"\nframes = ["a", "b"]\nbore = 0.1', "needs 'bore' and 'rod'"),
+        ('type = "cylinder"\nframes = ["a", "b"]\nbore = 0.1', "a cylinder needs 'rod'"),
         ('type = "load"\nframe = "tip"\nforce = [1, 2]', "3 numbers"),
         ('type = "joint_spring"\njoint = "hinge"\nstiffness = "stiff"', "numeric"),
     ],
