@@ -215,7 +215,7 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
 
 def measure_sweeps(figures: dict, cases: int, repeats: int, folder: Path) -> None:
     from feeder.study.grid import Variant, elevation_range, make_grid
-    from feeder.study.sweep import run_sweep
+    from feeder.study.sweep_folder import run_sweep
     from feeder.workers import local_workers
 
     workers = local_workers()

@@ -53,7 +53,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
         retrofit,
         run_cycle_study,
     )
-    from .study.sweep import run_sweep
+    from .study.sweep_folder import run_sweep
 
 __version__ = "0.1.0"
 
@@ -124,7 +124,7 @@ _SOURCES = {
     "read_csv": ".study",
     "retrofit": ".study",
     "run_cycle_study": ".study",
-    "run_sweep": ".study.sweep",
+    "run_sweep": ".study.sweep_folder",
 }
 """Public name → the module that defines it (every name of :data:`__all__`)."""
 

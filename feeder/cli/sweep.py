@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     from functools import partial
 
     from ..study.grid import elevation_range
-    from ..study.sweep import run_sweep
+    from ..study.sweep_folder import run_sweep
     from ..viz.report import png_bytes, sweep_figures, write_png
 
     def figures(table: Path) -> dict[str, partial]:

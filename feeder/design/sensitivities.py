@@ -40,7 +40,9 @@ from ..device.loop import check_device
 from ..device.parameters import FeederParameters
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
-from ..study.sweep import UNITS, row_quantities, sweep_executor
+from ..study.elevation_sweeps import UNITS
+from ..study.sweep import sweep_executor
+from ..study.sweep_table import row_quantities
 from ..validation import check_elevation, check_number
 from .differences import STEP_FACTOR, Estimate, check_step_factor, estimate
 from .differentiable import DesignParameter, chosen_parameters

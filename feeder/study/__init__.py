@@ -4,10 +4,10 @@
 from .columns import COLUMNS, KINEMATIC_COLUMNS, Column, cycle_columns, kinematic_columns
 from .csv import read_csv, write_csv
 from .cycle_study import CycleStudy, run_cycle_study
+from .elevation_sweeps import ElevationSweep, elevation_sweep
 from .errata import paper_errata
 from .peaks import Peak, cycle_peaks
 from .retrofit import retrofit
-from .sweep import ElevationSweep, elevation_sweep
 
 __all__ = [
     "COLUMNS",

@@ -73,6 +73,11 @@ def row_key(row: Mapping[str, str | float]) -> tuple[str, str, float]:
     return (str(row["device"]), str(row["variant"]), float(row["elevation_deg"]))
 
 
+def row_quantities(row: Row) -> list[str]:
+    """The quantities of a table row, in column order."""
+    return [name for name in row if f"{name}_time" in row]
+
+
 def row_sha256(cells: Sequence[str]) -> str:
     """SHA-256 of a row's cells as written, every column but ``row_sha256``, in file order
     (as a JSON list: no separator can be mistaken for a cell's text)."""

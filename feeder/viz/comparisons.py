@@ -17,7 +17,7 @@ from matplotlib.ticker import FixedFormatter
 from ..exceptions import InputError
 from ..paper.printed import printed_equations
 from ..study.cycle_study import CycleStudy
-from ..study.sweep import ElevationSweep
+from ..study.elevation_sweeps import ElevationSweep
 from .axes import (
     STYLES,
     distinct_curves,

@@ -31,7 +31,8 @@ from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
 from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
-from ..study.sweep import cached_feeder, sweeps_of
+from ..study.elevation_sweeps import sweeps_of
+from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_table
 from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name

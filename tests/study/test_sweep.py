@@ -1,5 +1,6 @@
-"""Sweeps (feeder.study.sweep): the peaks of each case's cycle, in memory and as a resumable
-table, on local worker processes and on a Dask cluster (LocalCluster on 127.0.0.1)."""
+"""Sweeps (feeder.study.sweep, sweep_folder, elevation_sweeps): the peaks of each case's cycle,
+in memory and as a resumable table, on local worker processes and on a Dask cluster
+(LocalCluster on 127.0.0.1)."""
 
 from __future__ import annotations
 
@@ -20,9 +21,11 @@ from feeder.exceptions import ElevationError, InputError, OutputBusyError
 from feeder.files import LOCK, MANIFEST, OutputFolder, exclusive_lock
 from feeder.motion.laws import CycleSpec
 from feeder.study import sweep as sweep_module
+from feeder.study import sweep_folder
+from feeder.study.elevation_sweeps import elevation_sweep, sweeps_of
 from feeder.study.grid import Variant, elevation_range, make_grid
 from feeder.study.peaks import cycle_peaks
-from feeder.study.sweep import elevation_sweep, run_sweep, sweeps_of
+from feeder.study.sweep_folder import run_sweep
 from feeder.study.sweep_table import (
     PARQUET,
     QUANTITIES,
@@ -153,7 +156,7 @@ def test_an_interrupted_sweep_keeps_what_it_finished(tmp_path, monkeypatch):
         return original(case)
 
     monkeypatch.setattr(sweep_module, "case_peaks", interrupted)
-    monkeypatch.setattr(sweep_module, "CHECKPOINT_SECONDS", 3600.0)  # only the final save
+    monkeypatch.setattr(sweep_folder, "CHECKPOINT_SECONDS", 3600.0)  # only the final save
     with pytest.raises(KeyboardInterrupt):
         run_sweep(_grid(), tmp_path, progress=False, workers=1)
     rows, _ = read_table(tmp_path / TABLE)

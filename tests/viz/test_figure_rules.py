@@ -21,8 +21,8 @@ from feeder.motion.cycle import feeding_cycle
 from feeder.motion.laws import CycleSpec
 from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
+from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.study.simulate import simulate_mechanism
-from feeder.study.sweep import elevation_sweep
 from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
 from feeder.viz.axes import ROUND_OFF, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure

@@ -13,7 +13,7 @@ import pytest
 from feeder.exceptions import InputError
 from feeder.motion.laws import CycleSpec
 from feeder.study.cycle_study import run_cycle_study
-from feeder.study.sweep import elevation_sweep
+from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.viz.catalog import CYCLE_FIGURES, UNITS, display_unit, elevation_text
 from feeder.viz.comparisons import SWEEP_PANELS, sweep_figure
 from feeder.viz.report import (
