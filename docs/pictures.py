@@ -63,7 +63,7 @@ PICTURES: dict[str, tuple[str, ...]] = {
         "feeder/viz/comparisons.py",
         "feeder/study/sweep*.py",
         "feeder/study/elevation_sweeps.py",
-        "feeder/study/grid.py",
+        "feeder/study/grid*.py",
     ),  # fmt: skip
     "viewer.png": (*_DEVICE, *_VIEWER, "feeder/viz/device_scene.py"),
     "cad_viewer.png": (

@@ -20,7 +20,8 @@ from pathlib import Path
 
 from ..exceptions import InputError
 from ..files import OutputFolder, Writer
-from .grid import SweepCase, SweepGrid, make_grid, read_grid
+from .grid import SweepCase, SweepGrid, make_grid
+from .grid_file import read_grid
 from .sweep import run_cases, sweep_executor
 from .sweep_table import (
     PARQUET,
@@ -144,7 +145,7 @@ def run_sweep(
     there.
 
     Args:
-        grid: A grid file (TOML, :mod:`feeder.study.grid`), a :class:`SweepGrid`, or None for
+        grid: A grid file (TOML, :mod:`feeder.study.grid_file`), a :class:`SweepGrid`, or None for
             the default: the projectile feeder, every degree of −4° … 70°, unchanged.
         out_dir: Output folder: new, empty, or one an earlier feeder run wrote
             (:class:`~feeder.files.OutputFolder`; the outputs of a run other than a sweep are

@@ -1,5 +1,5 @@
-"""The sweep grid (feeder.study.grid): the TOML file, its cases, and every refusal before any
-cycle is computed."""
+"""The sweep grid (feeder.study.grid, grid_file): the TOML file, its cases, and every refusal
+before any cycle is computed."""
 
 from __future__ import annotations
 
@@ -12,13 +12,8 @@ import pytest
 from feeder.device import CHARGE_FEEDER, PROJECTILE_FEEDER
 from feeder.exceptions import ElevationError, FeederError, InputError
 from feeder.motion.laws import CycleSpec
-from feeder.study.grid import (
-    Variant,
-    elevation_range,
-    fingerprint,
-    make_grid,
-    read_grid,
-)
+from feeder.study.grid import Variant, elevation_range, fingerprint, make_grid
+from feeder.study.grid_file import read_grid
 from feeder.study.retrofit import retrofit
 
 EXAMPLE = """

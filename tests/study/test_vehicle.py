@@ -18,7 +18,7 @@ from feeder.cli import main
 from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.motion.laws import CycleSpec
 from feeder.study.csv import read_csv
-from feeder.study.grid import read_grid
+from feeder.study.grid_file import read_grid
 from feeder.study.sweep_table import read_table
 
 SPEC = CycleSpec(rate=100.0)
