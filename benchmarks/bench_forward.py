@@ -35,7 +35,7 @@ from feeder.chain import (
     read_spec,
     simulate,
 )
-from feeder.chain.dynamics.forward import _Equations
+from feeder.chain.dynamics.forward_equations import ForwardEquations
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SQUEEZER = EXAMPLES / "andrews_squeezer"
@@ -136,7 +136,7 @@ def rhs_time(function, y) -> float:
 
 
 def rhs_ratio(name, dyn, q, v) -> float:
-    equations = _Equations(dyn, None, RATE)
+    equations = ForwardEquations(dyn, None, RATE)
     y = np.concatenate([q, v, [0.0]])
     ratio = rhs_time(equations, y) / bare_call_time(dyn.chain, q, v)
     print(f"  {name:34s} {ratio:5.2f} calls (goal ≤ 2): {'PASS' if ratio <= 2 else 'MISS'}")

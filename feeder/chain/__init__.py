@@ -21,7 +21,9 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
 
 from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
 from .dynamics.derivatives import mass_matrix_derivative
-from .dynamics.forward import ForwardRun, IntegrationError, simulate
+from .dynamics.forward import simulate
+from .dynamics.forward_equations import IntegrationError
+from .dynamics.forward_run import ForwardRun
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
 from .mobility import MobilityReport, mobility

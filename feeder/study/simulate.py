@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..chain.dynamics.budget import check_sample_count
-from ..chain.dynamics.forward import ATOL, RTOL, ForwardRun, simulate
+from ..chain.dynamics.forward import ATOL, RTOL, simulate
+from ..chain.dynamics.forward_run import ForwardRun
 from ..chain.dynamics.inverse import ChainDynamics
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain

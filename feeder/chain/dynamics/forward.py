@@ -1,23 +1,14 @@
 """Forward runs of any closed chain, with error control.
 
-The state (q, q̇) follows the index-1 equations of the closed chain
-
-    [M  Jᵀ] [ q̈]   [τ − b          ]
-    [J  0 ] [−λ] = [−J̇ q̇ − K_d J q̇ − K_p r(q)]
-
-with τ = Sᵀ u(t, q, q̇) (the actuated joints' drive, given by the caller) plus the force elements'
-generalized forces (:mod:`~feeder.chain.dynamics.elements`), b the Coriolis, centrifugal and
-gravity terms, and Baumgarte's corrector K_p = ω², K_d = 2ω on the loop residual r (critically
-damped: an error decays like e^(−ω t)). The accelerations come from Pinocchio's
-``constraintDynamics`` on the chain's own constraint models (its proximal solver takes the
-redundant rows of a planar loop); q̇ from q̇ (the rotations' and the unit circles' rates for the
-joints whose q is not a vector: :class:`~feeder.chain.kinematics.joints.ConfigurationRate`).
+The state (q, q̇) and the work of the non-conservative forces follow the closed chain's index-1
+equations with Baumgarte's corrector (:mod:`~feeder.chain.dynamics.forward_equations`); the
+result is a :class:`~feeder.chain.dynamics.forward_run.ForwardRun`.
 
 Integration: SciPy's adaptive Runge–Kutta or implicit methods (``DOP853`` by default, ``Radau``
 or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time with the user's
 ``rtol`` / ``atol``; the results on the caller's time grid come from each step's dense output.
 Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
-constraints (minimum-norm Newton over every coordinate, then J q̇ = 0) whenever an accepted step
+constraints (:func:`~feeder.chain.dynamics.projection.project`) whenever an accepted step
 leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
 integrator then restarts from the projected state). Singular poses: after every accepted step
 the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.inverse.load_gain`) is
@@ -40,23 +31,13 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 import scipy.integrate
 
-from ...exceptions import (
-    FeederError,
-    FeederWarning,
-    InputError,
-    SingularPoseError,
-    UnreachablePoseError,
-)
+from ...exceptions import FeederWarning, InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number
-from ..assembly.newton import POSITION_TOLERANCE, RANK_TOLERANCE, newton
-from ..assembly.rank import truncated_inverse
-from ..kinematics.joints import ConfigurationRate, angle_columns, angular_difference
 from . import budget
 from .budget import (
     Progress,
@@ -65,15 +46,17 @@ from .budget import (
     sample_progress,
     step_cap_message,
 )
+from .forward_equations import Actuation, ForwardEquations, IntegrationError
+from .forward_run import ForwardRun
 from .inverse import (
     MAX_FORCE_GAIN,
     ChainDynamics,
-    ChainLoads,
     check_dynamics,
     inverse_dynamics,
     load_gain,
     load_rank,
 )
+from .projection import project
 from .stiffness import StiffnessTest, step_advice, stiff_warning
 
 BAUMGARTE_RATE = 20.0
@@ -105,159 +88,6 @@ constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
 METHODS = ("DOP853", "RK45", "Radau", "BDF")
 """SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
 the implicit Radau IIA (order 5) and BDF for stiff mechanisms."""
-
-PROXIMAL = pin.ProximalSettings(1e-13, 1e-10, 100)
-"""Pinocchio's proximal solver: absolute accuracy 1e-13 of the constraint accelerations,
-regularisation μ = 1e-10 (positive: the redundant rows of a planar loop), at most 100 iterations
-(1–3 are used)."""
-
-Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
-"""u(t, q, q̇): the actuated joints' generalized forces [N or N·m] at time t [s], (n_actuated,)."""
-
-
-class IntegrationError(FeederError):
-    """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
-    unbounded acceleration), the run reached a singular pose where its loads cannot be computed,
-    or the forces became NaN."""
-
-
-@dataclass(frozen=True)
-class ForwardRun:
-    """A forward run on the caller's time grid.
-
-    Attributes:
-        t: Times [s], (N,).
-        q: Configurations, (N, nq) (projected onto the constraints).
-        v: Velocities, (N, nv). a: Accelerations, (N, nv).
-        loads: The inverse dynamics of the sampled motion: the drive loads (the applied ones),
-            closure forces, every joint's reaction, every force element's force.
-        residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
-        energy: Kinetic, gravitational and elastic energy [J], (N,).
-        kinetic: Kinetic energy [J], (N,).
-        work: Work of the non-conservative forces since t[0] [J], (N,).
-        steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
-        projections: Steps projected back onto the constraints.
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
-    loads: ChainLoads
-    residual: np.ndarray
-    energy: np.ndarray
-    kinetic: np.ndarray
-    work: np.ndarray
-    steps: int
-    evaluations: int
-    projections: int
-
-    def drift(self) -> float:
-        """Largest closure residual over the run before projection [m, rad]."""
-        return float(self.residual.max())
-
-    def balance(self) -> np.ndarray:
-        """E(t) − E(t₀) − W(t) [J], (N,): zero for an exact run."""
-        return self.energy - self.energy[0] - self.work
-
-    def energy_error(self) -> float:
-        """Largest |E(t) − E(t₀) − W(t)| [J] (:meth:`balance`)."""
-        return float(np.abs(self.balance()).max())
-
-    def energy_scales(self) -> dict[str, float]:
-        """The energies [J] the run moves, against which its balance is measured: the largest
-        kinetic energy, |work| and |change of the potential (gravitational and elastic)
-        energy| over the run, and the round-off of the total energy (ε max |E|, the floor)."""
-        potential = self.energy - self.kinetic
-        return {
-            "kinetic energy": float(self.kinetic.max()),
-            "|work|": float(np.abs(self.work).max()),
-            "|change of potential energy|": float(np.abs(potential - potential[0]).max()),
-            "round-off of the energy": float(np.finfo(float).eps * np.abs(self.energy).max()),
-        }
-
-    def displacement(self, model: pin.Model) -> float:
-        """Largest |q(t) ⊖ q(t₀)| over the run and the velocity components [rad, m]
-        (:meth:`tracking` against the first sample)."""
-        return float(self.tracking(model, np.tile(self.q[0], (self.t.size, 1))).max())
-
-    def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
-        """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,) (a
-        revolute angle wrapped by a turn, a quaternion of opposite sign, count as equal)."""
-        reference = check_finite("q_reference", q_reference)
-        if reference.shape != self.q.shape:
-            raise InputError(f"q_reference must have shape {self.q.shape}, got {reference.shape}")
-        angles = angle_columns(model)
-        pairs = zip(reference, self.q, strict=True)
-        gaps = [angular_difference(model, r, q, angles) for r, q in pairs]
-        return np.abs(np.array(gaps)).max(axis=0)
-
-
-class _Equations:
-    """The right-hand side of the run (module docstring) on one pinocchio.Data."""
-
-    def __init__(self, dyn: ChainDynamics, actuation: Actuation | None, rate: float):
-        chain, model = dyn.chain, dyn.chain.model
-        self.model, self.dyn, self.actuation = model, dyn, actuation
-        self.data = model.createData()
-        self.constraints = pin.StdVec_RigidConstraintModel()
-        for constraint in chain.constraint_models:
-            copy = pin.RigidConstraintModel(constraint)
-            copy.m_baumgarte_parameters.Kp = rate**2
-            copy.m_baumgarte_parameters.Kd = 2.0 * rate
-            self.constraints.append(copy)
-        self.datas = pin.StdVec_RigidConstraintData()
-        for constraint in self.constraints:
-            self.datas.append(constraint.createData())
-        pin.initConstraintDynamics(model, self.data, self.constraints, self.datas)
-        self.nq, self.nv = model.nq, model.nv
-        self.rate = None if model.nq == model.nv else ConfigurationRate(model)
-        self.columns = np.array(dyn.columns, dtype=int)
-        self.zero = np.zeros(model.nv)
-        self.count = 0
-
-    def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
-        """τ (nv,) and the power [W] of the non-conservative forces."""
-        elements = self.dyn.elements
-        if self.actuation is None:
-            return elements.generalized(q, v, t) if elements else (self.zero, 0.0)
-        tau = np.zeros(self.model.nv)
-        u = check_finite(f"actuation at t = {t:.6g} s [N or N·m]", self.actuation(t, q, v))
-        if u.shape != self.columns.shape:
-            raise InputError(
-                f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
-                f"[N or N·m], got {u!r}"
-            )
-        tau[self.columns] = u
-        power = float(u @ v[self.columns])
-        if elements:
-            generalized, element_power = elements.generalized(q, v, t)
-            tau += generalized
-            power += element_power
-        return tau, power
-
-    def accelerations(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
-        tau, power = self.forces(t, q, v)
-        a = pin.constraintDynamics(
-            self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
-        )
-        return a, power
-
-    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        self.count += 1
-        nq, nv = self.nq, self.nv
-        q, v = y[:nq], y[nq : nq + nv]
-        a, power = self.accelerations(t, q, v)
-        if not np.all(np.abs(a) < 1e154):  # NaN, inf, or as meaningless (a @ a would overflow)
-            raise IntegrationError(
-                f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "
-                "that are not finite)"
-            )
-        out = np.empty(nq + nv + 1)
-        out[:nq] = v if self.rate is None else self.rate(q, v)
-        out[nq:-1] = a
-        out[-1] = power
-        return out
 
 
 def simulate(
@@ -335,7 +165,7 @@ def simulate(
     if opening > START_TOLERANCE * max(1.0, float(np.abs(v).max())):
         raise InputError(f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity")
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
-    equations = _Equations(dyn, actuation, rate)
+    equations = ForwardEquations(dyn, actuation, rate)
     y0 = np.concatenate([q, v, [0.0]])
     with Progress(float(t[0]), float(t[-1]), progress) as line:
         states, steps, projections = _integrate(
@@ -431,7 +261,7 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
         unit = equations.rate is None or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
         if residual > drift_tolerance or not unit:  # loops open, or quaternions off unit length
-            y = _project(equations, y)
+            y = project(equations.dyn.chain, y)
             projections += 1
             solver = start(solver.t, y, min(solver.step_size, t[-1] - solver.t))
     return states, steps, projections
@@ -466,30 +296,6 @@ def _singular(
     )
 
 
-def _project(equations, y: np.ndarray) -> np.ndarray:
-    """The state y with (q, q̇) moved onto the position and velocity constraints: the nearest
-    closed q (minimum-norm Newton over every coordinate, unit quaternions restored), then the
-    minimum-norm change of q̇ that gives J q̇ = 0."""
-    chain, model = equations.dyn.chain, equations.model
-    nq, nv = model.nq, model.nv
-    q = pin.normalize(model, y[:nq].copy())
-    q, norm = newton(chain, q, np.arange(nv))
-    if norm > POSITION_TOLERANCE * 1e3:
-        raise IntegrationError(
-            f"the run left the constraints by {norm:.3e} and cannot be projected back: a "
-            "singular pose, or tolerances too loose"
-        )
-    v = y[nq : nq + nv]
-    jac = chain.jacobian(q)
-    # J⁺ truncated at RANK_TOLERANCE: a redundant row (a planar loop's, Bricard's) is a singular
-    # value of round-off size that lstsq's default cut-off (n ε σ_max) may keep, and then J⁺ J = I
-    # would project every velocity to zero.
-    scale = float(np.abs(jac).max(initial=0.0))
-    pinv, _, _ = truncated_inverse(jac, RANK_TOLERANCE * max(scale, 1e-300))
-    v = v - pinv @ (jac @ v)
-    return np.concatenate([q, v, y[nq + nv :]])
-
-
 def _results(equations, t, states, steps, projections, progress: bool) -> ForwardRun:
     """The run's tables from the states at the output times (module docstring); ``progress``:
     show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`)."""
@@ -502,7 +308,7 @@ def _results(equations, t, states, steps, projections, progress: bool) -> Forwar
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            projected[k] = _project(equations, y)
+            projected[k] = project(equations.dyn.chain, y)
             a[k] = equations.accelerations(t[k], projected[k, :nq], projected[k, nq : nq + nv])[0]
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]

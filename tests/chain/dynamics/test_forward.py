@@ -17,7 +17,8 @@ import scipy.interpolate
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
 from feeder.chain.dynamics import budget, forward
-from feeder.chain.dynamics.forward import IntegrationError, _Equations, simulate
+from feeder.chain.dynamics.forward import simulate
+from feeder.chain.dynamics.forward_equations import ForwardEquations, IntegrationError
 from feeder.chain.dynamics.inverse import (
     MAX_FORCE_GAIN,
     ChainDynamics,
@@ -76,7 +77,7 @@ def test_the_accelerations_are_those_of_the_kkt_system(four_bar):
     chain, partition, q0 = four_bar
     spring = JointSpring("coupler_joint", stiffness=0.3, rest=0.1, damping=0.01, preload=0.02)
     dyn = ChainDynamics(chain, ["crank_joint"], elements=[spring])
-    equations = _Equations(dyn, lambda t, q, v: np.array([0.05]), rate=20.0)
+    equations = ForwardEquations(dyn, lambda t, q, v: np.array([0.05]), rate=20.0)
     v = partition.velocity(q0, np.array([3.0]))
     for q in (q0, pin.integrate(chain.model, q0, np.array([1e-6, -2e-6, 1e-6]))):  # off the loop
         tau = np.zeros(3)

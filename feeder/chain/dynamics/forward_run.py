@@ -1,0 +1,87 @@
+"""The result of a forward run (:func:`~feeder.chain.dynamics.forward.simulate`) on the
+caller's time grid, with its checks: the drift, the energy balance, the tracking error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ...exceptions import InputError
+from ...validation import check_finite
+from ..kinematics.joints import angle_columns, angular_difference
+from .inverse import ChainLoads
+
+
+@dataclass(frozen=True)
+class ForwardRun:
+    """A forward run on the caller's time grid.
+
+    Attributes:
+        t: Times [s], (N,).
+        q: Configurations, (N, nq) (projected onto the constraints).
+        v: Velocities, (N, nv). a: Accelerations, (N, nv).
+        loads: The inverse dynamics of the sampled motion: the drive loads (the applied ones),
+            closure forces, every joint's reaction, every force element's force.
+        residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
+        energy: Kinetic, gravitational and elastic energy [J], (N,).
+        kinetic: Kinetic energy [J], (N,).
+        work: Work of the non-conservative forces since t[0] [J], (N,).
+        steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
+        projections: Steps projected back onto the constraints.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    loads: ChainLoads
+    residual: np.ndarray
+    energy: np.ndarray
+    kinetic: np.ndarray
+    work: np.ndarray
+    steps: int
+    evaluations: int
+    projections: int
+
+    def drift(self) -> float:
+        """Largest closure residual over the run before projection [m, rad]."""
+        return float(self.residual.max())
+
+    def balance(self) -> np.ndarray:
+        """E(t) − E(t₀) − W(t) [J], (N,): zero for an exact run."""
+        return self.energy - self.energy[0] - self.work
+
+    def energy_error(self) -> float:
+        """Largest |E(t) − E(t₀) − W(t)| [J] (:meth:`balance`)."""
+        return float(np.abs(self.balance()).max())
+
+    def energy_scales(self) -> dict[str, float]:
+        """The energies [J] the run moves, against which its balance is measured: the largest
+        kinetic energy, |work| and |change of the potential (gravitational and elastic)
+        energy| over the run, and the round-off of the total energy (ε max |E|, the floor)."""
+        potential = self.energy - self.kinetic
+        return {
+            "kinetic energy": float(self.kinetic.max()),
+            "|work|": float(np.abs(self.work).max()),
+            "|change of potential energy|": float(np.abs(potential - potential[0]).max()),
+            "round-off of the energy": float(np.finfo(float).eps * np.abs(self.energy).max()),
+        }
+
+    def displacement(self, model: pin.Model) -> float:
+        """Largest |q(t) ⊖ q(t₀)| over the run and the velocity components [rad, m]
+        (:meth:`tracking` against the first sample)."""
+        return float(self.tracking(model, np.tile(self.q[0], (self.t.size, 1))).max())
+
+    def tracking(self, model: pin.Model, q_reference: np.ndarray) -> np.ndarray:
+        """Largest |q ⊖ q_reference| of every velocity component over the run, (nv,) (a
+        revolute angle wrapped by a turn, a quaternion of opposite sign, count as equal)."""
+        reference = check_finite("q_reference", q_reference)
+        if reference.shape != self.q.shape:
+            raise InputError(f"q_reference must have shape {self.q.shape}, got {reference.shape}")
+        angles = angle_columns(model)
+        pairs = zip(reference, self.q, strict=True)
+        gaps = [angular_difference(model, r, q, angles) for r, q in pairs]
+        return np.abs(np.array(gaps)).max(axis=0)
