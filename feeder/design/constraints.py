@@ -36,6 +36,11 @@ ANGLE_SCALE = 10.0
 LENGTH_SCALE = 0.1
 """[m] A length margin of this size counts as 1 for the optimiser (module docstring)."""
 
+FEASIBLE = 1e-8
+"""Largest scaled violation [-] of a constraint that still counts as met: 1e-9 m, 1e-7° or 1e-8
+of a limit (SLSQP meets its active constraints to ~1e-12 at convergence; a stroke of 0.51 m −
+0.21 m misses 0.30 m by 4e-17 m)."""
+
 
 @dataclass(frozen=True)
 class Constraint:
@@ -97,6 +102,12 @@ def geometry_margins(space: DesignSpace, p: FeederParameters) -> np.ndarray:
             math.degrees(p.phi1_max) - phi1.max(),
         ]
     )
+
+
+def geometry_met(space: DesignSpace, p: FeederParameters) -> bool:
+    """Whether ``p`` meets every geometric constraint (within :data:`FEASIBLE`)."""
+    scales = np.array([c.scale for c in geometry_constraints(space)])
+    return bool((geometry_margins(space, p) / scales).min() >= -FEASIBLE)
 
 
 def hugging_stops(space: DesignSpace, p: FeederParameters) -> FeederParameters:

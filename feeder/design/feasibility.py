@@ -16,7 +16,7 @@ from scipy.optimize import minimize
 from scipy.stats import qmc
 
 from ..exceptions import InputError
-from .constraints import geometry_constraints, geometry_margins
+from .constraints import FEASIBLE, geometry_constraints, geometry_margins
 from .design_space import DesignSpace, with_values
 from .differences import step
 
@@ -49,7 +49,7 @@ def nearest_feasible(space: DesignSpace, x: np.ndarray, tolerance: float = 0.0) 
         return np.array(columns).T
 
     z0 = (np.asarray(x, dtype=float) - lower) / width
-    if margins(z0).min() >= 0.0:
+    if margins(z0).min() >= -FEASIBLE:
         return np.asarray(x, dtype=float)
     result = minimize(
         lambda z: float(np.sum((z - z0) ** 2)),
@@ -76,9 +76,9 @@ def check_feasible(space: DesignSpace, seed: int = 0) -> None:
     points += list(lower + qmc.LatinHypercube(d=len(lower), seed=seed).random(TRIES) * width)
     closest, worst = None, np.inf
     for x in points:
-        found = nearest_feasible(space, x, tolerance=1e-9)
+        found = nearest_feasible(space, x)
         margins = _scaled_margins(space, found)
-        if margins.min() >= 0.0:
+        if margins.min() >= -FEASIBLE:
             return
         if -margins.min() < worst:
             closest, worst = (found, margins), -margins.min()

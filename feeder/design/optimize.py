@@ -179,11 +179,14 @@ def _written(problem: Problem, candidates, folder: OutputFolder):
 
 
 def _describe(scope: Scope) -> str:
+    """``ε = −4° … 70° (every 2°)``, or the elevations listed when not evenly spaced."""
     e = scope.elevations_deg
-    every = f" (every {e[1] - e[0]:g}°)" if len(e) > 2 else ""
-    return (
-        f"ε = {e[0]:g}° … {e[-1]:g}°{every}".replace("-", "−") if len(e) > 1 else f"ε = {e[0]:g}°"
-    )
+    steps = np.diff(e)
+    if len(e) > 2 and np.allclose(steps, steps[0], rtol=0.0, atol=1e-9):
+        text = f"ε = {e[0]:g}° … {e[-1]:g}° (every {steps[0]:g}°)"
+    else:
+        text = "ε = " + ", ".join(f"{x:g}°" for x in e)
+    return text.replace("-", "−")
 
 
 def run_optimization(

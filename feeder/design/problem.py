@@ -39,15 +39,11 @@ from ..exceptions import FeederError
 from ..motion.laws import CycleSpec
 from ..study.grid import SweepCase, Variant
 from ..study.sweep_table import Row
-from .constraints import geometry_constraints, geometry_margins, travel
+from .constraints import FEASIBLE, geometry_constraints, geometry_margins, travel
 from .design_space import DesignSpace, with_values
 from .differences import step
 from .evaluations import run_evaluations
 from .objectives import Objective
-
-FEASIBLE = 1e-8
-"""Largest scaled violation [-] of a constraint that still counts as met: 1e-9 m, 1e-7° or 1e-8
-of a limit (SLSQP meets its active constraints to ~1e-12 at convergence)."""
 
 WIDENED = (1e-3, math.radians(1.0))
 """How far [m, rad] the end stops and the cylinder's swing are widened beyond the travel for

@@ -143,7 +143,7 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
 
 
 def _per(unit: str, other: str) -> str:
-    return f"{unit or '-'}/{other}"
+    return f"{unit or '-'} per {other}"
 
 
 def _case_peak(e: Evaluation | None, p: Problem, quantity: str, case: int) -> float:
@@ -196,8 +196,8 @@ def summary(opt: Optimum, elevations: str) -> str:
     lines.append("Variables:")
     for row in (r for r in rows if r[0] == "variable"):
         bound = f" (at its {row[8]} bound)" if row[8] else ""
-        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {row[4] and float(row[4]):.6g} {row[2]}"
-                     f"{bound}")  # fmt: skip
+        end = f"{float(row[4]):.6g}" if row[4] else "–"
+        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
     active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
     lines.append(
         "Active constraints (multiplier: the objective's fall per unit the constraint were "

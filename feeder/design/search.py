@@ -28,11 +28,11 @@ from scipy.stats import qmc
 from tqdm import tqdm
 
 from ..exceptions import InputError
-from .constraints import geometry_margins, hugging_stops
+from .constraints import FEASIBLE, geometry_met, hugging_stops
 from .design_space import with_values
 from .feasibility import nearest_feasible
 from .history import History
-from .problem import FEASIBLE, Evaluation, EvaluationFailed, Problem
+from .problem import Evaluation, EvaluationFailed, Problem
 
 MAX_ITERATIONS = 100
 """Most SLSQP iterations of one local search."""
@@ -141,7 +141,7 @@ class Search:
             x = nearest_feasible(p.space, [v.parameter.value(params) for v in p.space.variables],
                                  tolerance=FEASIBLE)  # fmt: skip
             z = p.scaled(x)
-            met = geometry_margins(p.space, with_values(p.space, x)).min() >= 0.0
+            met = geometry_met(p.space, with_values(p.space, x))
             if met and all(np.abs(z - p.scaled(y)).max() > DISTINCT for y in candidates):
                 candidates.append(x)
         candidates = [x for x in candidates if x.tobytes() not in done]
