@@ -20,6 +20,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import tempfile
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -163,18 +164,20 @@ def _record(setup: Setup, command: str | None, status: str, cycles: int) -> dict
     }
 
 
-def _written(problem: Problem, candidates, folder: OutputFolder):
-    """The first candidate whose parameter file reads back and runs: (its evaluation as
-    written, the file's text); (None, "") when none does."""
-    for e in candidates:
-        text = parameters_toml(_named(e.params))
-        path = folder.put(PARAMETER_FILE, lambda p, text=text: write_text(p, text))
-        try:
-            final = problem.evaluate_written(read_parameters(path))
-        except InputError:
-            continue
-        if not final.failure:
-            return final, text
+def _written(problem: Problem, candidates: Sequence[Evaluation]) -> tuple[Evaluation | None, str]:
+    """The first candidate whose parameter file reads back (every check of ``--params``) and
+    runs: (its evaluation as written, the file's text); (None, "") when none does."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / PARAMETER_FILE
+        for e in candidates:
+            text = parameters_toml(_named(e.params))
+            write_text(path, text)
+            try:
+                final = problem.evaluate_written(read_parameters(path))
+            except InputError:
+                continue
+            if not final.failure:
+                return final, text
     return None, ""
 
 
@@ -245,7 +248,7 @@ def run_optimization(
                 problem = Problem(setup.space, setup.objective, setup.scope, executor, slots)
                 search = Search(problem, history, progress)
                 found = search.run(setup.samples, setup.starts)
-                best, text = _written(problem, search.feasible(), folder)
+                best, text = _written(problem, search.feasible())
             optimum = _optimum(found, best, time.monotonic() - began)
             result = None
             if sensitivities and best is not None:
@@ -317,14 +320,13 @@ def _write(
     figure: bool,
     command: str | None,
 ) -> list[Path]:
-    """Every output and the manifest (marked with the status); returns the paths, the
-    parameter file first when there is one."""
+    """Every output and the manifest (marked with the status); returns the paths, the history
+    first."""
     report = summary(optimum, _describe(setup.scope)) + "\n"
-    outputs: dict[str, Writer] = {}
+    outputs: dict[str, Writer] = {HISTORY: history.write}  # first: what a resumed run reads
     if text:
         outputs[PARAMETER_FILE] = lambda path: write_text(path, text)
     outputs[TABLE] = lambda path: write_rows(path, optimum_rows(optimum))
-    outputs[HISTORY] = history.write
     outputs[SUMMARY] = lambda path: write_text(path, report)
     if figure:
         outputs[FIGURE] = lambda path: _figure(optimum, path)

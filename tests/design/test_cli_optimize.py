@@ -43,7 +43,7 @@ def test_a_run_writes_its_files_on_two_workers(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert printed.startswith("status: converged\n")
     assert "over ε = −4° … 70°" in printed or "over ε = −4°, 70°" in printed
-    names = "optimum.toml, optimum.csv, history.csv, summary.txt, optimum.png, sensitivities.csv"
+    names = "history.csv, optimum.toml, optimum.csv, summary.txt, optimum.png, sensitivities.csv"
     assert f"wrote {names}, sensitivity_details.csv in {out}\n" in printed
     assert (out / "optimum.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
