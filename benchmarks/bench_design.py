@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> None:
     print(f"de_objective        {best:12.1f} Pa  ({cycles} cycles in {seconds:.0f} s; "
           f"x = {np.round(x, 6).tolist()})")  # fmt: skip
     verdict = "PASS" if gap <= GAP_GOAL else "MISS"
-    print(f"gap                 {100.0 * gap:+8.3f} %   goal ≤ {100.0 * GAP_GOAL:g} %   {verdict}")
+    print(f"gap                 {100.0 * gap:+8.4f} %   goal ≤ {100.0 * GAP_GOAL:g} %   {verdict}")
 
 
 if __name__ == "__main__":
