@@ -169,7 +169,7 @@ def test_the_outputs_and_the_manifest(optimum):
     }
     assert active  # the optimum lies on constraints: the peak falls as d3 grows
     for name in active:
-        assert abs(float(rows[("constraint", name)]["after"])) < 1e-9
+        assert abs(float(rows[("constraint", name)]["after"])) < 1e-9  # met to ~1e-13 m
         assert float(rows[("constraint", name)]["multiplier"]) >= 0.0
     with (out / "history.csv").open(encoding="utf-8") as handle:
         history = list(csv.DictReader(handle))
@@ -190,6 +190,7 @@ def test_a_limit_on_another_peak_holds_at_the_optimum(optimum, design_file, tmp_
         workers=1, progress=False, figure=False, sensitivities=False,
     )  # fmt: skip
     rows = table(tmp_path / "out" / "optimum.csv")
+    # A constraint counts as met to 1e-8 of its scale (feeder.design.constraints.FEASIBLE).
     assert float(rows[("peak", "mount_moment")]["after"]) <= limit * (1.0 + 1e-8)
     assert rows[("constraint", "limit:mount_moment")]["active"] == "1"
     assert result.value(result.best) > unlimited.value(unlimited.best)  # the limit binds
@@ -258,3 +259,51 @@ def test_defaults_are_documented():
         70.0,
         2.0,
     )
+
+
+def test_the_multipliers_are_the_objective_s_rate_of_change(optimum, tmp_path):
+    """Relaxing the end-stop clearance by δ relaxes both active end-stop constraints by δ: the
+    objective falls by the integral of the sum of their multipliers over δ. Over δ = 0.1 mm the
+    sum changes by ~0.1 %, so the secant equals the mean of the two runs' sums to the trapezoid
+    rule's error (third order in δ) and the runs' convergence (1e-9 of 1.7 MPa over
+    δ · 1.6e7 Pa/m: 1e-6); 1e-4 leaves a margin."""
+    result, out = optimum
+    step = 1e-4  # [m]
+    design = tmp_path / "relaxed.toml"
+    relaxed = f"\n[constraints]\nend_stop_clearance = {0.01 - step}\n"
+    design.write_text(DESIGN + relaxed, encoding="utf-8")
+    moved, _ = run_optimization(
+        PROJECTILE_FEEDER, tmp_path / "out", design=design, elevations_deg=ELEVATIONS, spec=SPEC,
+        workers=1, progress=False, figure=False, sensitivities=False,
+    )  # fmt: skip
+    names = ("end_stop_retracted", "end_stop_extended")
+    sums = []
+    for folder in (out, tmp_path / "out"):
+        rows = table(folder / "optimum.csv")
+        assert all(rows[("constraint", n)]["active"] == "1" for n in names)
+        assert {rows[("constraint", n)]["multiplier_unit"] for n in names} == {"Pa per m"}
+        sums.append(sum(float(rows[("constraint", n)]["multiplier"]) for n in names))
+    secant = (result.value(result.best) - moved.value(moved.best)) / step
+    assert secant == pytest.approx(sum(sums) / 2.0, rel=1e-4)
+
+
+def test_a_weighted_objective_is_relative_to_the_device_as_given(design_file, tmp_path):
+    goal = "weighted:peak_pressure=1,mount_moment=0.5"
+    result, _ = run_optimization(
+        PROJECTILE_FEEDER, tmp_path / "out", design=design_file, objective=goal,
+        elevations_deg=ELEVATIONS, spec=SPEC, samples=4, workers=1, progress=False, figure=False,
+        sensitivities=False,
+    )  # fmt: skip
+    rows = table(tmp_path / "out" / "optimum.csv")
+    objective = rows[("objective", goal)]
+    assert objective["unit"] == "" and float(objective["before"]) == pytest.approx(1.5, rel=1e-15)
+
+    def peak(names, when):
+        return max(abs(float(rows[("peak", name)][when])) for name in names)
+
+    pressures = ("cylinder_cap_pressure", "cylinder_rod_pressure")
+    pressure = peak(pressures, "after") / peak(pressures, "before")
+    moment = peak(["mount_moment"], "after") / peak(["mount_moment"], "before")
+    expected = pressure + 0.5 * moment
+    assert float(objective["after"]) == pytest.approx(expected, rel=1e-14)  # sums of ratios
+    assert float(objective["after"]) < 1.5
