@@ -1,9 +1,10 @@
 """Regenerate the README's pictures: ``python docs/pictures.py [NAME ...]`` (all by default).
 
 Each picture is made by the commands a user runs (``feeder cycle``, ``feeder sweep``, ``feeder
-view``; the viewer's pages photographed by headless Debian Chromium, 1000 × 800, software WebGL)
-and carries, in a PNG text chunk ``feeder-fingerprint``, the SHA-256 of the files that draw it
-(:data:`PICTURES`: this script, the drawing code, the model and the inputs).
+design optimize``, ``feeder view``; the viewer's pages photographed by headless Debian
+Chromium, 1000 × 800, software WebGL) and carries, in a PNG text chunk ``feeder-fingerprint``,
+the SHA-256 of the files that draw it (:data:`PICTURES`: this script, the drawing code, the
+model and the inputs).
 ``tests/test_docs.py`` recomputes the fingerprints: a picture whose sources changed since it was
 made fails the test until this script is run again.
 """
@@ -64,6 +65,14 @@ PICTURES: dict[str, tuple[str, ...]] = {
         "feeder/study/sweep*.py",
         "feeder/study/elevation_sweeps.py",
         "feeder/study/grid*.py",
+    ),  # fmt: skip
+    "design_optimum.png": (
+        *_DYNAMICS,
+        *_FIGURES,
+        "feeder/design/*.py",
+        "feeder/study/sweep*.py",
+        "feeder/study/grid.py",
+        "feeder/study/peaks.py",
     ),  # fmt: skip
     "viewer.png": (*_DEVICE, *_VIEWER, "feeder/viz/device_scene.py"),
     "cad_viewer.png": (
@@ -126,6 +135,11 @@ def _sweep(work: Path, name: str) -> Path:
     return work / "sweep" / name
 
 
+def _optimum(work: Path, name: str) -> Path:
+    _feeder("design", "optimize", "--out", str(work / "optimum"))
+    return work / "optimum" / "optimum.png"
+
+
 def _viewer(work: Path, name: str) -> Path:
     _feeder("view", "--elevation", "-4", "--html", str(work / "cycle.html"))
     _photograph(work / "cycle.html", 4.0, work / name)
@@ -146,6 +160,7 @@ MAKERS: dict[str, Callable[[Path, str], Path]] = {
     "device_side_view.png": _cycle,
     "fig14_piston_force.png": _cycle,
     "sweep_projectile.png": _sweep,
+    "design_optimum.png": _optimum,
     "viewer.png": _viewer,
     "cad_viewer.png": _cad_viewer,
 }

@@ -1,17 +1,19 @@
 """``feeder design``: designing the device's geometry. ``feeder design sensitivities``: the
 derivative of every peak load with respect to every length and mass, at one elevation and as
-the envelope over an elevation range."""
+the envelope over an elevation range. ``feeder design optimize``: the free geometry that
+minimises a peak over every elevation and vehicle case, within bounds and constraints."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
 from .options import Once, add_command, command_line, device_options, path_argument, switch
 
 
 def add(commands: argparse._SubParsersAction) -> None:
     """The ``design`` sub-parser and its own sub-commands."""
-    about = "designing the geometry: sensitivities of the peaks"
+    about = "designing the geometry: sensitivities of the peaks, and the optimum geometry"
     design = commands.add_parser("design", help=about, description=about, allow_abbrev=False)
     tasks = design.add_subparsers(dest="design_command", required=True, metavar="TASK")
     sensitivities = add_command(
@@ -88,6 +90,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         "figures",
         "the tables and the summary only (default: also sensitivities.png)",
     )
+    add_optimize(tasks)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -119,3 +122,164 @@ def run(args: argparse.Namespace) -> int:
     names = ", ".join(path.name for path in paths)
     print(f"wrote {names} in {paths[0].parent}")
     return 0
+
+
+def add_optimize(tasks: argparse._SubParsersAction) -> None:
+    """The ``design optimize`` sub-parser."""
+    optimize = add_command(
+        tasks,
+        "optimize",
+        run_optimize,
+        "the free geometry that minimises a peak over every elevation and vehicle case, within "
+        "the design file's bounds and constraints",
+    )
+    optimize.add_argument(
+        "--objective",
+        action=Once,
+        default="peak_pressure",
+        metavar="NAME",
+        help="what to minimise: peak_pressure (the larger chamber's), peak_piston_force, "
+        "peak_forearm_moment, any peak of sweep_peaks.csv, or weighted:NAME=W,NAME=W (each "
+        "relative to the device as given) (default: %(default)s)",
+    )
+    optimize.add_argument(
+        "--out",
+        action=Once,
+        type=path_argument,
+        metavar="DIR",
+        help="output folder, required unless --print-design (default: none): new, empty, or "
+        "one an earlier feeder run wrote; an interrupted optimisation there is resumed",
+    )
+    optimize.add_argument(
+        "--design",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="design file (TOML): the free parameters and their bounds, fixed ones, "
+        "constraints and limits (default: the built-in one, --print-design)",
+    )
+    switch(optimize, "--print-design", "print_design", "print the built-in design file and "
+           "exit (default: optimise)")  # fmt: skip
+    optimize.add_argument(
+        "--elevations",
+        action=Once,
+        nargs=3,
+        type=float,
+        metavar=("START", "STOP", "STEP"),
+        help="elevations [deg], STOP included when on a step (default: the grid's, else -4 70 2)",
+    )
+    optimize.add_argument(
+        "--grid",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="sweep grid (TOML) whose variants are the vehicle cases, and whose elevations and "
+        "timing apply unless given here; its devices are not used (default: none, standing "
+        "level)",
+    )
+    optimize.add_argument(
+        "--rate",
+        action=Once,
+        type=float,
+        metavar="HZ",
+        help="sample rate of every cycle [Hz] (default: the grid's, else 100)",
+    )
+    device_options(optimize, "projectile")
+    optimize.add_argument(
+        "--samples",
+        action=Once,
+        type=int,
+        metavar="N",
+        help="points of the global start (Latin hypercube; default: 8 per variable that loads "
+        "depend on; 0: none)",
+    )
+    optimize.add_argument(
+        "--starts",
+        action=Once,
+        type=int,
+        default=1,
+        metavar="N",
+        help="local searches (SLSQP), from the best points of the global start (default: "
+        "%(default)s)",
+    )
+    optimize.add_argument(
+        "--workers",
+        action=Once,
+        type=int,
+        help="local processes (default: every core; 1: this process)",
+    )
+    optimize.add_argument(
+        "--scheduler",
+        action=Once,
+        metavar="tcp://HOST:PORT",
+        help="run the cycles on this Dask cluster (pip install 'feeder[cluster]'; default: "
+        "this machine)",
+    )
+    switch(optimize, "--no-figures", "figures", "no optimum.png (default: written)")
+    switch(
+        optimize,
+        "--no-sensitivities",
+        "sensitivities",
+        "no sensitivities at the optimum (default: sensitivities.csv for the variables)",
+    )
+
+
+def run_optimize(args: argparse.Namespace) -> int:
+    """The optimum geometry; its parameter file, tables, figure, history and manifest."""
+    from ..design.design_space import BUILT_IN
+    from ..design.optimize import run_optimization
+    from ..design.report import INTERRUPTED
+    from ..exceptions import InputError
+    from ..motion.laws import CycleSpec
+    from ..study.grid import elevation_range, read_grid
+    from .options import params_of
+
+    if args.print_design:
+        print(BUILT_IN, end="")
+        return 0
+    if args.out is None:
+        raise InputError("give the output folder: --out DIR (or --print-design)")
+    params = params_of(args)
+    grid = None if args.grid is None else read_grid(args.grid)
+    spec = None
+    if args.rate is not None:
+        durations = grid.spec.durations if grid is not None else CycleSpec.durations
+        spec = CycleSpec(durations=durations, rate=args.rate)
+    elevations = None if args.elevations is None else elevation_range(*args.elevations)
+    try:
+        optimum, paths = run_optimization(
+            params,
+            args.out,
+            objective=args.objective,
+            design=args.design,
+            elevations_deg=elevations,
+            grid=grid,
+            spec=spec,
+            samples=args.samples,
+            starts=args.starts,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=True,
+            figure=args.figures,
+            sensitivities=args.sensitivities,
+            command=command_line(args),
+        )
+    except KeyboardInterrupt:
+        if _status(args.out) == INTERRUPTED:
+            print(f"feeder: {INTERRUPTED}: written in {args.out}", file=sys.stderr)
+        raise
+    print((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), end="")
+    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    return 0 if optimum.best is not None else 1
+
+
+def _status(folder) -> str | None:
+    """The status an optimisation's manifest in ``folder`` records, if any."""
+    import json
+
+    from ..files import MANIFEST
+
+    try:
+        return json.loads((folder / MANIFEST).read_text(encoding="utf-8")).get("status")
+    except (OSError, ValueError):
+        return None

@@ -1,5 +1,8 @@
 """Designing the device's geometry: how much each peak load changes per unit of each length and
-mass (``feeder design sensitivities``).
+mass (``feeder design sensitivities``), and the free geometry that minimises a peak within
+bounds and constraints (``feeder design optimize``).
+
+Sensitivities:
 
 * :mod:`~feeder.design.differentiable` — which parameters are differentiated, and the
   parameter set with one of them changed;
@@ -10,17 +13,42 @@ mass (``feeder design sensitivities``).
   elevation and as the envelope over a range;
 * :mod:`~feeder.design.tables`, :mod:`~feeder.design.figure`, :mod:`~feeder.design.outputs` —
   the tables, the summary, the heat map and the output folder.
+
+Optimisation:
+
+* :mod:`~feeder.design.design_space` — the design file: free parameters, bounds, fixed ones,
+  the constraints' settings, limits on other peaks;
+* :mod:`~feeder.design.objectives` — what is minimised (``--objective``);
+* :mod:`~feeder.design.constraints`, :mod:`~feeder.design.feasibility` — the geometric
+  constraints in closed form, and points that meet them found without a cycle;
+* :mod:`~feeder.design.problem` — the problem in SLSQP's form and the cycles it runs;
+* :mod:`~feeder.design.search`, :mod:`~feeder.design.history` — the global start and SLSQP,
+  and the convergence history that a resumed run continues;
+* :mod:`~feeder.design.report`, :mod:`~feeder.design.optimum_figure`,
+  :mod:`~feeder.design.optimize` — ``optimum.csv``, the summary, the figure and the output
+  folder.
 """
 
+from .design_space import BUILT_IN, DesignSpace, read_design
 from .differentiable import DesignParameter, design_parameters
+from .objectives import Objective, parse_objective
+from .optimize import run_optimization
 from .outputs import run_sensitivities
+from .report import Optimum
 from .sensitivities import Sensitivities, Sensitivity, design_sensitivities
 
 __all__ = [
+    "BUILT_IN",
     "DesignParameter",
+    "DesignSpace",
+    "Objective",
+    "Optimum",
     "Sensitivities",
     "Sensitivity",
     "design_parameters",
     "design_sensitivities",
+    "parse_objective",
+    "read_design",
+    "run_optimization",
     "run_sensitivities",
 ]
