@@ -231,7 +231,8 @@ def run_optimize(args: argparse.Namespace) -> int:
     from ..design.report import INTERRUPTED
     from ..exceptions import InputError
     from ..motion.laws import CycleSpec
-    from ..study.grid import elevation_range, read_grid
+    from ..study.grid import elevation_range
+    from ..study.grid_file import read_grid
     from .options import params_of
 
     if args.print_design:

@@ -33,7 +33,8 @@ from ..device.parameters import FeederParameters
 from ..exceptions import InputError
 from ..files import MANIFEST, OutputFolder, Writer, write_text
 from ..motion.laws import CycleSpec
-from ..study.grid import SweepGrid, Variant, base_fingerprint, elevation_range, read_grid
+from ..study.grid import SweepGrid, Variant, base_fingerprint, elevation_range
+from ..study.grid_file import read_grid
 from ..study.sweep import sweep_executor
 from ..validation import check_elevation, check_number
 from ..workers import check_workers
