@@ -4,7 +4,7 @@ followed on one assembly branch, and the loads and reactions of every joint and 
 Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder.chain.ClosedChain`
 → the closed pose nearest to the reference (the assembled pose) and the mobility report there
 (:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
-coordinates tracked by continuation from it (:meth:`~feeder.chain.Partition.track`) → inverse
+coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
 dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
 (:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
 """
@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
+from ..chain.assembly.tracking import track
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.coordinates import coordinates, pose_values
@@ -505,9 +506,10 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx, t=table.t)
+    motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
-    loads = inverse_dynamics(dyn, q, v, a, t=table.t)
-    warn_if_gravity_idle(spec, chain, q)
+    loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
+    warn_if_gravity_idle(spec, chain, motion.q)
     report = mobility(chain, assembled, spec.independent)
-    return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)
+    kinematics = (motion.q, motion.v, motion.a, motion.gain)
+    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled)

@@ -43,7 +43,8 @@ import numpy as np
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
-from ..assembly.partition import RANK_TOLERANCE, Partition
+from ..assembly.newton import RANK_TOLERANCE
+from ..assembly.partition import Partition
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import (
@@ -249,7 +250,7 @@ def check_motion(
                 )
             raise InputError(
                 f"the {what} of sample {k} open the loops ({worst[k]:.3e}): not a closed-chain "
-                "motion (Partition.velocity / acceleration / track give one)"
+                "motion (Partition.velocity / acceleration, feeder.chain.track give one)"
             )
     return q, v, a, motion, rows
 
