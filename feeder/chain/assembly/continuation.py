@@ -117,6 +117,8 @@ def advance(
                 raise refusals.dead_centre(partition, at, q, weakest, partition.gain(q))
         q = partition.wrap(current.q)
         partition.check_limits(q)
+        if last is not None and q.tobytes() == last.q.tobytes():
+            return last  # the angles were in range: the pose the last part started from
         return partition.check_pose(ChainPose(partition.chain, q), last)
     except SingularPoseError as exc:
         raise SingularPoseError(f"{where(sample, times)}: {exc}") from None

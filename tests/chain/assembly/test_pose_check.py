@@ -26,7 +26,7 @@ from feeder.chain import (
     track,
 )
 from feeder.chain.assembly.newton import POSITION_TOLERANCE
-from feeder.exceptions import FeederWarning, InputError
+from feeder.exceptions import FeederWarning, InputError, UnreachablePoseError
 
 from ...conftest import REPO
 
@@ -205,3 +205,24 @@ def test_the_assembly_reaches_no_other_modules_private_names():
             ):
                 found.append(f"{path.name}:{node.lineno} {ast.unparse(node)}")
     assert not found
+
+
+def test_one_pose_and_a_batch_are_refused_alike_outside_the_limits(four_bar):
+    """The joint limits (±4π here): one pose (a continuation step's scalar test) and the same
+    pose among others (the batched test) name the same joint, its role, value and range."""
+    chain, partition, q = four_bar
+    model = chain.model
+    for joint, role, tail in (
+        ("crank_joint", "prescribed", "]$"),
+        ("rocker_joint", "dependent", "] where the loops close$"),
+    ):
+        outside = q.copy()
+        outside[model.joints[model.getJointId(joint)].idx_q] = 13.0
+        pattern = (
+            rf"^the {role} joint {joint} = 13 is outside its limits \[-12.5664, 12.5664{tail}"
+        )
+        for poses in (outside, np.stack([q, outside, q])):
+            with pytest.raises(UnreachablePoseError, match=pattern):
+                partition.check_limits(poses)
+    partition.check_limits(q)
+    partition.check_limits(np.stack([q, q]))
