@@ -7,6 +7,11 @@ Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder
 coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
 dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
 (:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
+
+The module is long (~500 lines) because the result and its table are one contract: the columns'
+names and units, the summary's peaks and the pose lines are read back from here by the viewer, the
+figures, ``feeder simulate`` and the outputs (the column helpers could move to a module of their
+own; that would move the contract without changing it).
 """
 
 from __future__ import annotations
