@@ -41,7 +41,9 @@ class PoseCheck:
             the rates below are minimum-norm in them).
         gain: The velocity gain ‖S_dep⁻¹ J_dep⁺ J_ind S_ind‖₂ [–]
             (:mod:`feeder.chain.assembly.partition`), at most the partition's ``max_gain``.
-        idle: The idle motions (k, nv), an orthonormal basis (k = 0 when there are none).
+        idle_count: The number k of idle motions (the rank deficiency of J's dependent columns,
+            every such motion tested, or vouched for by an earlier check, to move no point);
+            :meth:`idle_motions` gives them.
     """
 
     pose: ChainPose
@@ -50,12 +52,19 @@ class PoseCheck:
     jacobian: np.ndarray
     inverse: np.ndarray
     gain: float
-    idle: np.ndarray
+    idle_count: int
 
     @property
     def q(self) -> np.ndarray:
         """The configuration (nq,), read-only."""
         return self.pose.q
+
+    def idle_motions(self) -> np.ndarray:
+        """The idle motions (k, nv): an orthonormal basis of the joint rates that keep the loops
+        closed with the independent joints locked (empty when k = 0)."""
+        if not self.idle_count:
+            return np.zeros((0, self.jacobian.shape[1]))
+        return locked_motions(self.jacobian, self.dependent, rank_tolerance(self.jacobian))[1]
 
     def tangent(self) -> np.ndarray:
         """∂q_dep/∂x (n_dep, n_ind): the closure's tangent, −J_dep⁺ J_ind."""
@@ -110,11 +119,9 @@ def check_pose(partition, pose: ChainPose, previous: PoseCheck | None = None) ->
         pairs = zip(partition.independent_joints, reach, strict=True)
         names = [name for name, size in pairs if size > tolerance]
         raise refusals.cannot_follow(partition, q, names, rank_full, rank_dep)
-    deficiency = dependent.size - rank_dep
-    idle = np.zeros((0, jac.shape[1]))
-    if deficiency:
-        vouched = previous is not None and previous.idle.shape[0] == deficiency
-        idle = idle_motions(partition, pose, verify=not vouched)
+    idle = deficiency = dependent.size - rank_dep
+    if deficiency and not (previous is not None and previous.idle_count == deficiency):
+        idle = idle_motions(partition, pose).shape[0]  # raises unless every one is idle
     scale = partition.speed_scale
     gain = velocity_gain(pinv @ jac_ind, scale[dependent], scale[independent])
     if gain > partition.max_gain:
@@ -123,17 +130,17 @@ def check_pose(partition, pose: ChainPose, previous: PoseCheck | None = None) ->
     return PoseCheck(pose, independent, dependent, jac, pinv, gain, idle)
 
 
-def idle_motions(partition, pose: ChainPose, verify: bool = True) -> np.ndarray:
+def idle_motions(partition, pose: ChainPose) -> np.ndarray:
     """The motions (k, nv) left at ``pose`` with the independent joints locked, an orthonormal
-    basis; with ``verify``, tested to move no joint origin, frame or centre of gravity by more
-    than :data:`~feeder.chain.assembly.rank.IDLE_TOLERANCE` of the reach per unit rate.
+    basis, tested to move no joint origin, frame or centre of gravity by more than
+    :data:`~feeder.chain.assembly.rank.IDLE_TOLERANCE` of the reach per unit rate.
 
     Raises:
-        SingularPoseError: ``verify``, and a motion moves a point (its joints named).
+        SingularPoseError: A motion moves a point (its joints named).
     """
     jac = pose.jacobian
     rank, motions = locked_motions(jac, partition.dependent, rank_tolerance(jac))
-    if not verify or motions.shape[0] == 0:
+    if motions.shape[0] == 0:
         return motions
     moved = np.abs(pose.point_rows() @ motions.T).max(axis=0)
     if np.all(moved <= IDLE_TOLERANCE * partition.length):
