@@ -1,13 +1,15 @@
 """Time the generic closed-chain inverse dynamics (feeder.chain) per sample, in units of one bare
 ``constraintDynamics`` call on the same model (measured in the same run, so the ratio survives a
 noisy machine). Goals: issue 10, ≤ 3 calls per sample for the loads with every joint's reaction;
-issue 15, ≤ 10 calls per sample for the whole analysis: ``Partition.track`` (continuation) plus
-``inverse_dynamics`` (loads, idle accelerations, every reaction).
+issue 15, ≤ 10 calls per sample for the whole analysis: ``feeder.chain.track`` (continuation)
+plus ``inverse_dynamics`` (loads, idle accelerations, every reaction). Each whole analysis says
+whether the continuation took the batched path (``Trajectory.batched``).
 
-Mechanisms: the example four-bar (revolute cut, 3 joints), the feeding device's open tree with its
-pin (point cut, 4 joints, run through the generic layer), and two CAD exports read from their
-Extended-URDF side-files: the Cassie-like leg (2 welds, 19 joints, two idle rod spins) and the
-biped ``battobot_6d`` (6 welds, 12 motors, ball and universal joints, 48 velocities).
+Mechanisms: the example four-bar (revolute cut, 3 joints), the example slider-crank (revolute cut,
+a prismatic slider among the dependent joints), the feeding device's open tree with its pin (point
+cut, 4 joints, run through the generic layer), and two CAD exports read from their Extended-URDF
+side-files: the Cassie-like leg (2 welds, 19 joints, two idle rod spins) and the biped
+``battobot_6d`` (6 welds, 12 motors, ball and universal joints, 48 velocities).
 
 Run: ``.venv/bin/python benchmarks/bench_chain.py [--samples N] [--json FILE]``.
 """
@@ -32,6 +34,7 @@ from feeder.chain import (
     load_closed_chain,
     load_mechanism,
     read_spec,
+    track,
 )
 from feeder.chain.dynamics.inverse import check_motion, solve_loads
 from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
@@ -62,8 +65,19 @@ def four_bar(samples: int):
     t = np.linspace(0.0, 1.0, samples)[:, None]
     x = math.radians(40.0) + 2.0 * math.pi * t
     q0 = partition.assemble(np.array([x[0, 0], -0.35, 1.0]))
-    q, v, a, _ = partition.track(q0, x, np.full_like(x, 2.0 * math.pi), np.full_like(x, 1.0))
-    return chain, ["crank_joint"], q, v, a
+    motion = track(partition, q0, x, np.full_like(x, 2.0 * math.pi), np.full_like(x, 1.0))
+    return chain, ["crank_joint"], motion.q, motion.v, motion.a
+
+
+def crank_turn(folder: str, cut: Closure, samples: int):
+    """An example crank mechanism mounted from its zero pose, its crank turning once in 1 s."""
+    chain = load_closed_chain(EXAMPLES / folder / f"{folder}.urdf", [cut])
+    partition = Partition(chain, ["crank_joint"])
+    q0 = partition.mount(np.zeros(chain.model.nq))
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    x = partition.independent_values(q0) + 2.0 * math.pi * t
+    motion = (x, np.full_like(x, 2.0 * math.pi), np.zeros_like(x))
+    return chain, ["crank_joint"], partition, q0, motion
 
 
 def device(samples: int):
@@ -128,20 +142,20 @@ def cad(name: str, samples: int):
 
 def measure_analysis(name: str, chain, actuated, partition, q0, motion) -> dict:
     """Track + loads + every reaction per sample, in bare constraintDynamics calls."""
-    q, v, a, _ = partition.track(q0, *motion)
+    trajectory = track(partition, q0, *motion)
+    q, v, a = trajectory.q, trajectory.v, trajectory.a
     dyn = ChainDynamics(chain, actuated)
     loads = inverse_dynamics(dyn, q, v, a)
     n = q.shape[0]
     tau = np.zeros((n, chain.model.nv))
     tau[:, dyn.columns] = np.column_stack([loads.actuators[j] for j in actuated])
     call = bare_call(chain, q, v, tau)
-    per_track = best_time(lambda: partition.track(q0, *motion), repeats=2) / n
+    per_track = best_time(lambda: track(partition, q0, *motion), repeats=2) / n
     per_loads = best_time(lambda: inverse_dynamics(dyn, q, v, a), repeats=3) / n
     ratio = (per_track + per_loads) / call
+    path = "batched" if trajectory.batched else "sequential"
     print(f"{name}: {n} samples, bare constraintDynamics {call * 1e6:.2f} µs")
-    print(
-        f"  Partition.track             {per_track * 1e6:8.2f} µs/sample = {per_track / call:6.2f}"
-    )
+    print(f"  {'track, ' + path:28}{per_track * 1e6:8.2f} µs/sample = {per_track / call:6.2f}")
     print(
         f"  inverse_dynamics (all)      {per_loads * 1e6:8.2f} µs/sample = {per_loads / call:6.2f}"
     )
@@ -150,7 +164,12 @@ def measure_analysis(name: str, chain, actuated, partition, q0, motion) -> dict:
         f"{ratio:6.2f} calls (goal ≤ {ANALYSIS_GOAL:g}): "
         f"{'PASS' if ratio <= ANALYSIS_GOAL else 'MISS'}"
     )
-    return {"call_us": call * 1e6, "track_calls": per_track / call, "analysis_calls": ratio}
+    return {
+        "call_us": call * 1e6,
+        "track_calls": per_track / call,
+        "analysis_calls": ratio,
+        "batched": trajectory.batched,
+    }
 
 
 def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
@@ -197,21 +216,13 @@ def main(argv: list[str] | None = None) -> None:
         "four_bar": measure("four-bar (revolute cut)", *four_bar(args.samples)),
         "device": measure("feeding device (point cut)", *device(args.samples)),
     }
-    chain = load_closed_chain(
-        EXAMPLES / "four_bar" / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
-    )
-    partition = Partition(chain, ["crank_joint"])
-    q0 = partition.mount(np.zeros(3))
-    t = np.linspace(0.0, 1.0, args.samples)[:, None]
-    x = partition.independent_values(q0) + 2.0 * math.pi * t
-    figures["four_bar_analysis"] = measure_analysis(
-        "four-bar, whole analysis",
-        chain,
-        ["crank_joint"],
-        partition,
-        q0,
-        (x, np.full_like(x, 2.0 * math.pi), np.zeros_like(x)),
-    )
+    for name, folder, cut in (
+        ("four_bar", "four_bar", Closure("coupler_tip", "rocker_tip", "revolute")),
+        ("slider_crank", "slider_crank", Closure("rod_tip", "slider_pin", "revolute")),
+    ):
+        figures[f"{name}_analysis"] = measure_analysis(
+            f"{name.replace('_', '-')}, whole analysis", *crank_turn(folder, cut, args.samples)
+        )
     for name in ("cassie_like", "battobot_6d"):
         figures[name] = measure_analysis(f"{name}, whole analysis", *cad(name, args.samples))
     if args.json:

@@ -10,22 +10,28 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
   ride over terrain, a bump, recoil rocking, a hull table);
 * :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
-* :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once;
-* :mod:`~feeder.chain.assembly` — closed poses from the open one, velocities, accelerations and
-  continuation along a motion (:class:`Partition`);
+* :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at
+  once, and one pose with its kinematics run once (:class:`ChainPose`);
+* :mod:`~feeder.chain.assembly` — closed poses from the open one, the pose check, velocities and
+  accelerations (:class:`Partition`, :class:`PoseCheck`), and continuation along a motion
+  (:func:`track`, giving a :class:`Trajectory`);
 * :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
   motions, distance to a singular pose;
 * :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
   reaction) and forward runs with error control (:func:`simulate`).
 """
 
+from .assembly.check import PoseCheck
 from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
+from .assembly.tracking import track
+from .assembly.trajectory import Trajectory
 from .dynamics.derivatives import mass_matrix_derivative
 from .dynamics.forward import simulate
 from .dynamics.forward_equations import IntegrationError
 from .dynamics.forward_run import ForwardRun
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+from .kinematics.pose import ChainPose
 from .mobility import MobilityReport, mobility
 from .model.base import BaseMotion, BaseState
 from .model.closure import ClosedChain, Closure
@@ -48,6 +54,7 @@ __all__ = [
     "BaseState",
     "Bump",
     "ChainDynamics",
+    "ChainPose",
     "ChainLoads",
     "ClosedChain",
     "Closure",
@@ -65,11 +72,13 @@ __all__ = [
     "MotionTable",
     "MountWrench",
     "Partition",
+    "PoseCheck",
     "Recoil",
     "Slope",
     "Spring",
     "Table",
     "Terrain",
+    "Trajectory",
     "build_model",
     "check_inertia",
     "check_urdf",
@@ -88,4 +97,5 @@ __all__ = [
     "read_table",
     "read_urdf",
     "simulate",
+    "track",
 ]

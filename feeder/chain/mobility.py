@@ -34,8 +34,10 @@ import numpy as np
 import scipy.linalg
 
 from ..exceptions import SingularPoseError
-from .assembly.partition import RANK_TOLERANCE, Partition
+from .assembly.newton import RANK_TOLERANCE
+from .assembly.partition import Partition
 from .assembly.rank import moved_joints
+from .kinematics.pose import ChainPose
 from .model.closure import ClosedChain
 
 MAX_CHOICES = 20_000
@@ -186,7 +188,7 @@ def mobility(
         partition = Partition(chain, independent)
         try:
             motions = partition.idle_motions(q)
-            partition._check_pose(q)
+            partition.check_pose(ChainPose(chain, q))
         except SingularPoseError as exc:
             determined = str(exc)
             motions = np.zeros((0, dof))

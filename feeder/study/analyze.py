@@ -4,9 +4,14 @@ followed on one assembly branch, and the loads and reactions of every joint and 
 Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder.chain.ClosedChain`
 → the closed pose nearest to the reference (the assembled pose) and the mobility report there
 (:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
-coordinates tracked by continuation from it (:meth:`~feeder.chain.Partition.track`) → inverse
+coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
 dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
 (:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
+
+The module is long (~500 lines) because the result and its table are one contract: the columns'
+names and units, the summary's peaks and the pose lines are read back from here by the viewer, the
+figures, ``feeder simulate`` and the outputs (the column helpers could move to a module of their
+own; that would move the contract without changing it).
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
+from ..chain.assembly.tracking import track
 from ..chain.dynamics.elements import force_unit
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.dynamics.reactions import MountWrench
@@ -503,9 +509,10 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    q, v, a, gain = partition.track(assembled, table.x, table.dx, table.ddx, t=table.t)
+    motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
-    loads = inverse_dynamics(dyn, q, v, a, t=table.t)
-    warn_if_gravity_idle(spec, chain, q)
+    loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
+    warn_if_gravity_idle(spec, chain, motion.q)
     report = mobility(chain, assembled, spec.independent)
-    return Analysis(spec, chain, table, q, v, a, gain, loads, report, reference, assembled)
+    kinematics = (motion.q, motion.v, motion.a, motion.gain)
+    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled)

@@ -12,7 +12,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain import ChainDynamics, Partition, inverse_dynamics, load_mechanism, mobility
+from feeder.chain import (
+    ChainDynamics,
+    Partition,
+    inverse_dynamics,
+    load_mechanism,
+    mobility,
+    track,
+)
 from feeder.chain.readers.mechanism import read_spec
 from feeder.exceptions import FeederWarning, InputError, UnreachablePoseError
 
@@ -93,7 +100,8 @@ def test_motor_loads_drive_constraint_dynamics_to_the_motion(robot):
     name, spec, chain, partition, assembled = robot
     model = chain.model
     x, dx, ddx = sinusoids(chain, partition, spec, assembled)
-    q, v, a, _ = partition.track(assembled, x, dx, ddx)
+    motion = track(partition, assembled, x, dx, ddx)
+    q, v, a = motion.q, motion.v, motion.a
     np.testing.assert_array_equal(
         q[:, [model.joints[model.getJointId(n)].idx_q for n in spec.independent]], x
     )
@@ -247,8 +255,8 @@ def test_motion_columns_land_on_the_joints_they_name():
     assembled = forward.mount(pin.neutral(model))
     x1, x2 = forward.independent_values(assembled)
     x = np.array([[x1, x2], [x1 + 0.05, x2 - 0.02]])
-    q_forward, *_ = forward.track(assembled, x)
-    q_backward, *_ = backward.track(assembled, x[:, ::-1])
+    q_forward = track(forward, assembled, x).q
+    q_backward = track(backward, assembled, x[:, ::-1]).q
     np.testing.assert_allclose(q_backward, q_forward, atol=1e-12)
     mot1 = model.joints[model.getJointId("mot1")].idx_q
     mot2 = model.joints[model.getJointId("mot2")].idx_q

@@ -10,6 +10,7 @@ import pytest
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import POSITION_TOLERANCE, Partition
+from feeder.chain.assembly.tracking import track
 from feeder.chain.mobility import mobility
 from feeder.exceptions import SingularPoseError
 
@@ -70,7 +71,8 @@ def test_continuation_keeps_the_branch_over_two_turns(four_bar):
     partition = Partition(four_bar, ["crank_joint"])
     x = -2.0 * math.pi + np.linspace(0.0, 4.0 * math.pi, 401)[:, None]  # within the ±4π stops
     q0 = partition.assemble(np.array([x[0, 0], -0.35, 1.0]))
-    q, _, _, gain = partition.track(q0, x)
+    motion = track(partition, q0, x)
+    q, gain = motion.q, motion.gain
     rocker = np.array([math.remainder(value, 2 * math.pi) for value in q[:, 2]])
     assert np.all(rocker > 0)  # never jumped to the crossed branch (rocker below the ground)
     turn = q[400, 1:] - q[200, 1:]  # one crank turn apart: the same pose, angles up to 2π k

@@ -24,7 +24,7 @@ from feeder.exceptions import InputError
 from feeder.motion.laws import CycleSpec
 from feeder.study.grid import make_grid
 from feeder.study.peaks import cycle_peaks
-from feeder.study.sweep import run_sweep
+from feeder.study.sweep_folder import run_sweep
 from feeder.study.sweep_table import read_table
 
 SPEC = CycleSpec(rate=100.0)

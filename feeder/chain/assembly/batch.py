@@ -1,5 +1,5 @@
 """Continuation of a long trajectory in batches: every :data:`STRIDE`-th sample by the
-sequential continuation of :class:`~feeder.chain.assembly.partition.Partition` (which keeps the
+sequential continuation (:func:`~feeder.chain.assembly.continuation.advance`, which keeps the
 branch and checks every pose), the samples between them all at once.
 
 Each sample between two coarse ones is predicted by the cubic Hermite curve through both coarse
@@ -32,10 +32,14 @@ import pinocchio as pin
 import scipy.linalg
 
 from ...exceptions import SingularPoseError, UnreachablePoseError
+from ..kinematics.pose import ChainPose
 from ..kinematics.rows import closure_kinematics
 from ..kinematics.tree import tree_motion
+from .check import PoseCheck
+from .continuation import advance
 from .newton import CONTINUATION_STEP, POSITION_TOLERANCE, RANK_TOLERANCE
 from .rank import velocity_gain
+from .trajectory import Trajectory
 
 STRIDE = 32
 """Samples between two sequentially continued ones (32 measured fastest on the benchmarks'
@@ -54,23 +58,28 @@ class BatchFallback(Exception):
 
 
 def batch_track(
-    partition, q_first: np.ndarray, x: np.ndarray, dx: np.ndarray, ddx: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """q (N, nq), v, a (N, nv) and the velocity gain (N,) along ``x`` from the closed first
-    sample ``q_first``, for the :class:`~feeder.chain.assembly.partition.Partition`
-    ``partition`` (module docstring).
+    partition,
+    first: PoseCheck,
+    x: np.ndarray,
+    dx: np.ndarray,
+    ddx: np.ndarray,
+    times: np.ndarray | None = None,
+) -> Trajectory:
+    """The motion along ``x`` (N, n_ind) with rates ``dx`` and accelerations ``ddx`` from the
+    checked first sample ``first``, for the :class:`~feeder.chain.assembly.partition.Partition`
+    ``partition`` (module docstring); ``times`` [s] name the samples in the messages.
 
     Raises:
         BatchFallback: A check failed on some sample.
-        FeederError: The sequential continuation of the coarse samples refused one.
+        FeederError: The sequential continuation of a sample that failed a check refused it.
     """
-    kept = _independent_rows(partition.chain.jacobian(q_first), partition)
-    q, jacobian = _positions(partition, q_first, x, kept)
+    kept = _independent_rows(first.jacobian, partition)
+    q, jacobian = _positions(partition, first, x, kept, times)
     v, a, gain = _rates(partition, q, jacobian, dx, ddx, kept)
-    return q, v, a, gain
+    return Trajectory(q, v, a, gain, batched=True)
 
 
-def _positions(partition, q_first, x, kept) -> tuple[np.ndarray, np.ndarray]:
+def _positions(partition, first, x, kept, times) -> tuple[np.ndarray, np.ndarray]:
     """The configurations (N, nq) and their closure Jacobians (N, nc, nv): every
     :data:`STRIDE`-th sample continued sequentially, the others predicted from them and
     corrected together; a sample that fails a check there is continued sequentially from the
@@ -82,30 +91,24 @@ def _positions(partition, q_first, x, kept) -> tuple[np.ndarray, np.ndarray]:
         coarse.append(n - 1)
     q = np.empty((n, chain.model.nq))
     jacobian = np.empty((n, chain.nc, chain.model.nv))
-    q[0] = q_first
-    jacobian[0], pinv, _ = partition._check_pose(q_first)
-    tangents = {0: _tangent(partition, jacobian[0], pinv)}
+    checks = {0: first}  # the samples continued sequentially
     for c0, c1 in zip(coarse, coarse[1:], strict=False):
         try:
-            q[c1] = partition._continue(q[c0], x[c0], x[c1], c1)
+            checks[c1] = advance(partition, checks[c0], x[c0], x[c1], c1, times)
         except (UnreachablePoseError, SingularPoseError) as exc:  # the sequential path decides
             raise BatchFallback(str(exc)) from exc
-        jacobian[c1], pinv, _ = partition._check_pose(q[c1])  # remembered by _continue
-        tangents[c1] = _tangent(partition, jacobian[c1], pinv)
+    for c in coarse:
+        q[c], jacobian[c] = checks[c].q, checks[c].jacobian
+    tangents = {c: checks[c].tangent() for c in coarse}
     inner = np.setdiff1d(np.arange(n), coarse)
     if inner.size:
         guess, scale = _predict(partition, q, coarse, tangents, inner, x)
         q[inner], jacobian[inner], failed = _newton(partition, guess, kept, scale)
         for i in inner[failed]:  # in increasing order: q[i − 1] is always settled
-            q[i] = partition._continue(q[i - 1], x[i - 1], x[i], i)
-            jacobian[i] = partition._check_pose(q[i])[0]
+            before = checks[i - 1] if i - 1 in checks else ChainPose(chain, q[i - 1])
+            checks[i] = advance(partition, before, x[i - 1], x[i], i, times, known=first)
+            q[i], jacobian[i] = checks[i].q, checks[i].jacobian
     return q, jacobian
-
-
-def _tangent(partition, jac: np.ndarray, pinv: np.ndarray) -> np.ndarray:
-    """∂q_dep/∂x (n_dep, n_ind) at a closed pose: the closure's tangent, minimum norm in the
-    idle motions."""
-    return -pinv @ jac[:, partition.independent]
 
 
 def _independent_rows(jac: np.ndarray, partition) -> np.ndarray:
@@ -146,8 +149,8 @@ def _predict(partition, q, coarse, tangents, inner, x) -> tuple[np.ndarray, np.n
 
     flat = model.nq == model.nv
     chord = _difference(model, q[c0], q[c1], flat)
-    chord[:, partition._angle_columns] = np.angle(
-        np.exp(1j * chord[:, partition._angle_columns])
+    chord[:, partition.angle_columns] = np.angle(
+        np.exp(1j * chord[:, partition.angle_columns])
     )  # dependent angles are wrapped: the short way round
     h01, h10, h11 = 3 * s**2 - 2 * s**3, s**3 - 2 * s**2 + s, s**3 - s**2
     step = h10 * slope(c0) + h01 * chord + h11 * slope(c1)
@@ -198,7 +201,7 @@ def _newton(
     correction = np.abs(_difference(model, start, q, flat)).max(axis=1)
     failed |= (correction > CONTINUATION_STEP * np.maximum(scale, 1e-12)) & (correction > 1e-9)
     q = partition.wrap(q)
-    partition._check_limits(q[~failed])
+    partition.check_limits(q[~failed])
     return q, rows.jacobian, failed
 
 
@@ -242,7 +245,7 @@ def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarra
     if not np.all(squares < RANK_TOLERANCE**-2):
         raise BatchFallback("a rank drop")
     gains_map = inverse @ jac_ind  # J_dep⁺ J_ind, (n, n_dep, n_ind)
-    scale = partition._scale
+    scale = partition.speed_scale
     gain = velocity_gain(gains_map, scale[dependent], scale[independent])
     if np.any(gain > partition.max_gain):
         raise BatchFallback("near a singular pose")

@@ -1,6 +1,7 @@
-"""The linear algebra of the rank tests: which points a locked-input motion moves (idle motions
-move none), truncated pseudo-inverses that give idle motions no share, and the velocity gain
-(:func:`velocity_gain`: dimensionless, lengths' speeds in units of the mechanism's reach).
+"""The linear algebra of the rank tests: the motions left with the independent joints locked
+(:func:`locked_motions`; idle motions among them move no point), truncated pseudo-inverses that
+give idle motions no share, the velocity gain (:func:`velocity_gain`: dimensionless, lengths'
+speeds in units of the mechanism's reach), and the joints a motion moves (for the refusals).
 """
 
 from __future__ import annotations
@@ -8,8 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..model.closure import ClosedChain
-from ..model.jacobians import frame_jacobian, joint_jacobian
+from .newton import RANK_TOLERANCE
 
 IDLE_TOLERANCE = 1e-9
 """An idle direction (unit vector of joint rates) may move a joint origin, frame or centre of
@@ -17,23 +17,29 @@ gravity by at most this [m per unit] times the mechanism's size: round-off of th
 (1e-16) is far below, any real lever arm (≥ 1e-3 of the size) far above."""
 
 
-def point_rows(chain: ClosedChain) -> np.ndarray:
-    """World velocity rows (3 p, nv) of every joint origin, frame origin and centre of
-    gravity of a body with mass, from the Jacobians in the chain's data (after
-    :meth:`ClosedChain.jacobian`)."""
-    model, data = chain.model, chain.data
-    world = pin.LOCAL_WORLD_ALIGNED
-    rows = []
-    for j in range(1, model.njoints):
-        jac = joint_jacobian(model, data, j, world)
-        rows.append(jac[:3])
-        if model.inertias[j].mass > 0.0:
-            lever = data.oMi[j].rotation @ model.inertias[j].lever
-            rows.append(jac[:3] - pin.skew(lever) @ jac[3:])
-    for f in range(1, len(model.frames)):
-        if model.frames[f].parentJoint > 0:
-            rows.append(frame_jacobian(model, data, f, world)[:3])
-    return np.vstack(rows)
+def rank_tolerance(jac: np.ndarray) -> float:
+    """Singular values of the closure Jacobian ``jac`` at or below this are zero:
+    :data:`~feeder.chain.assembly.newton.RANK_TOLERANCE` of its largest entry."""
+    return RANK_TOLERANCE * (float(np.abs(jac).max(initial=0.0)) or 1.0)
+
+
+def locked_motions(
+    jac: np.ndarray, dependent: np.ndarray, tolerance: float
+) -> tuple[int, np.ndarray]:
+    """The rank of the dependent columns ``jac[:, dependent]`` of the closure Jacobian (nc, nv)
+    (singular values above ``tolerance``), and an orthonormal basis (k, nv) of the joint rates
+    that keep the loops closed with every other column locked (k = 0 when there are none)."""
+    nv = jac.shape[1]
+    jac_dep = jac[:, dependent]
+    if jac_dep.size:
+        _, s, vt = np.linalg.svd(jac_dep)
+        rank = int(np.sum(s > tolerance))
+        free = vt[rank:]
+    else:
+        rank, free = 0, np.eye(dependent.size)
+    motions = np.zeros((free.shape[0], nv))
+    motions[:, dependent] = free
+    return rank, motions
 
 
 def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray, int, np.ndarray]:

@@ -31,6 +31,10 @@ On a moving base (:class:`~feeder.chain.model.base.BaseMotion`: a slope, a ride,
 q, q̇, q̈ are the motion relative to the base, and every vector (reactions, closure forces, external
 wrenches) is in the base's moving axes; the closure rows are the relative motion's and the
 Newton–Euler passes take the absolute one (:func:`~feeder.chain.kinematics.tree.on_base`).
+
+The module is long (~500 lines) for one concern, the load solve: its equations, the three ways of
+solving them (the inverse of a square system, the normal equations, the SVD where the rank drops)
+and the checks that decide which of them may answer share their tolerances and their messages.
 """
 
 from __future__ import annotations
@@ -43,7 +47,8 @@ import numpy as np
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
-from ..assembly.partition import RANK_TOLERANCE, Partition
+from ..assembly.newton import RANK_TOLERANCE
+from ..assembly.partition import Partition
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import (
@@ -268,7 +273,7 @@ def check_motion(
                 )
             raise InputError(
                 f"the {what} of sample {k} open the loops ({worst[k]:.3e}): not a closed-chain "
-                "motion (Partition.velocity / acceleration / track give one)"
+                "motion (Partition.velocity / acceleration, feeder.chain.track give one)"
             )
     return q, v, a, motion, rows
 

@@ -11,9 +11,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-import feeder.chain.assembly.partition as partition_module
-from feeder.chain import Closure, Partition, load_closed_chain, load_mechanism, read_spec
-from feeder.chain.assembly.batch import MIN_SAMPLES, batch_track
+import feeder.chain.assembly.tracking as tracking
+from feeder.chain import Closure, Partition, load_closed_chain, load_mechanism, read_spec, track
+from feeder.chain.assembly.batch import MIN_SAMPLES
 from feeder.exceptions import FeederWarning
 
 from ...conftest import REPO
@@ -73,20 +73,15 @@ def biped():
 def test_batched_and_sequential_continuation_agree(case, monkeypatch):
     chain, independent, q0, (x, dx, ddx) = case()
     assert x.shape[0] >= MIN_SAMPLES
-    finished = []
-
-    def spy(*args):
-        finished.append(batch_track(*args))
-        return finished[-1]
-
-    monkeypatch.setattr(partition_module, "batch_track", spy)
-    batched = Partition(chain, independent).track(q0, x, dx, ddx)
-    assert finished, "the batched path fell back"
-    monkeypatch.setattr(partition_module, "MIN_SAMPLES", x.shape[0] + 1)
-    sequential = Partition(chain, independent).track(q0, x, dx, ddx)
+    batched = track(Partition(chain, independent), q0, x, dx, ddx)
+    assert batched.batched, "the batched path fell back"
+    monkeypatch.setattr(tracking, "MIN_SAMPLES", x.shape[0] + 1)
+    sequential = track(Partition(chain, independent), q0, x, dx, ddx)
+    assert not sequential.batched
     gaps = [
-        pin.difference(chain.model, a, b) for a, b in zip(batched[0], sequential[0], strict=True)
+        pin.difference(chain.model, a, b) for a, b in zip(batched.q, sequential.q, strict=True)
     ]
     assert np.abs(gaps).max() <= AGREEMENT
-    for mine, theirs in zip(batched[1:], sequential[1:], strict=True):
+    for name in ("v", "a", "gain"):
+        mine, theirs = getattr(batched, name), getattr(sequential, name)
         assert np.abs(mine - theirs).max() <= AGREEMENT * max(1.0, np.abs(theirs).max())

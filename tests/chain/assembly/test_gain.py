@@ -13,6 +13,7 @@ import pytest
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
+from feeder.chain.assembly.tracking import track
 from feeder.chain.mobility import mobility
 from feeder.exceptions import SingularPoseError, UnreachablePoseError
 
@@ -137,8 +138,8 @@ def test_the_gain_is_the_same_for_a_machine_scaled_thirtyfold(tmp_path):
     small, large = _boom(tmp_path), _boom(tmp_path, 30.0)
     theta = np.linspace(-0.6, 1.0, 101)
     stroke = np.array([_boom_rates(x)[0] for x in theta])[:, None]
-    _, _, _, gain_small = small.track(_pose(small, theta[0]), stroke)
-    _, _, _, gain_large = large.track(_pose(large, theta[0], 30.0), 30.0 * stroke)
+    gain_small = track(small, _pose(small, theta[0]), stroke).gain
+    gain_large = track(large, _pose(large, theta[0], 30.0), 30.0 * stroke).gain
     np.testing.assert_allclose(gain_large, gain_small, rtol=RELATIVE)
     expected = [REACH * math.hypot(*_boom_rates(x)[1:]) for x in theta]
     np.testing.assert_allclose(gain_small, expected, rtol=RELATIVE)

@@ -8,6 +8,7 @@ import pytest
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
+from feeder.chain.assembly.tracking import track
 from feeder.device.feeder import INDEPENDENT_JOINTS
 from feeder.exceptions import InputError, SingularPoseError
 
@@ -51,7 +52,7 @@ def test_two_independent_joints_on_a_four_bar_are_one_too_many():
         match=r"^this mechanism has 1 degree of freedom; 2 independent joints given "
         r"\(crank_joint, rocker_joint\): make 1 of them independent",
     ):
-        partition.track(closed, np.array([[0.7, 1.5], [0.8, 1.5]]))
+        track(partition, closed, np.array([[0.7, 1.5], [0.8, 1.5]]))
 
 
 def test_fourbar_without_independent_joints(fourbar_urdf):

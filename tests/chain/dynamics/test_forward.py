@@ -16,6 +16,7 @@ import scipy.interpolate
 
 from feeder.chain import Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
+from feeder.chain.assembly.tracking import track
 from feeder.chain.dynamics import budget, forward
 from feeder.chain.dynamics.forward import simulate
 from feeder.chain.dynamics.forward_equations import ForwardEquations, IntegrationError
@@ -215,7 +216,8 @@ def test_the_inverse_dynamics_torque_drives_its_motion(four_bar):
         fine = np.linspace(0.0, 1.0, 2001)
         x = (q0[0] + 2.0 * math.pi * fine + math.pi * fine**2)[:, None]
         dx = (2.0 * math.pi + 2.0 * math.pi * fine)[:, None]
-        q, v, a, _ = partition.track(q0, x, dx, np.full_like(x, 2.0 * math.pi))
+        motion = track(partition, q0, x, dx, np.full_like(x, 2.0 * math.pi))
+        q, v, a = motion.q, motion.v, motion.a
         torque = inverse_dynamics(dyn, q, v, a).actuators["crank_joint"]
         spline = scipy.interpolate.CubicSpline(fine, torque)
         drive = lambda time, q, v: np.array([spline(time)])  # noqa: E731

@@ -17,6 +17,7 @@ import pytest
 
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
+from feeder.chain.assembly.tracking import track
 from feeder.chain.dynamics.inverse import (
     MAX_FORCE_GAIN,
     ChainDynamics,
@@ -66,8 +67,8 @@ def _motion(chain: ClosedChain, samples: int = 21):
     dx = (2.0 * math.pi + 3.0 * t)[:, None]
     ddx = np.full_like(x, 3.0)
     guess = np.array([x[0, 0], -0.35, 1.0])
-    q, v, a, _ = partition.track(partition.assemble(guess), x, dx, ddx)
-    return q, v, a
+    motion = track(partition, partition.assemble(guess), x, dx, ddx)
+    return motion.q, motion.v, motion.a
 
 
 @pytest.fixture(scope="module", params=["revolute", "point"])
@@ -183,7 +184,8 @@ def test_a_weld_cut_needs_the_same_torque_as_a_pin_cut(four_bar):
     guess[index["rocker_joint"]] = q[0, 2]
     guess[index["rocker_b_joint"]] = q[0, 2] - q[0, 0] - q[0, 1] + math.pi
     x = q[:, :1]
-    qw, vw, aw, _ = partition.track(partition.assemble(guess), x, v[:, :1], a[:, :1])
+    welded_motion = track(partition, partition.assemble(guess), x, v[:, :1], a[:, :1])
+    qw, vw, aw = welded_motion.q, welded_motion.v, welded_motion.a
     loads = inverse_dynamics(ChainDynamics(welded, ["crank_joint"]), qw, vw, aw)
     torque = pinned.actuators["crank_joint"]
     scale = np.abs(torque).max()
