@@ -17,14 +17,8 @@ import pytest
 
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
-from feeder.chain.dynamics.inverse import (
-    MAX_FORCE_GAIN,
-    ChainDynamics,
-    _shortcut,
-    inverse_dynamics,
-    load_gain,
-    load_rank,
-)
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.loads_solve import MAX_FORCE_GAIN, _shortcut, load_gain, load_rank
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
