@@ -10,7 +10,8 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
   ride over terrain, a bump, recoil rocking, a hull table);
 * :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
-* :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once;
+* :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at once,
+  and the motion of named frames (:func:`frame_motion`);
 * :mod:`~feeder.chain.assembly` — closed poses from the open one, velocities, accelerations and
   continuation along a motion (:class:`Partition`);
 * :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
@@ -26,6 +27,7 @@ from .dynamics.forward_equations import IntegrationError
 from .dynamics.forward_run import ForwardRun
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+from .kinematics.frames import FrameMotion, frame_motion
 from .mobility import MobilityReport, mobility
 from .model.base import BaseMotion, BaseState
 from .model.closure import ClosedChain, Closure
@@ -55,6 +57,7 @@ __all__ = [
     "Cylinder",
     "ForceElement",
     "ForwardRun",
+    "FrameMotion",
     "HullTable",
     "IntegrationError",
     "JointSpring",
@@ -73,6 +76,7 @@ __all__ = [
     "build_model",
     "check_inertia",
     "check_urdf",
+    "frame_motion",
     "inverse_dynamics",
     "load_closed_chain",
     "load_mechanism",

@@ -28,9 +28,8 @@ backward pass of :mod:`.newton_euler`: Newton–Euler over all samples at once, 
 Pinocchio's RNEA to round-off), and the mount's: the wrench the base's support exerts on the
 whole mechanism.
 
-Data flow: :class:`ChainDynamics` (what does not change along a motion) → :func:`check_motion`
-(the tree's motion and the closure rows) → :mod:`.newton_euler` → :mod:`.loads_solve` →
-:mod:`.reactions` → :class:`ChainLoads`.
+Data flow: :class:`ChainDynamics` → :func:`check_motion` (the tree's motion, the closure rows)
+→ :mod:`.newton_euler` → :mod:`.loads_solve` → :mod:`.reactions` → :class:`ChainLoads`.
 
 On a moving base (:class:`~feeder.chain.model.base.BaseMotion`: a slope, a ride, a hull table)
 q, q̇, q̈ are the motion relative to the base, and every vector (reactions, closure forces, external
@@ -42,8 +41,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
@@ -57,6 +58,7 @@ from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
 from .loads_solve import row_scale, solve_loads
+from .newton_euler import held_wrench
 from .reactions import (
     ClosureWrench,
     JointWrench,
@@ -96,6 +98,9 @@ class ChainLoads:
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
         mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
+        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, by joint
+            id) as the Newton–Euler pass took it: absolute, in the base's axes, idle included.
+        gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
     """
 
@@ -109,7 +114,15 @@ class ChainLoads:
     idle_motions: int
     elements: dict[str, np.ndarray]
     mount: MountWrench
+    motion: TreeMotion
+    gravity: np.ndarray
     base: BaseState | None = None
+
+    def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
+        """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
+        the joint's frame (merged into the body's): force [N], moment [N·m] about the part's
+        centre of gravity, (N, 3) each (:func:`~.newton_euler.held_wrench`)."""
+        return held_wrench(self.motion, self.gravity, joint, inertia)
 
 
 class ChainDynamics:
@@ -164,13 +177,18 @@ class ChainDynamics:
         self.data = chain.model.createData()
         self.elements = BoundElements(chain, elements)
 
+    @cached_property
+    def partition(self) -> Partition:
+        """The chain with the actuated joints as its inputs (:class:`Partition`), built once."""
+        return Partition(self.chain, self.actuated)
+
     def idle_count(self, q: np.ndarray) -> int:
         """Number of idle motions at the closed pose ``q`` with the actuated joints locked
         (:meth:`~feeder.chain.assembly.partition.Partition.idle_motions`; 0 when the locked
         mechanism can still move an origin: then it is under-actuated, which the load solve
         reports)."""
         try:
-            return Partition(self.chain, self.actuated).idle_motions(q).shape[0]
+            return self.partition.idle_motions(q).shape[0]
         except SingularPoseError:
             return 0
 
@@ -311,6 +329,8 @@ def inverse_dynamics(
         idle_motions=count,
         elements=forces,
         mount=mount,
+        motion=motion,
+        gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
     )
 
