@@ -34,7 +34,7 @@ from .model.closure import ClosedChain, Closure
 from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .model.hull_table import HullTable
 from .model.profiles import Bump, Recoil, Slope, Terrain
-from .readers.base_motion import parse_profile, read_hull_table
+from .readers.base_motion import parse_profile, read_base, read_hull_table
 from .readers.forces import read_force_file, read_table
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
@@ -84,6 +84,7 @@ __all__ = [
     "mesh_path",
     "mobility",
     "parse_profile",
+    "read_base",
     "read_force_file",
     "read_hull_table",
     "read_motion",
