@@ -36,7 +36,8 @@ from feeder.chain import (
     read_spec,
     track,
 )
-from feeder.chain.dynamics.inverse import check_motion, solve_loads
+from feeder.chain.dynamics.inverse import check_motion
+from feeder.chain.dynamics.loads_solve import solve_loads
 from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
 from feeder.device import CLOSURE, load_feeder
 

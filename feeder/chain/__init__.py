@@ -11,7 +11,8 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
 * :mod:`~feeder.chain.readers` — model files (URDF, SDF, MJCF), closure side-files (TOML,
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
 * :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at
-  once, and one pose with its kinematics run once (:class:`ChainPose`);
+  once, the motion of named frames (:func:`frame_motion`), and one pose with its kinematics run
+  once (:class:`ChainPose`);
 * :mod:`~feeder.chain.assembly` — closed poses from the open one, the pose check, velocities and
   accelerations (:class:`Partition`, :class:`PoseCheck`), and continuation along a motion
   (:func:`track`, giving a :class:`Trajectory`);
@@ -31,6 +32,7 @@ from .dynamics.forward_equations import IntegrationError
 from .dynamics.forward_run import ForwardRun
 from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+from .kinematics.frames import FrameMotion, frame_motion
 from .kinematics.pose import ChainPose
 from .mobility import MobilityReport, mobility
 from .model.base import BaseMotion, BaseState
@@ -38,7 +40,7 @@ from .model.closure import ClosedChain, Closure
 from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .model.hull_table import HullTable
 from .model.profiles import Bump, Recoil, Slope, Terrain
-from .readers.base_motion import parse_profile, read_hull_table
+from .readers.base_motion import parse_profile, read_base, read_hull_table
 from .readers.forces import read_force_file, read_table
 from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
@@ -62,6 +64,7 @@ __all__ = [
     "Cylinder",
     "ForceElement",
     "ForwardRun",
+    "FrameMotion",
     "HullTable",
     "IntegrationError",
     "JointSpring",
@@ -82,6 +85,7 @@ __all__ = [
     "build_model",
     "check_inertia",
     "check_urdf",
+    "frame_motion",
     "inverse_dynamics",
     "load_closed_chain",
     "load_mechanism",
@@ -89,6 +93,7 @@ __all__ = [
     "mesh_path",
     "mobility",
     "parse_profile",
+    "read_base",
     "read_force_file",
     "read_hull_table",
     "read_motion",

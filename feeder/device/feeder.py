@@ -11,8 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.model.closure import ClosedChain
-from ..chain.readers.urdf import build_model
+from ..chain import ClosedChain, build_model
 from ..exceptions import InputError
 from .builtin import DEVICES
 from .parameters import GRAVITY, FeederParameters

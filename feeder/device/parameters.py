@@ -45,6 +45,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+# The numpy-only module, not feeder.chain: feeder.paper reads the parameters without the pipeline.
 from ..chain.readers.inertia import check_inertia
 from ..exceptions import InputError
 from ..validation import check_number, check_vector

@@ -32,9 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
-from ..chain.model.base import BaseMotion
+from ..chain import BaseMotion
 from ..device.feeder import Feeder
-from ..device.parameters import GRAVITY, VEHICLE_FORWARD
+from ..device.parameters import VEHICLE_FORWARD
 from ..exceptions import ForwardDivergenceError, InputError
 from ..motion.cycle import CycleKinematics, feeding_cycle
 from ..motion.laws import CycleSpec
@@ -123,7 +123,7 @@ def cycle_dynamics(
         feeder: The device.
         elevation: ε [rad].
         spec: Stage durations and sample rate (default :class:`~feeder.motion.laws.CycleSpec`).
-        base: The vehicle's motion (:class:`~feeder.chain.model.base.BaseMotion`, its forward
+        base: The vehicle's motion (:class:`~feeder.chain.BaseMotion`, its forward
             axis :data:`~feeder.device.parameters.VEHICLE_FORWARD`), None for standing level.
             The cycle's motion is relative to the hull; every vector is in the device's axes
             as they move with it (the mount's also in the level axes).
@@ -156,15 +156,13 @@ def cycle_dynamics(
     with tqdm(total=len(steps), desc="cycle", disable=quiet) as bar:
         bar.set_postfix_str(steps[0])
         kinematics = feeding_cycle(feeder, elevation, spec)
-        state = None if base is None else base.state(kinematics.t, GRAVITY)
-        tilt = None if state is None or base.timed else state.gravity[0]
-        dyn = FeederDynamics(feeder, tilt)
+        dyn = FeederDynamics(feeder, base)
         bar.update()
         bar.set_postfix_str(steps[1])
         # The sampled cycle closes the loop away from the toggle by construction: the device's
         # travel was checked when it was loaded (check_device), so no check_motion here.
         motion = SampledMotion(kinematics.q, kinematics.v, kinematics.a, kinematics.gripped)
-        loads = actuator_loads(dyn, motion, state)
+        loads = actuator_loads(dyn, motion, kinematics.t)
         bar.update()
         bar.set_postfix_str(steps[2])
         reactions = joint_reactions(dyn, loads)

@@ -1,10 +1,15 @@
 """The device's dynamics models: the open tree with and without the payload, each with its
-generic closed-chain dynamics (:mod:`feeder.chain.dynamics`) and its constraint containers for
-``constraintDynamics`` (the forward run).
+closed-chain dynamics (:class:`~feeder.chain.ChainDynamics`, which gives the loads and every
+reaction) and its constraint containers for ``constraintDynamics`` (the forward run).
 
 The payload is gripped at the end of stage 1: samples with ``gripped == 0`` use a copy of the
 model whose forearm body lacks the payload's spatial inertia (:func:`payload_inertia`), so the
 loads step at the grip. No URDF is regenerated.
+
+On a vehicle (:class:`~feeder.chain.BaseMotion`) the chain's dynamics take the base's motion as
+the chain takes it: the model stands level and the base's state turns gravity and adds the hull's
+motion at each sample. The forward run takes a slope only, as the model's gravity turned into the
+tilted device's axes.
 """
 
 from __future__ import annotations
@@ -12,9 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.dynamics.forward import BAUMGARTE_RATE
-from ..chain.dynamics.inverse import ChainDynamics
-from ..chain.model.closure import ClosedChain
+from ..chain import BaseMotion, ChainDynamics, ClosedChain
 from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
 
 ACTUATED_JOINTS = ("piston_joint", "forearm_joint")
@@ -22,6 +25,12 @@ ACTUATED_JOINTS = ("piston_joint", "forearm_joint")
 
 PAYLOAD_FRAME = "projectile"
 """Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
+
+BAUMGARTE_RATE = 20.0
+"""Baumgarte rate ω [1/s] of the forward run's pin constraint: Kp = ω², Kd = 2ω, critically
+damped, a loop error decays in 1/ω = 50 ms (the generic run's default,
+:func:`feeder.chain.simulate`); hω = 0.02 at 1 kHz is well inside the integrator's stability
+region."""
 
 PROXIMAL_MU = 1e-8
 """Proximal regularisation of ``constraintDynamics`` [1/kg, the Delassus matrix's unit]. It must
@@ -63,21 +72,39 @@ def gripped_runs(gripped: np.ndarray) -> list[tuple[int, int, int]]:
 class InertiaCase:
     """One Pinocchio model of the device (with or without payload) and its reusable containers.
 
+    Args:
+        model: The open tree standing level (gravity −y).
+        constraint_models: The device's pin closure.
+        base: The vehicle's motion, None for standing level.
+        gravity: The forward run's gravity [m/s²] (3,) on a slope (in the tilted device's axes),
+            None for the model's.
+
     Attributes:
-        model: The open tree, gravity −y.
+        model: The open tree of the forward run: ``model``, with ``gravity`` if given.
         data: Its data.
         constraint_models: The pin closure (``CONTACT_3D``, LOCAL frame of ``piston_pin``), a
             copy of the device's with the Baumgarte corrector set.
         constraint_datas: Their data, initialised for ``constraintDynamics``.
         prox: Proximal settings of ``constraintDynamics``.
-        dynamics: The generic closed-chain dynamics (:class:`~feeder.chain.ChainDynamics`) of
-            this model with the pin closure, the piston and forearm joints actuated.
+        dynamics: The closed-chain dynamics (:class:`~feeder.chain.ChainDynamics`) of the
+            level model with the pin closure, the piston and forearm joints actuated, on
+            ``base``.
     """
 
-    def __init__(self, model: pin.Model, constraint_models: pin.StdVec_RigidConstraintModel):
+    def __init__(
+        self,
+        model: pin.Model,
+        constraint_models: pin.StdVec_RigidConstraintModel,
+        base: BaseMotion | None = None,
+        gravity: np.ndarray | None = None,
+    ):
+        chain = ClosedChain(model, [CLOSURE])
+        self.dynamics = ChainDynamics(chain, ACTUATED_JOINTS, base=base)
+        if gravity is not None:
+            model = pin.Model(model)
+            model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
         self.model = model
         self.data = model.createData()
-        self.dynamics = ChainDynamics(ClosedChain(model, [CLOSURE]), ACTUATED_JOINTS)
         self.constraint_models = pin.StdVec_RigidConstraintModel()
         self.constraint_datas = pin.StdVec_RigidConstraintData()
         for constraint in constraint_models:
@@ -98,8 +125,14 @@ class InertiaCase:
 class FeederDynamics:
     """Everything the dynamics of one device needs that does not change along a cycle.
 
+    Args:
+        feeder: The device.
+        base: The vehicle's motion (its forward axis
+            :data:`~feeder.device.parameters.VEHICLE_FORWARD`), None for standing level.
+
     Attributes:
         feeder: The device.
+        base: The vehicle's motion, or None.
         payload_inertia: Payload spatial inertia in the forearm joint frame
             (:func:`payload_inertia`).
         cases: (without payload, with payload): index it with the ``gripped`` flag.
@@ -108,18 +141,22 @@ class FeederDynamics:
         index: Positions of [φ1, r2, φ3, φ4] in Pinocchio's v (``feeder.index``).
     """
 
-    def __init__(self, feeder: Feeder, gravity: np.ndarray | None = None):
+    def __init__(self, feeder: Feeder, base: BaseMotion | None = None):
         self.feeder = feeder
+        self.base = base
         loaded = pin.Model(feeder.model)
-        if gravity is not None:  # a slope: gravity in the tilted world axes
-            loaded.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
+        tilt = None
+        if base is not None and base.profiles and not base.timed:  # a slope: gravity turned
+            tilt = base.state(np.zeros(1), loaded.gravity.linear).gravity[0]
         self.joint_ids = tuple(loaded.getJointId(name) for name in PAPER_JOINTS)
         forearm = self.joint_ids[3]
         self.payload_inertia = payload_inertia(feeder)
         empty = pin.Model(loaded)
         empty.inertias[forearm] = loaded.inertias[forearm] - self.payload_inertia
         constraints = feeder.chain.constraint_models
-        self.cases = (InertiaCase(empty, constraints), InertiaCase(loaded, constraints))
+        self.cases = tuple(
+            InertiaCase(model, constraints, base, tilt) for model in (empty, loaded)
+        )
         self.index = feeder.index
 
     def to_pinocchio(self, x: np.ndarray) -> np.ndarray:

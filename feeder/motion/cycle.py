@@ -1,6 +1,6 @@
 """The sampled feeding cycle: the prescribed laws (:mod:`feeder.motion.laws`), the closed loop
 (:mod:`feeder.device.loop`) and the payload's path from the URDF model's forward kinematics
-(:mod:`feeder.chain.kinematics.tree`, every sample at once).
+(:func:`feeder.chain.frame_motion`, every sample at once).
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.kinematics.tree import cross, frame_placements, tree_motion
+from ..chain import frame_motion
 from ..device.feeder import Feeder
 from ..device.loop import solve_loop, transmission_angle
 from ..validation import check_elevation
@@ -55,7 +55,7 @@ def payload_kinematics(
     """Payload CG position [m], velocity [m/s], axis (unit, nose first) and closure gap [m].
 
     Forward kinematics of the URDF's model, all samples at once
-    (:func:`~feeder.chain.kinematics.tree.tree_motion`: no per-sample Python call).
+    (:func:`~feeder.chain.frame_motion`: no per-sample Python call).
 
     Args:
         feeder: The device.
@@ -66,18 +66,13 @@ def payload_kinematics(
         over every closure.
     """
     chain = feeder.chain
-    model = chain.model
-    motion = tree_motion(model, feeder.to_pinocchio(q), feeder.to_pinocchio(v))
-    payload = feeder.frame_id("projectile")
-    rotation, position = frame_placements(model, motion, payload)
-    joint = model.frames[payload].parentJoint
-    velocity = motion.velocity[joint] + cross(motion.omega[joint], position - motion.origin[joint])
-    gaps = [
-        frame_placements(model, motion, a)[1] - frame_placements(model, motion, b)[1]
-        for a, b in chain.frame_ids
-    ]
+    cuts = [(closure.frame_a, closure.frame_b) for closure in chain.closures]
+    names = ["projectile", *(name for pair in cuts for name in pair)]
+    frames = frame_motion(chain, names, feeder.to_pinocchio(q), feeder.to_pinocchio(v))
+    payload = frames["projectile"]
+    gaps = [frames[a].position - frames[b].position for a, b in cuts]
     residual = np.linalg.norm(np.hstack(gaps), axis=1)
-    return position, velocity, rotation[:, :, 1], residual
+    return payload.position, payload.velocity, payload.rotation[:, :, 1], residual
 
 
 def feeding_cycle(

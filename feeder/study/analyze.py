@@ -53,7 +53,7 @@ of motion is tilted from gravity by 1e-9 rad feels a gravity it could neglect an
 ROUND_OFF = 1e-9
 """A load's peak at most this share of its scale (:func:`load_scale`) is round-off: the summaries
 print it as 0, without a time. The loads are accepted where their equations hold to
-:data:`~feeder.chain.dynamics.inverse.CONSISTENCY` (1e-9) of their largest term, so nothing
+:data:`~feeder.chain.dynamics.loads_solve.CONSISTENCY` (1e-9) of their largest term, so nothing
 below that share is resolved; a load that is zero in exact arithmetic comes out at ~1e-16 to
 1e-13 of the scale (a free joint's reaction, a drive that gravity perpendicular to the motion
 does not load)."""

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.model.base import BaseMotion
+from ..chain import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics, cycle_dynamics
 from ..motion.laws import CycleSpec

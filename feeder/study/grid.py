@@ -19,8 +19,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from ..chain.model.base import BaseMotion
-from ..chain.model.hull_table import HullTable
+from ..chain import BaseMotion, HullTable
 from ..device.builtin import DEVICES
 from ..device.loop import check_device
 from ..device.parameters import VEHICLE_FORWARD, FeederParameters

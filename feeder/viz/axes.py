@@ -27,7 +27,7 @@ computed from is round-off. Measured: the reaction moments that are zero in exac
 out at most 3 ε times the largest force times the mechanism's size, and the device's Lagrange
 equations differ from Pinocchio by at most 8 ε of the peak load. A thousand ε leaves a margin
 of a hundred over those, and stays more than three decades below the 1e-9 to which the loads'
-own consistency checks hold (:data:`feeder.chain.dynamics.inverse.CONSISTENCY`): nothing the
+own consistency checks hold (:data:`feeder.chain.dynamics.loads_solve.CONSISTENCY`): nothing the
 computation resolves is drawn as zero."""
 
 STYLES = ("-", "--", "-.", ":")

@@ -8,6 +8,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from feeder.chain import BaseMotion, Terrain
 from feeder.device.loop import (
     arm_travel,
     check_transmission,
@@ -16,7 +17,7 @@ from feeder.device.loop import (
     stroke_ratio,
     transmission_angle,
 )
-from feeder.device.parameters import GRAVITY, SINGULAR_TRANSMISSION_DEG
+from feeder.device.parameters import GRAVITY, SINGULAR_TRANSMISSION_DEG, VEHICLE_FORWARD
 from feeder.dynamics.forward import constrained_dynamics
 from feeder.dynamics.inverse import ActuatorLoads, actuator_loads, check_motion
 from feeder.dynamics.models import FeederDynamics
@@ -289,6 +290,30 @@ def test_bad_motion_is_refused(dyn):
         _loads(dyn, q, v[:4], a, flags)
     with pytest.raises(InputError, match=r"gripped must have shape \(5,\), got \(4,\)"):
         _loads(dyn, q, v, a, flags[:4])
+
+
+def test_loads_are_a_view_of_the_chain_s_runs(dyn):
+    """One chain inverse dynamics per run of the grip flag, on the model of that flag; the
+    paper's names read its actuators and closure forces, and a moving base needs the times."""
+    kin = cycle_result(ELEVATIONS_DEG[1]).kinematics
+    loads = _loads(dyn, kin.q, kin.v, kin.a, kin.gripped)
+    assert [(run.gripped, run.samples.stop - run.samples.start) for run in loads.runs] == [
+        (0, int(np.sum(kin.gripped == 0))),
+        (1, int(np.sum(kin.gripped == 1))),
+    ]
+    last = loads.runs[-1]
+    np.testing.assert_array_equal(
+        loads.piston_force[last.samples], last.loads.actuators["piston_joint"]
+    )
+    np.testing.assert_array_equal(loads.closure_force[last.samples], last.loads.closure_forces)
+    assert loads.base is None
+    motion = check_motion(dyn, kin.q[:5], kin.v[:5], kin.a[:5], kin.gripped[:5])
+    with pytest.raises(InputError, match=r"one time per sample, shape \(5,\)"):
+        actuator_loads(dyn, motion, np.zeros(4))
+    riding = FeederDynamics(dyn.feeder, BaseMotion((Terrain(),), VEHICLE_FORWARD))
+    with pytest.raises(InputError, match="the base moves"):
+        actuator_loads(riding, motion)
+    assert actuator_loads(riding, motion, kin.t[:5]).base.rotation.shape == (5, 3, 3)
 
 
 def test_loads_carry_their_checked_motion(dyn):

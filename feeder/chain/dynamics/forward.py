@@ -11,8 +11,8 @@ Drift control: Baumgarte always, and a projection of (q, q̇) back onto the posi
 constraints (:func:`~feeder.chain.dynamics.projection.project`) whenever an accepted step
 leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
 integrator then restarts from the projected state). Singular poses: after every accepted step
-the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.inverse.load_gain`) is
-checked against :data:`~.inverse.MAX_FORCE_GAIN`, the most the inverse dynamics of the samples
+the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.loads_solve.load_gain`) is
+checked against :data:`~.loads_solve.MAX_FORCE_GAIN`, the most the inverse dynamics of the samples
 accept: a run that passes it (a toggle, a dead centre ahead, where the closure forces grow
 without bound and the steps shrink) stops there with an :class:`IntegrationError` naming the
 time, rather than crawl through the pose and have its samples refused after the whole run.
@@ -48,14 +48,8 @@ from .budget import (
 )
 from .forward_equations import Actuation, ForwardEquations, IntegrationError
 from .forward_run import ForwardRun
-from .inverse import (
-    MAX_FORCE_GAIN,
-    ChainDynamics,
-    check_dynamics,
-    inverse_dynamics,
-    load_gain,
-    load_rank,
-)
+from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
+from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
 from .stiffness import StiffnessTest, step_advice, stiff_warning
 
@@ -273,7 +267,7 @@ def _singular(
     """The error of a run that reaches a singular pose in its step from ``start`` to ``end``
     [s] (``state``: the step's state at a time, its dense output; ``start == end``: at the
     start of the run): the loads' equations there have a condition number above
-    :data:`~feeder.chain.dynamics.inverse.MAX_FORCE_GAIN`, which
+    :data:`~feeder.chain.dynamics.loads_solve.MAX_FORCE_GAIN`, which
     :func:`~feeder.chain.dynamics.inverse.inverse_dynamics` would refuse at an output sample
     after the whole run (and near which the run itself crawls: the constraint forces grow
     without bound). The time it is passed is found to 1/1024 of the step by bisection."""

@@ -21,7 +21,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..kinematics.rows import ClosureKinematics
-from ..kinematics.tree import TreeMotion, generalized_forces, joint_wrenches, tree_motion
+from ..kinematics.tree import TreeMotion, tree_motion
+from .newton_euler import generalized_forces, joint_wrenches
 
 INERTIA_RANK = 1e-12
 """Idle inertias Nᵀ M N below this fraction of the mass matrix's scale count as zero (round-off of

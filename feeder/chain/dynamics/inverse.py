@@ -12,20 +12,24 @@ when the closure forces λ act at the cuts and the actuators drive the named joi
   moment [N·m] for the rotation rows, and the opposite on the body of ``frame_b``;
 * S selects the actuated joints' velocity components; τ are their generalized forces.
 
-nv equations in n_act + nc unknowns, solved for all samples at once. The actuator loads must be
-determined (otherwise the actuation itself is singular: :class:`SingularPoseError`) and the
-equations consistent (otherwise the actuated joints cannot produce the motion:
-:class:`InputError`). Closure rows that repeat others (a planar loop) leave a null space of
-statically indeterminate forces: the answer given is the one of minimum ‖K^(−1/2) λ‖, K the
-optional per-row stiffness (default 1: minimum norm, SI units) — the forces a set of elastic
-supports of stiffness K would share — and those rows are listed in
+nv equations in n_act + nc unknowns, solved for all samples at once (:mod:`.loads_solve`). The
+actuator loads must be determined (otherwise the actuation itself is singular:
+:class:`SingularPoseError`) and the equations consistent (otherwise the actuated joints cannot
+produce the motion: :class:`InputError`). Closure rows that repeat others (a planar loop) leave a
+null space of statically indeterminate forces: the answer given is the one of minimum
+‖K^(−1/2) λ‖, K the optional per-row stiffness (default 1: minimum norm, SI units) — the forces a
+set of elastic supports of stiffness K would share — and those rows are listed in
 :attr:`ChainLoads.indeterminate`.
 
 The reaction wrench of every joint of the tree is the wrench its parent exerts on its child,
 world axes, moment about the joint's origin: the rate of momentum of the child's subtree less
-gravity, the closure forces and the external wrenches acting on it
-(:mod:`feeder.chain.kinematics.tree`: Newton–Euler over all samples at once, equal to Pinocchio's
-RNEA to round-off), and the mount's: the wrench the base's support exerts on the whole mechanism.
+gravity, the closure forces and the external wrenches acting on it (:mod:`.reactions`, by the
+backward pass of :mod:`.newton_euler`: Newton–Euler over all samples at once, equal to
+Pinocchio's RNEA to round-off), and the mount's: the wrench the base's support exerts on the
+whole mechanism.
+
+Data flow: :class:`ChainDynamics` → :func:`check_motion` (the tree's motion, the closure rows)
+→ :mod:`.newton_euler` → :mod:`.loads_solve` → :mod:`.reactions` → :class:`ChainLoads`.
 
 On a moving base (:class:`~feeder.chain.model.base.BaseMotion`: a slope, a ride, a hull table)
 q, q̇, q̈ are the motion relative to the base, and every vector (reactions, closure forces, external
@@ -39,30 +43,26 @@ and the checks that decide which of them may answer share their tolerances and t
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
-from ..assembly.newton import RANK_TOLERANCE
 from ..assembly.partition import Partition
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
-from ..kinematics.tree import (
-    TreeMotion,
-    generalized_forces,
-    joint_wrenches,
-    on_base,
-    tree_motion,
-)
+from ..kinematics.tree import TreeMotion, on_base, tree_motion
 from ..model.base import BaseMotion, BaseState
 from ..model.closure import ClosedChain
 from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
+from .loads_solve import row_scale, solve_loads
+from .newton_euler import held_wrench
 from .reactions import (
     ClosureWrench,
     JointWrench,
@@ -75,31 +75,6 @@ CLOSURE_TOLERANCE = 1e-9
 """Largest accepted closure residual [m, rad] of a prescribed configuration, and (per second,
 per second²) of its velocity and acceleration rows: assembly closes loops to ~1e-13; 1e-9 leaves
 room for motion data rounded to 9 digits."""
-
-CONSISTENCY = 1e-9
-"""Largest accepted residual of the dynamic equations, relative to their largest term: the
-actuated joints can produce the motion (round-off is ~1e-14)."""
-
-NULL_SPACE = 1e-6
-"""A null-space direction of the equations "involves" an unknown when its component there exceeds
-this (directions are unit vectors; round-off components are ~1e-15)."""
-
-NORMAL_EQUATIONS = 1e3
-"""Largest condition number for which the minimum-norm solution comes from the normal
-equations A Aᵀ y = b (which square it: 1e6 × 1e-16 of relative round-off, below the 1e-9 of the
-checks); worse-conditioned samples take the singular value decomposition."""
-
-RANK_SUBSAMPLE = 32
-"""Samples of a motion on which the closure rows' rank is measured (their structural rank: the
-largest found; a motion's rank only drops at isolated singular poses)."""
-
-MAX_FORCE_GAIN = 1e4
-"""Largest accepted condition number of the equations' determined part (σ_max over the smallest
-non-zero singular value of [Sᵀ Jᵀ], SI units). It grows without bound near a toggle or dead
-centre (like the inverse square root of the distance): measured 10–16 along the device's cycles,
-5–33 for the examples, 2.5e3 a tenth of a milliradian from the rocker-driven four-bar's dead
-centre (its velocity gain there is 100) and 8e4 a tenth of a microradian from it. 1e4, six
-hundred times the device's worst, refuses loads that the last digits of the geometry decide."""
 
 CONVENTION = (
     "statically indeterminate closure forces: minimum ‖K^(-1/2) λ‖ (K the per-row stiffness, "
@@ -127,6 +102,9 @@ class ChainLoads:
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
         mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
+        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, by joint
+            id) as the Newton–Euler pass took it: absolute, in the base's axes, idle included.
+        gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
     """
 
@@ -140,7 +118,15 @@ class ChainLoads:
     idle_motions: int
     elements: dict[str, np.ndarray]
     mount: MountWrench
+    motion: TreeMotion
+    gravity: np.ndarray
     base: BaseState | None = None
+
+    def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
+        """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
+        the joint's frame (merged into the body's): force [N], moment [N·m] about the part's
+        centre of gravity, (N, 3) each (:func:`~.newton_euler.held_wrench`)."""
+        return held_wrench(self.motion, self.gravity, joint, inertia)
 
 
 class ChainDynamics:
@@ -191,23 +177,14 @@ class ChainDynamics:
         self.columns = chain.coordinate_columns(actuated, "actuated").tolist()
         self.chain = chain
         self.actuated = tuple(actuated)
-        weights = np.ones(chain.nc)
-        labels = [closure.label for closure in chain.closures]
-        for label, values in (stiffness or {}).items():
-            if label not in labels:
-                raise InputError(
-                    f"stiffness given for unknown closure {label!r}; closures: {labels}"
-                )
-            rows = chain.row_slices[labels.index(label)]
-            values = check_finite(f"stiffness of {label!r}", values)
-            if values.shape != (rows.stop - rows.start,) or np.any(values <= 0.0):
-                raise InputError(
-                    f"stiffness of {label!r} must be {rows.stop - rows.start} positive numbers"
-                )
-            weights[rows] = values
-        self.row_scale = np.sqrt(weights)
+        self.row_scale = row_scale(chain, stiffness or {})
         self.data = chain.model.createData()
         self.elements = BoundElements(chain, elements)
+
+    @cached_property
+    def partition(self) -> Partition:
+        """The chain with the actuated joints as its inputs (:class:`Partition`), built once."""
+        return Partition(self.chain, self.actuated)
 
     def idle_count(self, q: np.ndarray) -> int:
         """Number of idle motions at the closed pose ``q`` with the actuated joints locked
@@ -215,7 +192,7 @@ class ChainDynamics:
         mechanism can still move an origin: then it is under-actuated, which the load solve
         reports)."""
         try:
-            return Partition(self.chain, self.actuated).idle_motions(q).shape[0]
+            return self.partition.idle_motions(q).shape[0]
         except SingularPoseError:
             return 0
 
@@ -356,6 +333,8 @@ def inverse_dynamics(
         idle_motions=count,
         elements=forces,
         mount=mount,
+        motion=motion,
+        gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
     )
 
@@ -373,166 +352,3 @@ def _times(dyn: ChainDynamics, t: np.ndarray | None, n: int) -> np.ndarray:
         raise InputError(f"t must have one time per sample, shape ({n},), got {t.shape}")
     dyn.elements.check_covers(float(t.min()), float(t.max()))
     return t
-
-
-def solve_loads(
-    dyn: ChainDynamics,
-    motion: TreeMotion,
-    rows: ClosureKinematics,
-    external: list[tuple[int, np.ndarray]] = (),
-) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
-    """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring), and the labels of the indeterminate closure rows."""
-    model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external)
-    tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
-    n_act = len(dyn.columns)
-    system = load_equations(dyn, rows.jacobian)
-    solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels())
-    return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale, indeterminate
-
-
-def load_equations(dyn: ChainDynamics, jacobian: np.ndarray) -> np.ndarray:
-    """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
-    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
-    rows' Jacobians J (N, nc, nv)."""
-    n, nc, nv = jacobian.shape
-    n_act = len(dyn.columns)
-    system = np.zeros((n, nv, n_act + nc))
-    system[:, dyn.columns, np.arange(n_act)] = 1.0
-    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * dyn.row_scale
-    return system
-
-
-def load_rank(dyn: ChainDynamics, q: np.ndarray) -> int:
-    """The rank the loads' equations have at a closed pose q (nq,) away from singular poses:
-    the actuated joints' count plus the closure rows' rank there, at most nv (as
-    :func:`inverse_dynamics` expects of every sample)."""
-    rank = np.linalg.matrix_rank(dyn.chain.jacobian(q)) if dyn.chain.nc else 0
-    return min(dyn.chain.model.nv, len(dyn.columns) + int(rank))
-
-
-def load_gain(dyn: ChainDynamics, q: np.ndarray, rank: int) -> float:
-    """Condition number of the loads' equations at the pose q (nq,): the largest singular value
-    of :func:`load_equations` over its ``rank``-th (:func:`load_rank`; infinite where the rank
-    has dropped, 1 with no unknown). :func:`inverse_dynamics` refuses a sample above
-    :data:`MAX_FORCE_GAIN`."""
-    if rank == 0:
-        return 1.0
-    system = load_equations(dyn, dyn.chain.jacobian(q)[None])[0]
-    s = np.linalg.svd(system, compute_uv=False)
-    return float(s[0] / s[rank - 1]) if s[rank - 1] > RANK_TOLERANCE * s[0] else math.inf
-
-
-def _solve(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str]
-) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Minimum-norm solutions of system[k] x = rhs[k] (n, nv, nx), after the checks of the module
-    docstring; returns x (n, nx) and the labels of indeterminate closure rows.
-
-    Where a sample's system has full row rank and a small condition number (every sample of a
-    well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
-    (:func:`_shortcut`); the other samples, and a subsample for the structural checks (the null
-    space of the equations), go through the singular value decomposition."""
-    n = system.shape[0]
-    if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
-        return np.zeros((n, 0)), ()
-    fast, inverse = _shortcut(system)
-    solution = np.empty((n, system.shape[2]))
-    if np.any(fast):
-        solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
-    stride = max(1, n // RANK_SUBSAMPLE)
-    checked = np.zeros(n, dtype=bool)
-    checked[::stride] = True
-    detailed = ~fast | checked
-    structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
-    expected = min(system.shape[1], n_act + structural)
-    indices = np.flatnonzero(detailed)
-    exact, null = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices)
-    solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
-    indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
-    return solution, indeterminate
-
-
-def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Which samples of system (n, nv, nx) are certainly well-conditioned (bool (n,)), and for
-    them the right inverse A⁺ (n, nx, nv): A⁻¹ when square (round-off cond(A) ε), else
-    Aᵀ (A Aᵀ)⁻¹ (the normal equations square the condition number). The test needs no
-    decomposition: cond(B) ≤ ‖B‖_F ‖B⁻¹‖_F for B = A, or B = A Aᵀ whose condition number is
-    cond(A)². A near-singular B gives a computed inverse of huge norm (backward stability: it
-    is the inverse of a matrix within round-off of B), so the bound cannot pass by accident; a
-    doubtful sample takes the singular value decomposition, which also refuses a singular one."""
-    square = system.shape[1] == system.shape[2]
-    matrix = system if square else system @ np.swapaxes(system, 1, 2)
-    try:
-        inverse = np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:  # some sample is exactly singular: the others one by one
-        inverse = np.array([_inverse_or_nan(m) for m in matrix])
-    with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
-    fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
-    if not square:
-        inverse = np.swapaxes(system, 1, 2) @ inverse
-    return fast, inverse
-
-
-def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
-    try:
-        return np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:
-        return np.full_like(matrix, np.nan)
-
-
-def _solve_svd(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, expected: int, samples: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The singular-value path of :func:`_solve` on some samples (their indices in the motion:
-    ``samples``, for the messages): the checks (singular actuation, consistency, determined
-    actuator loads), the minimum-norm solutions and which unknowns a null-space direction
-    involves (nx,) bool. ``expected``: the rank the actuators and the closure rows can give."""
-    u, s, vt = np.linalg.svd(system, full_matrices=True)
-    scale = np.maximum(s[:, :1], 1e-300)
-    rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
-    inverse = np.where(rank_mask, 1.0 / np.where(rank_mask, s, 1.0), 0.0)
-    rank = rank_mask.sum(axis=1)
-    smallest = s[np.arange(s.shape[0]), np.maximum(rank - 1, 0)]
-    gain = s[:, 0] / np.maximum(smallest, 1e-300)
-    worst = int(np.argmax(gain))
-    refused = (gain > MAX_FORCE_GAIN) | (rank < expected)
-    if np.any(refused):
-        i = int(np.argmax(refused))  # the first sample refused
-        why = (
-            f"condition number {gain[i]:.3g} > {MAX_FORCE_GAIN:g}"
-            if rank[i] >= expected
-            else "the equations lose rank: the actuated joints lose their hold on the motion"
-        )
-        raise SingularPoseError(
-            f"sample {samples[i]} is at or near a singular pose (toggle, dead centre) of the "
-            f"mechanism or its actuation: the loads are unbounded there "
-            f"({why}; the worst sample: {samples[worst]}, condition number {gain[worst]:.3g})",
-            sample=int(samples[i]),
-        )
-    k = min(system.shape[1:])
-    projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)
-    solution = np.einsum("nij,nj->ni", np.swapaxes(vt[:, :k, :], 1, 2), inverse * projected)
-    misfit = np.abs(np.einsum("nij,nj->ni", system, solution) - rhs).max(axis=1)
-    size = np.maximum(
-        np.abs(rhs).max(axis=1), np.abs(system).max(axis=(1, 2)) * np.abs(solution).max(axis=1)
-    )
-    worst = int(np.argmax(misfit / np.maximum(size, 1e-300)))
-    if misfit[worst] > CONSISTENCY * max(size[worst], 1e-300):
-        raise InputError(
-            f"the actuated joints cannot produce the motion: the equations of motion leave a "
-            f"residual of {misfit[worst]:.3e} (choose other actuated joints)"
-        )
-    null = np.zeros(system.shape[2], dtype=bool)
-    for r in np.unique(rank):  # samples of equal rank share the null-space dimension
-        basis = vt[rank == r, r:, :]  # (samples, dim, nx)
-        if basis.size and np.abs(basis[:, :, :n_act]).max() > NULL_SPACE:
-            raise SingularPoseError(
-                "the actuator loads are not determined: the actuated joints and the closures "
-                "can balance each other without load (a singular or redundant actuation)"
-            )
-        if basis.size:
-            null |= np.abs(basis).max(axis=(0, 1)) > NULL_SPACE
-    return solution, null

@@ -1,6 +1,6 @@
 """Reaction wrenches: each closure's wrench on its two bodies and every joint's reaction, from the
 closure forces of :mod:`feeder.chain.dynamics.inverse` (Newton–Euler over all samples at once,
-:mod:`feeder.chain.kinematics.tree`)."""
+:mod:`feeder.chain.dynamics.newton_euler`)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kinematics.rows import ClosureKinematics
-from ..kinematics.tree import TreeMotion, joint_wrenches
+from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
+from .newton_euler import joint_wrenches
 
 
 @dataclass(frozen=True)

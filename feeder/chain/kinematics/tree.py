@@ -1,4 +1,4 @@
-"""Kinematics and Newton–Euler dynamics of a tree at every sample at once (numpy, world frame).
+"""Kinematics of a tree at every sample at once (numpy, world frame): the forward recursions.
 
 One Pinocchio call per sample costs a Python round trip each; for the thousands of samples of a
 motion the same recursions run here over the joint tree once, on arrays of all samples, for every
@@ -13,12 +13,9 @@ relative to "before" (R_rel, p_rel, w_rel, v_rel, α_rel, a_rel; columns A, B):
   a_j = a_p + α_p × r + ω_p × (ω_p × r) + 2 ω_p × R_b v_rel + R_b a_rel;
 * the joint's world columns at its origin: linear R_b B, angular R_b A (its motion subspace).
 
-The backward pass (Newton–Euler) gives the wrench each joint transmits, parent on child, about
-its origin: the rate of momentum of its subtree less gravity and the external wrenches applied
-to it. Its components along the joint's columns are the joint's generalized forces: Pinocchio's
-RNEA to round-off (tests/chain/kinematics/test_tree.py checks both passes against Pinocchio).
-The pass ends at the base (joint 0): the wrench the mount exerts on the whole mechanism, its base
-link included.
+The backward pass that turns this motion into forces (Newton–Euler) is in
+:mod:`feeder.chain.dynamics.newton_euler`; tests/chain/kinematics/test_tree.py checks both passes
+against Pinocchio.
 
 On a moving base (:func:`on_base`) the same recursions hold in the base's moving axes: the base's
 angular velocity Ω, angular acceleration Ω̇ and origin acceleration a₀ seed joint 0, and each
@@ -222,59 +219,3 @@ def point_jacobian(model: pin.Model, motion: TreeMotion, frame: int) -> np.ndarr
         jac[:, 3:, columns] = motion.angular[j]
         j = model.parents[j]
     return jac
-
-
-def joint_wrenches(
-    model: pin.Model, motion: TreeMotion, external: list[tuple[int, np.ndarray]] = ()
-) -> tuple[np.ndarray, np.ndarray]:
-    """Backward Newton–Euler pass (module docstring): the wrench each joint transmits, parent on
-    child, world axes about the joint's origin — lists by joint id of force (N, 3) [N] and
-    moment (N, 3) [N·m] — with the motion's gravity (the model's by default). Entry 0 is the
-    mount's: the wrench on the base link from what holds it, about the model's origin.
-
-    Args:
-        external: (frame id, world wrench (N, 6) [force, moment about the frame's origin])
-            applied to the frame's body.
-    """
-    n, count = motion.origin[0].shape[0], model.njoints
-    gravity = model.gravity.linear if motion.gravity is None else motion.gravity
-    force = [np.zeros((n, 3)) for _ in range(count)]
-    moment = [np.zeros((n, 3)) for _ in range(count)]
-    for j in range(count):  # 0: the base link, moving with the base
-        inertia = model.inertias[j]
-        rot = motion.rotation[j]
-        lever = _apply(rot, inertia.lever)  # joint origin → centre of gravity, world
-        w, dw = motion.omega[j], motion.alpha[j]
-        a_g = motion.acceleration[j] + cross(dw, lever) + cross(w, cross(w, lever))
-        f = inertia.mass * (a_g - gravity)
-        # I ω̇ + ω × I ω with I = R I_local Rᵀ, evaluated in the body's axes.
-        w_local, dw_local = _turn(np.swapaxes(rot, 1, 2), w), _turn(np.swapaxes(rot, 1, 2), dw)
-        spin = w_local @ inertia.inertia
-        n_local = dw_local @ inertia.inertia + cross(w_local, spin)
-        force[j] = f
-        moment[j] = _turn(rot, n_local) + cross(lever, f)
-    for frame, wrench in external:
-        j = model.frames[frame].parentJoint
-        _, point = frame_placements(model, motion, frame)
-        force[j] = force[j] - wrench[:, :3]
-        moment[j] = moment[j] - wrench[:, 3:] - cross(point - motion.origin[j], wrench[:, :3])
-    for j in range(count - 1, 0, -1):  # children have larger ids than their parents
-        p = model.parents[j]
-        force[p] = force[p] + force[j]
-        moment[p] = moment[p] + moment[j] + cross(motion.origin[j] - motion.origin[p], force[j])
-    return force, moment
-
-
-def generalized_forces(
-    model: pin.Model, motion: TreeMotion, force: list[np.ndarray], moment: list[np.ndarray]
-) -> np.ndarray:
-    """Each joint's generalized forces (N, nv): its columns' components of the wrench it
-    transmits, Lᵀ force + Wᵀ moment (e · moment for a revolute joint, e · force for a prismatic
-    one)."""
-    tau = np.zeros((force[0].shape[0], model.nv))
-    for j in range(1, model.njoints):
-        k = model.joints[j].idx_v
-        tau[:, k : k + model.joints[j].nv] = np.einsum(
-            "nik,ni->nk", motion.linear[j], force[j]
-        ) + np.einsum("nik,ni->nk", motion.angular[j], moment[j])
-    return tau

@@ -20,13 +20,8 @@ from feeder.chain.assembly.tracking import track
 from feeder.chain.dynamics import budget, forward
 from feeder.chain.dynamics.forward import simulate
 from feeder.chain.dynamics.forward_equations import ForwardEquations, IntegrationError
-from feeder.chain.dynamics.inverse import (
-    MAX_FORCE_GAIN,
-    ChainDynamics,
-    inverse_dynamics,
-    load_gain,
-    load_rank,
-)
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from feeder.chain.dynamics.stiffness import element_rates
 from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
 from feeder.exceptions import FeederWarning, InputError

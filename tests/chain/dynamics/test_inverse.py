@@ -18,16 +18,12 @@ import pytest
 from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
 from feeder.chain.assembly.tracking import track
-from feeder.chain.dynamics.inverse import (
-    MAX_FORCE_GAIN,
-    ChainDynamics,
-    _shortcut,
-    inverse_dynamics,
-    load_gain,
-    load_rank,
-)
+from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.loads_solve import MAX_FORCE_GAIN, _shortcut, load_gain, load_rank
 from feeder.chain.readers.urdf import build_model
+from feeder.device import load_feeder
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
+from feeder.motion import CycleSpec, feeding_cycle
 
 from ...conftest import REPO
 
@@ -52,6 +48,10 @@ BALANCE = 1e-11
 
 SHARE = 1e-12
 """Relative: the stiffness split is one linear solve; round-off ~1e-15 of the force."""
+
+HELD = 1e-12
+"""[m] Relative to the largest force, times 1 m for the moments (the forearm's lever arms are
+under a metre): one body's Newton–Euler terms evaluated two ways, round-off ~1e-15."""
 
 
 def _gravity(chain: ClosedChain) -> ClosedChain:
@@ -219,6 +219,29 @@ def test_stiffness_splits_an_indeterminate_force(tmp_path):
     stiff, soft = loads.closures["stiff"].force, loads.closures["soft"].force
     np.testing.assert_allclose(stiff, 3.0 * soft, rtol=0, atol=SHARE * np.abs(stiff).max())
     assert {label.split(":")[0] for label in loads.indeterminate} == {"stiff", "soft"}
+
+
+def test_a_held_part_that_is_its_whole_body_carries_the_joint_reaction():
+    """The wrench that holds a part (:meth:`ChainLoads.held_wrench`) of the device's forearm, a
+    leaf body with no cut and no external load on it: taken as the forearm's whole inertia, it
+    is the forearm joint's reaction, its moment moved from the centre of gravity to the joint."""
+    feeder = load_feeder("projectile")
+    cycle = feeding_cycle(feeder, math.radians(30.0), CycleSpec(rate=100.0))
+    q, v, a = (feeder.to_pinocchio(x) for x in (cycle.q, cycle.v, cycle.a))
+    dyn = ChainDynamics(feeder.chain, ["piston_joint", "forearm_joint"])
+    loads = inverse_dynamics(dyn, q, v, a)
+    model = feeder.model
+    joint = model.getJointId("forearm_joint")
+    inertia = model.inertias[joint]
+    force, moment = loads.held_wrench(joint, inertia)
+    reaction = loads.joints["forearm_joint"]
+    lever = np.einsum("nij,j->ni", loads.motion.rotation[joint], inertia.lever)
+    scale = np.abs(reaction.force).max()
+    np.testing.assert_allclose(force, reaction.force, rtol=0, atol=HELD * scale)
+    np.testing.assert_allclose(
+        moment + np.cross(lever, force), reaction.moment, rtol=0, atol=HELD * scale
+    )
+    np.testing.assert_array_equal(loads.gravity, model.gravity.linear)
 
 
 def test_refusals(four_bar):

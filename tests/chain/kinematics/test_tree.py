@@ -9,15 +9,10 @@ import pinocchio as pin
 import pytest
 
 from feeder.chain import Closure, load_closed_chain
+from feeder.chain.dynamics.newton_euler import generalized_forces, joint_wrenches
 from feeder.chain.kinematics.joints import kind_of
 from feeder.chain.kinematics.rows import closure_kinematics
-from feeder.chain.kinematics.tree import (
-    frame_placements,
-    generalized_forces,
-    joint_wrenches,
-    point_jacobian,
-    tree_motion,
-)
+from feeder.chain.kinematics.tree import frame_placements, point_jacobian, tree_motion
 from feeder.device import load_feeder
 from feeder.exceptions import InputError
 
