@@ -150,12 +150,12 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
         FeederDynamics,
         ForceRule,
         actuator_loads,
-        check_motion,
-        joint_reactions,
-        simulate,
+        check_cycle_motion,
+        pin_reactions,
+        simulate_feeder,
     )
     from feeder.motion.cycle import feeding_cycle
-    from feeder.paper import inverse_dynamics as lagrange_loads
+    from feeder.paper import lagrange_loads
     from feeder.study.csv import write_csv
     from feeder.study.cycle_study import run_cycle_study
     from feeder.viz.report import FigureData, draw, png_bytes, study_figure_names
@@ -166,7 +166,7 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
     kin = feeding_cycle(feeder, elevation)
     n = kin.t.size
     dyn = FeederDynamics(feeder)
-    motion = check_motion(dyn, kin.q, kin.v, kin.a, kin.gripped)
+    motion = check_cycle_motion(dyn, kin.q, kin.v, kin.a, kin.gripped)
     loads = actuator_loads(dyn, motion)
     case = dyn.cases[1]
     q, v, tau = (dyn.to_pinocchio(x) for x in (kin.q, kin.v, loads.generalized_forces()))
@@ -191,8 +191,8 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
     figures["bare_call_us"] = call * 1e6
     figures["kinematics"] = best_time(lambda: feeding_cycle(feeder, elevation), repeats)
     figures["inverse_dynamics"] = best_time(lambda: actuator_loads(dyn, motion), repeats)
-    figures["reactions"] = best_time(lambda: joint_reactions(dyn, loads), repeats)
-    figures["forward"] = best_time(lambda: simulate(dyn, rule, kin.q[0], kin.v[0]), repeats)
+    figures["reactions"] = best_time(lambda: pin_reactions(dyn, loads), repeats)
+    figures["forward"] = best_time(lambda: simulate_feeder(dyn, rule, kin.q[0], kin.v[0]), repeats)
     figures["lagrange"] = best_time(lambda: lagrange_loads(*hand), repeats, calls=20)
     figures["kinematics_calls"] = figures["kinematics"] / n / call
     figures["inverse_calls"] = (figures["inverse_dynamics"] + figures["reactions"]) / n / call

@@ -13,8 +13,16 @@ tests/test_layers.py checks it):
 * :mod:`feeder.viz` — figures (matplotlib Figures) and the MeshCat viewer;
 * :mod:`feeder.outputs` — the files a study writes.
 
-The names below are the public API that the README, the notebooks and the command line use.
-Errors are :class:`FeederError` and its subclasses in :mod:`feeder.exceptions`.
+The names below are the device's workflow, the public API that the README, the notebooks and
+the command line use: load a feeder (:func:`load_feeder`, :class:`FeederParameters`), its loop
+and workspace, a cycle study (:class:`CycleSpec` → :func:`run_cycle_study` →
+:class:`CycleStudy`, :func:`write_cycle_outputs`, :func:`read_csv`), sweeps over elevation and
+variants (:func:`elevation_sweep`, :func:`run_sweep`, :func:`retrofit`) and the paper's errata.
+Names for any mechanism (:class:`~feeder.chain.ClosedChain`, :class:`~feeder.chain.Partition`,
+:func:`~feeder.chain.load_mechanism`, :class:`~feeder.chain.BaseMotion` and its profiles, …)
+are in :mod:`feeder.chain` only; the rest of a layer is reached through it (e.g.
+:class:`feeder.device.LinkInertia`, :data:`feeder.device.parameters.VEHICLE_FORWARD`). Errors are
+:class:`FeederError` and its subclasses in :mod:`feeder.exceptions`.
 
 Each name (and each layer, e.g. ``feeder.viz``) is imported when it is first used, not by
 ``import feeder``: Pinocchio, and matplotlib above all, take most of a short command's time,
@@ -27,21 +35,8 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
-    from .chain import (
-        BaseMotion,
-        Bump,
-        ClosedChain,
-        Partition,
-        Recoil,
-        Slope,
-        Terrain,
-        load_closed_chain,
-        load_mechanism,
-        read_spec,
-    )
-    from .device import DEVICES, Feeder, FeederParameters, LinkInertia, load_feeder, loop_state
+    from .device import DEVICES, Feeder, FeederParameters, load_feeder, loop_state
     from .device.loop import required_stroke, transmission_angle
-    from .device.parameters import VEHICLE_FORWARD
     from .exceptions import FeederError, FeederWarning
     from .motion import CycleSpec, feeding_cycle, workspace
     from .outputs import write_cycle_outputs
@@ -59,30 +54,18 @@ __version__ = "0.1.0"
 
 __all__ = [
     "DEVICES",
-    "VEHICLE_FORWARD",
-    "BaseMotion",
-    "Bump",
-    "ClosedChain",
     "CycleSpec",
     "CycleStudy",
     "Feeder",
     "FeederError",
     "FeederParameters",
     "FeederWarning",
-    "LinkInertia",
-    "Partition",
-    "Recoil",
-    "Slope",
-    "Terrain",
     "elevation_sweep",
     "feeding_cycle",
-    "load_closed_chain",
     "load_feeder",
-    "load_mechanism",
     "loop_state",
     "paper_errata",
     "read_csv",
-    "read_spec",
     "required_stroke",
     "retrofit",
     "run_cycle_study",
@@ -93,21 +76,9 @@ __all__ = [
 ]
 
 _SOURCES = {
-    "BaseMotion": ".chain",
-    "Bump": ".chain",
-    "Recoil": ".chain",
-    "Slope": ".chain",
-    "Terrain": ".chain",
-    "VEHICLE_FORWARD": ".device.parameters",
-    "ClosedChain": ".chain",
-    "Partition": ".chain",
-    "load_closed_chain": ".chain",
-    "load_mechanism": ".chain",
-    "read_spec": ".chain",
     "DEVICES": ".device",
     "Feeder": ".device",
     "FeederParameters": ".device",
-    "LinkInertia": ".device",
     "load_feeder": ".device",
     "loop_state": ".device",
     "required_stroke": ".device.loop",

@@ -7,7 +7,8 @@ import-linter (which also gives ``lint-imports`` on the command line): chain →
 exceptions; inside chain, model → readers | kinematics → assembly → mobility → dynamics;
 ``feeder.paper`` reaches neither Pinocchio nor the pipeline, directly or not; the device's layers
 (device, motion, dynamics, paper, the device's studies) import ``feeder.chain``'s public names
-only, the names of ``feeder/chain/__init__.py``.
+only: those of ``feeder.chain``, ``feeder.chain.readers`` and ``feeder.chain.results`` (never
+the modules inside them).
 """
 
 from __future__ import annotations

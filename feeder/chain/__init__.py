@@ -20,87 +20,61 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
   motions, distance to a singular pose;
 * :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
   reaction) and forward runs with error control (:func:`simulate`).
+
+The names below are the workflow for any mechanism: read it (:func:`read_spec`,
+:func:`load_mechanism`, or :func:`load_closed_chain` for a URDF and closures given in code), its
+closures and base motion, assemble and track it (:class:`Partition`, :func:`track`), count its
+freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
+:func:`inverse_dynamics`, :func:`simulate`, the force elements). Two public groupings hold the
+rest:
+
+* :mod:`feeder.chain.readers` — the individual readers and their records (``read_urdf``,
+  ``build_model``, ``read_motion`` → ``MotionTable``, ``read_base``, ``read_force_file``,
+  ``MechanismSpec``, …);
+* :mod:`feeder.chain.results` — what the workflow returns (``ChainLoads``, ``JointWrench``,
+  ``ForwardRun``, ``Trajectory``, ``PoseCheck``, ``MobilityReport``, …), for type annotations.
+
+Tolerances and limits (``MAX_GAIN``, ``POSITION_TOLERANCE``) live next to where they are checked
+(:mod:`feeder.chain.assembly.partition`).
 """
 
-from .assembly.check import PoseCheck
-from .assembly.partition import MAX_GAIN, POSITION_TOLERANCE, Partition
+from .assembly.partition import Partition
 from .assembly.tracking import track
-from .assembly.trajectory import Trajectory
-from .dynamics.derivatives import mass_matrix_derivative
 from .dynamics.forward import simulate
-from .dynamics.forward_equations import IntegrationError
-from .dynamics.forward_run import ForwardRun
-from .dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
-from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
-from .kinematics.frames import FrameMotion, frame_motion
-from .kinematics.pose import ChainPose
-from .mobility import MobilityReport, mobility
-from .model.base import BaseMotion, BaseState
+from .dynamics.inverse import ChainDynamics, inverse_dynamics
+from .kinematics.frames import frame_motion
+from .mobility import mobility
+from .model.base import BaseMotion
 from .model.closure import ClosedChain, Closure
 from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .model.hull_table import HullTable
 from .model.profiles import Bump, Recoil, Slope, Terrain
-from .readers.base_motion import parse_profile, read_base, read_hull_table
-from .readers.forces import read_force_file, read_table
-from .readers.inertia import check_inertia
 from .readers.mechanism import load_mechanism, read_spec
-from .readers.motion_table import MotionTable, read_motion
-from .readers.pose import read_pose
-from .readers.spec import MechanismSpec
-from .readers.urdf import build_model, check_urdf, load_closed_chain, mesh_path, read_urdf
+from .readers.urdf import load_closed_chain
 
 __all__ = [
-    "MAX_GAIN",
-    "POSITION_TOLERANCE",
     "BaseMotion",
-    "BaseState",
     "Bump",
     "ChainDynamics",
-    "ChainPose",
-    "ChainLoads",
     "ClosedChain",
     "Closure",
-    "ClosureWrench",
     "Cylinder",
     "ForceElement",
-    "ForwardRun",
-    "FrameMotion",
     "HullTable",
-    "IntegrationError",
     "JointSpring",
-    "JointWrench",
     "Load",
-    "MechanismSpec",
-    "MobilityReport",
-    "MotionTable",
-    "MountWrench",
     "Partition",
-    "PoseCheck",
     "Recoil",
     "Slope",
     "Spring",
     "Table",
     "Terrain",
-    "Trajectory",
-    "build_model",
-    "check_inertia",
-    "check_urdf",
     "frame_motion",
     "inverse_dynamics",
     "load_closed_chain",
     "load_mechanism",
-    "mass_matrix_derivative",
-    "mesh_path",
     "mobility",
-    "parse_profile",
-    "read_base",
-    "read_force_file",
-    "read_hull_table",
-    "read_motion",
-    "read_pose",
     "read_spec",
-    "read_table",
-    "read_urdf",
     "simulate",
     "track",
 ]

@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain import ClosedChain, build_model
+from ..chain import ClosedChain
+from ..chain.readers import build_model
 from ..exceptions import InputError
 from .builtin import DEVICES
 from .parameters import GRAVITY, FeederParameters

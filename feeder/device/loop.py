@@ -240,11 +240,6 @@ def transmission_angle(q: np.ndarray) -> np.ndarray:
     return np.abs(np.arctan2(np.sin(delta), np.cos(delta)))
 
 
-def stroke_ratio(p: FeederParameters, q: np.ndarray) -> np.ndarray:
-    """dr2/dφ3 = d3 sin(φ1 − φ3) [m/rad]: piston travel per radian of arm, q (..., 4)."""
-    return p.d3 * np.sin(q[..., 0] - q[..., 2])
-
-
 def check_transmission(q: np.ndarray, times: np.ndarray | None = None) -> None:
     """Raise :class:`SingularPoseError` if any pose is within
     :data:`~feeder.device.parameters.SINGULAR_TRANSMISSION_DEG` of the toggle.

@@ -8,10 +8,10 @@ loads) → :mod:`.reactions` → :mod:`.drives` → :mod:`.forward` (the force-r
 """
 
 from .cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynamics
-from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate
-from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_motion
+from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate_feeder
+from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_cycle_motion
 from .models import FeederDynamics
-from .reactions import JOINT_NAMES, JointReactions, JointWrench, joint_reactions
+from .reactions import JOINT_NAMES, JointReactions, JointWrench, pin_reactions
 
 __all__ = [
     "FORWARD_TOLERANCE",
@@ -25,9 +25,9 @@ __all__ = [
     "JointWrench",
     "SampledMotion",
     "actuator_loads",
-    "check_motion",
+    "check_cycle_motion",
     "constrained_dynamics",
     "cycle_dynamics",
-    "joint_reactions",
-    "simulate",
+    "pin_reactions",
+    "simulate_feeder",
 ]

@@ -39,10 +39,10 @@ from ..exceptions import ForwardDivergenceError, InputError
 from ..motion.cycle import CycleKinematics, feeding_cycle
 from ..motion.laws import CycleSpec
 from .drives import CylinderPressures, cylinder_pressures, rack_force
-from .forward import ForceRule, ForwardMotion, simulate
+from .forward import ForceRule, ForwardMotion, simulate_feeder
 from .inverse import ActuatorLoads, SampledMotion, actuator_loads
 from .models import FeederDynamics
-from .reactions import JointReactions, joint_reactions
+from .reactions import JointReactions, pin_reactions
 
 FORWARD_TOLERANCE = 1e-4
 """Largest accepted |forward − prescribed| of φ3 and φ4 [rad] (issue 3's requirement). The
@@ -160,12 +160,12 @@ def cycle_dynamics(
         bar.update()
         bar.set_postfix_str(steps[1])
         # The sampled cycle closes the loop away from the toggle by construction: the device's
-        # travel was checked when it was loaded (check_device), so no check_motion here.
+        # travel was checked when it was loaded (check_device), so no check_cycle_motion here.
         motion = SampledMotion(kinematics.q, kinematics.v, kinematics.a, kinematics.gripped)
         loads = actuator_loads(dyn, motion, kinematics.t)
         bar.update()
         bar.set_postfix_str(steps[2])
-        reactions = joint_reactions(dyn, loads)
+        reactions = pin_reactions(dyn, loads)
         bar.update()
         run = None
         if forward:
@@ -177,7 +177,7 @@ def cycle_dynamics(
                 piston_force=loads.piston_force,
                 forearm_torque=loads.forearm_torque,
             )
-            run = simulate(dyn, rule, kinematics.q[0], kinematics.v[0])
+            run = simulate_feeder(dyn, rule, kinematics.q[0], kinematics.v[0])
             _check_tracking(run, kinematics)
             bar.update()
     return CycleDynamics(

@@ -190,7 +190,7 @@ def check_initial_state(
     return q0, v0
 
 
-def simulate(
+def simulate_feeder(
     dyn: FeederDynamics, rule: ForceRule, q0: np.ndarray, v0: np.ndarray
 ) -> ForwardMotion:
     """Integrate the closed chain driven by ``rule`` from the closed state (q0, v0).

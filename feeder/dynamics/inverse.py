@@ -30,7 +30,7 @@ singular at the toggle (transmission angle 0° or 180°), which is refused
 Samples with ``gripped == 0`` use the model without the payload (:mod:`feeder.dynamics.models`):
 each run of a constant grip flag is one call of the chain's inverse dynamics, and
 :class:`ActuatorLoads` is the paper-named view over their results
-(:class:`~feeder.chain.ChainLoads`).
+(:class:`~feeder.chain.results.ChainLoads`).
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ..chain import BaseState, ChainLoads, inverse_dynamics
+from ..chain import inverse_dynamics
+from ..chain.results import BaseState, ChainLoads
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples
@@ -51,7 +52,7 @@ from .models import ACTUATED_JOINTS, FeederDynamics, gripped_runs
 
 @dataclass(frozen=True)
 class SampledMotion:
-    """A closed-chain motion that :func:`check_motion` has accepted; N ≥ 1 samples.
+    """A closed-chain motion that :func:`check_cycle_motion` has accepted; N ≥ 1 samples.
 
     Attributes:
         q, v, a: [φ1, r2, φ3, φ4] [rad, m] and their first and second time derivatives, paper
@@ -73,7 +74,7 @@ class LoadRun:
         samples: The run's samples in the motion.
         gripped: Its grip flag (which model: ``FeederDynamics.cases[gripped]``).
         loads: The chain's loads, closure forces, joint reactions and mount there
-            (:class:`~feeder.chain.ChainLoads`; joints by their URDF names, world axes).
+            (:class:`~feeder.chain.results.ChainLoads`; joints by their URDF names, world axes).
     """
 
     samples: slice
@@ -89,7 +90,7 @@ class ActuatorLoads:
     Attributes:
         motion: The motion the loads produce (checked).
         runs: The chain's inverse dynamics of each run of a constant grip flag, in order
-            (:class:`LoadRun`); :func:`~feeder.dynamics.reactions.joint_reactions` reads the
+            (:class:`LoadRun`); :func:`~feeder.dynamics.reactions.pin_reactions` reads the
             joints' reactions there.
 
     On a vehicle every vector is in the device's axes as they move with the hull.
@@ -100,7 +101,7 @@ class ActuatorLoads:
 
     def joined(self, read: Callable[[ChainLoads], np.ndarray]) -> np.ndarray:
         """A quantity of the chain's results over all N samples: ``read`` of each run's
-        :class:`~feeder.chain.ChainLoads`, the runs' rows one after the other."""
+        :class:`~feeder.chain.results.ChainLoads`, the runs' rows one after the other."""
         parts = [read(run.loads) for run in self.runs]
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
@@ -142,7 +143,7 @@ class ActuatorLoads:
         return tau
 
 
-def check_motion(
+def check_cycle_motion(
     dyn: FeederDynamics, q: np.ndarray, v: np.ndarray, a: np.ndarray, gripped: np.ndarray
 ) -> SampledMotion:
     """Validate a sampled motion: float arrays (N, 4) ×3, N ≥ 1, and grip flags (N,).
@@ -178,7 +179,7 @@ def actuator_loads(
 
     Args:
         dyn: The device's dynamics models.
-        motion: The closed-chain motion, checked by :func:`check_motion` (closed loop,
+        motion: The closed-chain motion, checked by :func:`check_cycle_motion` (closed loop,
             consistent velocities, away from the toggle).
         t: The samples' times [s], (N,): needed on a moving base.
 

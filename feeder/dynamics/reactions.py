@@ -6,10 +6,10 @@ the piston at ``piston_pin``, −λ on the arm at ``arm_pin``), the closed chain
 (:func:`feeder.chain.inverse_dynamics`: Newton–Euler over all samples,
 :mod:`feeder.chain.dynamics.newton_euler`, equal to Pinocchio's RNEA with the pin force as
 external forces) gives the wrench that the parent body exerts on the child through each joint,
-world axes, moment about the joint's origin (:class:`~feeder.chain.JointWrench`). Its component
-along the joint's axis is the joint's generalized force: the actuator load for ``piston_joint``
-and ``forearm_joint``, zero for the passive pivots. The rest is the constraint wrench that the
-bearing or guide carries:
+world axes, moment about the joint's origin (:class:`~feeder.chain.results.JointWrench`). Its
+component along the joint's axis is the joint's generalized force: the actuator load for
+``piston_joint`` and ``forearm_joint``, zero for the passive pivots. The rest is the constraint
+wrench that the bearing or guide carries:
 
 ==================  ================  =====================================================
 joint               child             reaction
@@ -21,8 +21,8 @@ joint               child             reaction
 ==================  ================  =====================================================
 
 The grip is the wrench the forearm exerts on the payload (rigidly held,
-:meth:`~feeder.chain.ChainLoads.held_wrench`): its force is m (a_G − g), its moment about the
-payload's centre of gravity I_G ω̇ + ω × I_G ω, with the forearm's angular velocity ω and
+:meth:`~feeder.chain.results.ChainLoads.held_wrench`): its force is m (a_G − g), its moment
+about the payload's centre of gravity I_G ω̇ + ω × I_G ω, with the forearm's angular velocity ω and
 acceleration ω̇ and the centre of gravity's acceleration a_G.
 """
 
@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain import JointWrench, MountWrench
+from ..chain.results import JointWrench, MountWrench
 from ..device.feeder import PAPER_JOINTS
 from .inverse import ActuatorLoads
 from .models import FeederDynamics
@@ -54,8 +54,8 @@ class JointReactions:
             before the grip.
         grip_moment: Its moment [N·m] about the payload's centre of gravity, world, (N, 3).
         mount: The wrench the vehicle exerts on the device through its frame, about the world
-            origin B (:class:`~feeder.chain.MountWrench`: in the level world axes and in the
-            device's axes moving with the hull).
+            origin B (:class:`~feeder.chain.results.MountWrench`: in the level world axes and in
+            the device's axes moving with the hull).
     """
 
     joints: dict[str, JointWrench]
@@ -65,7 +65,7 @@ class JointReactions:
     mount: MountWrench
 
 
-def joint_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions:
+def pin_reactions(dyn: FeederDynamics, loads: ActuatorLoads) -> JointReactions:
     """Reaction wrenches of every joint and the grip, with the pin force applied at the cut.
 
     The joints' and the mount's wrenches of the chain's inverse dynamics

@@ -10,7 +10,7 @@ differs, and by how much).
 
 from .coriolis import christoffel_coriolis, kronecker_coriolis
 from .errata import ReferenceMotion, errata_markdown, errata_rows
-from .lagrange import LagrangeLoads, inverse_dynamics, mass_matrix
+from .lagrange import LagrangeLoads, lagrange_loads, mass_matrix
 from .printed import PrintedEquations, printed_equations
 
 __all__ = [
@@ -20,7 +20,7 @@ __all__ = [
     "christoffel_coriolis",
     "errata_markdown",
     "errata_rows",
-    "inverse_dynamics",
+    "lagrange_loads",
     "kronecker_coriolis",
     "mass_matrix",
     "printed_equations",

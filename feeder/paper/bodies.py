@@ -166,14 +166,6 @@ def body_rotations(p: FeederParameters, q: np.ndarray) -> np.ndarray:
     return np.stack([r1, r1, r3, r4, r4], axis=-3)
 
 
-def central_inertias(p: FeederParameters, q: np.ndarray) -> np.ndarray:
-    """I_i = R_i diag(I_ix, I_iy, I_iz) R_iᵀ: central inertia tensors in world axes [kg·m²],
-    (..., 5, 3, 3) (eq. 17's I_i, full tensors)."""
-    rot = body_rotations(p, q)
-    moments = np.array([link.moments for link in p.links().values()])
-    return np.einsum("...bij,bj,...bkj->...bik", rot, moments, rot)
-
-
 def mass_matrix_from_jacobians(
     masses: np.ndarray, j_t: np.ndarray, j_r: np.ndarray, inertias: np.ndarray
 ) -> np.ndarray:

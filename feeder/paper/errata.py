@@ -60,7 +60,7 @@ class ReferenceMotion:
 
 
 def _loads(p: FeederParameters, samples: ReferenceMotion, gripped) -> tuple[np.ndarray, ...]:
-    loads = lagrange.inverse_dynamics(p, samples.q, samples.qd, samples.qdd, gripped)
+    loads = lagrange.lagrange_loads(p, samples.q, samples.qd, samples.qdd, gripped)
     return loads.piston_force, loads.forearm_torque, loads.lambdas
 
 

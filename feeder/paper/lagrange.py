@@ -41,7 +41,7 @@ with these a_ij, (C q̇)_i = Σ_jk ∂M_ij/∂q_k q̇_j q̇_k − ½ Σ_jk ∂M_
 Since f = p_piston_pin − p_arm_pin, the pin force that the arm exerts on the piston is −λ
 (world x, y) [N]: λ is the force of the piston on the arm. The actuators are the piston force
 τ2 = F [N] on ``piston_joint`` and the rack moment τ4 [N·m] on ``forearm_joint``; φ1 and φ3 are
-passive (τ1 = τ3 = 0). Inverse dynamics (:func:`inverse_dynamics`: these closed forms, every
+passive (τ1 = τ3 = 0). Inverse dynamics (:func:`lagrange_loads`: these closed forms, every
 sample at once), with h = M q̈ + C q̇ + g: rows 1 and 3 give
 [P1 s1, −P1 c1; −d3 s3, d3 c3] λ = [h1; h3] (determinant P1 d3 sin(q1 − q3), zero only at the
 toggle), then τ2 = h2 + c1 λ1 + s1 λ2 and τ4 = h4.
@@ -63,15 +63,12 @@ from ..device.parameters import SINGULAR_TRANSMISSION_DEG, FeederParameters
 from ..exceptions import SingularPoseError
 from .bodies import (
     G,
-    body_masses,
-    body_positions,
     coordinates,
     grip_weight,
     held_geometry,
     held_points,
     per_body,
 )
-from .closure import closure_bias, closure_jacobian
 from .coriolis import kronecker_coriolis
 
 
@@ -186,16 +183,6 @@ def coriolis_matrix(
     return kronecker_coriolis(mass_matrix_gradient(p, q, gripped), qd)
 
 
-def potential_energy(
-    p: FeederParameters, q: np.ndarray, gripped: bool | np.ndarray = True
-) -> np.ndarray:
-    """Π = Σ_i m_i g y_i [J] (eq. 42, corrected: no ½; datum y = 0 at B), shape (...)."""
-    q = coordinates("q", q)
-    flag = grip_weight(gripped, q.shape[:-1])[..., None]
-    masses = body_masses(p) * np.concatenate([np.ones((*q.shape[:-1], 4)), flag], axis=-1)
-    return G * np.sum(masses * body_positions(p, q)[..., 1], axis=-1)
-
-
 def gravity_vector(
     p: FeederParameters, q: np.ndarray, gripped: bool | np.ndarray = True
 ) -> np.ndarray:
@@ -203,46 +190,6 @@ def gravity_vector(
     q = coordinates("q", q)
     t = _terms(p, q, gripped)
     return np.stack([t.g1, t.g2, t.g3, t.g4], axis=-1)
-
-
-def _generalized_forces(p: FeederParameters, q, qd, gripped) -> np.ndarray:
-    """C q̇ + g, shape (..., 4)."""
-    c = coriolis_matrix(p, q, qd, gripped)
-    return np.einsum("...ij,...j->...i", c, qd) + gravity_vector(p, q, gripped)
-
-
-def forward_dynamics(
-    p: FeederParameters,
-    q: np.ndarray,
-    qd: np.ndarray,
-    tau: np.ndarray,
-    gripped: bool | np.ndarray = True,
-) -> tuple[np.ndarray, np.ndarray]:
-    """q̈ and λ from the generalized forces: eqs. (46)–(47) differentiated twice,
-
-        [M  J_fᵀ; J_f  0] [q̈; λ] = [τ − C q̇ − g; −J̇_f q̇].
-
-    Args:
-        p: Device parameters.
-        q, qd: Assembled state [φ1, r2, φ3, φ4] and its rates, (..., 4).
-        tau: Generalized forces [N·m, N, N·m, N·m], (..., 4) (τ1 = τ3 = 0 for the real drive).
-        gripped: Payload held (bool or (...,) 0/1).
-
-    Returns:
-        q̈ (..., 4) and λ (..., 2) [N] (the force of the piston on the arm, world x, y).
-    """
-    q, qd, tau = coordinates("q", q), coordinates("qd", qd), coordinates("tau", tau)
-    shape = np.broadcast_shapes(q.shape, qd.shape, tau.shape)[:-1]
-    jac = np.broadcast_to(closure_jacobian(p, q), (*shape, 2, 4))
-    kkt = np.zeros((*shape, 6, 6))
-    kkt[..., :4, :4] = mass_matrix(p, q, gripped)
-    kkt[..., :4, 4:] = np.swapaxes(jac, -1, -2)
-    kkt[..., 4:, :4] = jac
-    rhs = np.concatenate(
-        [tau - _generalized_forces(p, q, qd, gripped), -closure_bias(p, q, qd)], axis=-1
-    )
-    solution = np.linalg.solve(kkt, rhs[..., None])[..., 0]
-    return solution[..., :4], solution[..., 4:]
 
 
 @dataclass(frozen=True)
@@ -270,7 +217,7 @@ class LagrangeLoads:
         return self.tau[..., 3]
 
 
-def inverse_dynamics(
+def lagrange_loads(
     p: FeederParameters,
     q: np.ndarray,
     qd: np.ndarray,

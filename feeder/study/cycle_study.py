@@ -12,7 +12,7 @@ from ..chain import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics, cycle_dynamics
 from ..motion.laws import CycleSpec
-from ..paper.lagrange import LagrangeLoads, inverse_dynamics
+from ..paper.lagrange import LagrangeLoads, lagrange_loads
 from .columns import cycle_columns
 from .peaks import Peak, cycle_peaks
 from .summary import growth_lines, peak_lines, peak_notes
@@ -130,5 +130,5 @@ def run_cycle_study(
     if base is not None:
         standing = cycle_dynamics(feeder, elevation, spec, forward=False)
     k = dynamics.kinematics
-    lagrange = inverse_dynamics(feeder.params, k.q, k.v, k.a, k.gripped)
+    lagrange = lagrange_loads(feeder.params, k.q, k.v, k.a, k.gripped)
     return CycleStudy(feeder, dynamics, lagrange, standing)

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chain import read_base
+from ..chain.readers import read_base
 from ..device.parameters import VEHICLE_FORWARD
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec

@@ -116,7 +116,7 @@ class Simulation:
 
     def energy_line(self) -> str:
         """The run's energy balance, as a line of the summary: relative to the largest energy
-        the run moves (:meth:`~feeder.chain.ForwardRun.energy_scales`), or, for a mechanism
+        the run moves (:meth:`~feeder.chain.results.ForwardRun.energy_scales`), or, for a mechanism
         that stays at rest (it moves no more than the integrator's tolerance on q,
         atol + rtol max |q|), in joules alone: it has no energy to compare with."""
         run = self.run

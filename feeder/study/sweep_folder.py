@@ -28,7 +28,7 @@ from .sweep_table import (
     TABLE,
     Row,
     check_parquet,
-    read_table,
+    read_sweep_table,
     row_key,
     write_parquet,
     write_table,
@@ -72,7 +72,7 @@ class SweepOutputs:
         kept: Cases kept from the table of an earlier sweep of the folder.
         computed: Cases computed by this run.
         dropped: Rows of the earlier table that failed their checks (and whose cases were
-            computed again), by reason (:func:`~feeder.study.sweep_table.read_table`).
+            computed again), by reason (:func:`~feeder.study.sweep_table.read_sweep_table`).
     """
 
     table: Path
@@ -105,7 +105,7 @@ def _reusable(path: Path, cases: Sequence[SweepCase]) -> tuple[dict, dict[str, i
     """
     if not path.exists():
         return {}, {}
-    rows, rejected = read_table(path)
+    rows, rejected = read_sweep_table(path)
     wanted = {case.key: case for case in cases}
     done = {}
     for row in rows:

@@ -183,7 +183,7 @@ def _parse(cells: Sequence[str]) -> tuple[Row | None, str]:
     return row, ""
 
 
-def read_table(path: str | Path) -> tuple[list[Row], list[tuple[int, str]]]:
+def read_sweep_table(path: str | Path) -> tuple[list[Row], list[tuple[int, str]]]:
     """Read a sweep table: the rows that pass their checks, and the rejected ones.
 
     A row is rejected when it is unreadable (not one cell per column, or a number that is not

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ..chain import BaseState
+from ..chain.results import BaseState
 
 
 def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
@@ -63,7 +63,7 @@ def geometry_placements(joints: np.ndarray, visual_model: pin.GeometryModel) -> 
 
 def base_placements(state: BaseState | None) -> np.ndarray | None:
     """The base's placements (N, 4, 4) in the level axes: the model's moving axes and origin
-    (:class:`~feeder.chain.BaseState` ``rotation``, ``position`` [m]); None for a base at
+    (:class:`~feeder.chain.results.BaseState` ``rotation``, ``position`` [m]); None for a base at
     rest."""
     if state is None:
         return None

@@ -33,7 +33,7 @@ from ..study.columns import kinematic_columns
 from ..study.cycle_study import CycleStudy
 from ..study.elevation_sweeps import sweeps_of
 from ..study.sweep import cached_feeder
-from ..study.sweep_table import read_table
+from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
 
@@ -276,19 +276,6 @@ def _write_drawn(name: str, future: Future, path: Path) -> Path:
     return write_png(path, future.result()[name])
 
 
-def write_figures(
-    data: FigureData,
-    names: Sequence[str],
-    directory: str | Path,
-    workers: int | None = None,
-) -> list[Path]:
-    """Draw ``names`` of a cycle and write them into ``directory`` (which must exist), each
-    under its file name (:meth:`FigureData.file_name`)."""
-    directory = Path(directory)
-    with FigureWorkers(workers) as pool:
-        return [writer(directory / name) for name, writer in pool.writers(data, names).items()]
-
-
 def sweep_figures(table: str | Path) -> dict[str, Figure]:
     """Peaks against elevation from a sweep table (``sweep_peaks.csv``): one figure per device,
     a curve style per variant (:func:`~feeder.viz.comparisons.sweep_figure`), by file name
@@ -296,11 +283,11 @@ def sweep_figures(table: str | Path) -> dict[str, Figure]:
 
     Raises:
         InputError: The table is not a sweep table, or has a row that fails its checks
-            (:func:`~feeder.study.sweep_table.read_table`).
+            (:func:`~feeder.study.sweep_table.read_sweep_table`).
     """
     from .comparisons import sweep_figure
 
-    rows, rejected = read_table(table)
+    rows, rejected = read_sweep_table(table)
     if rejected:
         number, reason = rejected[0]
         raise InputError(f"{table}, line {number}: {reason}: run the sweep again to recompute it")

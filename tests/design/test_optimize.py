@@ -25,7 +25,7 @@ from feeder.motion.laws import CycleSpec
 from feeder.study.grid import make_grid
 from feeder.study.peaks import cycle_peaks
 from feeder.study.sweep_folder import run_sweep
-from feeder.study.sweep_table import read_table
+from feeder.study.sweep_table import read_sweep_table
 
 SPEC = CycleSpec(rate=100.0)
 """100 Hz: 101 samples a 1 s stage (a peak missed by < 0.05 %, no warning), ~9 ms a cycle."""
@@ -134,7 +134,7 @@ def test_the_written_file_through_a_sweep_gives_the_optimiser_s_peaks(optimum, t
     assert params.name == "projectile_optimum"
     grid = make_grid({params.name: params}, elevations_deg=ELEVATIONS, spec=SPEC)
     swept = run_sweep(grid, tmp_path / "sweep", workers=1, progress=False)
-    rows, rejected = read_table(swept.table)
+    rows, rejected = read_sweep_table(swept.table)
     assert not rejected and len(rows) == len(ELEVATIONS)
     reported = table(out / "optimum.csv")
     for (kind, name), row in reported.items():

@@ -21,10 +21,11 @@ from feeder.device.loop import (
     loop_residual,
     loop_state,
     required_stroke,
-    stroke_ratio,
     transmission_angle,
 )
 from feeder.exceptions import InputError, UnreachablePoseError
+
+from .helpers import stroke_ratio
 
 ROUNDING = 1e-14
 """Double-precision rounding [SI] of the closed form and of the least-squares solves: a few tens

@@ -11,7 +11,7 @@ from feeder.dynamics.cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynami
 from feeder.exceptions import ElevationError, ForwardDivergenceError, InputError
 from feeder.motion.cycle import feeding_cycle
 from feeder.motion.laws import CycleSpec
-from feeder.paper.lagrange import inverse_dynamics
+from feeder.paper.lagrange import lagrange_loads
 from feeder.study.columns import kinematic_columns
 from feeder.study.csv import read_csv, write_csv
 from feeder.study.cycle_study import CycleStudy
@@ -35,7 +35,7 @@ def _study(d: CycleDynamics) -> CycleStudy:
     """The projectile feeder's cycle as the study presents it (the columns, peaks and summary
     of cycle.csv), with the hand-derived loads on the same motion."""
     k = d.kinematics
-    return CycleStudy(device(), d, inverse_dynamics(device().params, k.q, k.v, k.a, k.gripped))
+    return CycleStudy(device(), d, lagrange_loads(device().params, k.q, k.v, k.a, k.gripped))
 
 
 def test_columns_hold_the_contract(result):

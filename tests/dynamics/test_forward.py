@@ -12,9 +12,9 @@ from feeder.dynamics.forward import (
     END_STOP_TOLERANCE,
     ForceRule,
     check_end_stops,
-    simulate,
+    simulate_feeder,
 )
-from feeder.dynamics.inverse import ActuatorLoads, actuator_loads, check_motion
+from feeder.dynamics.inverse import ActuatorLoads, actuator_loads, check_cycle_motion
 from feeder.dynamics.models import BAUMGARTE_RATE, FeederDynamics
 from feeder.exceptions import (
     ForwardDivergenceError,
@@ -57,7 +57,7 @@ def _rule(kin, loads) -> ForceRule:
 
 def _loads(dyn: FeederDynamics, q, v, a, gripped) -> ActuatorLoads:
     """The closed chain's inverse dynamics of a motion, checked first (the public path)."""
-    return actuator_loads(dyn, check_motion(dyn, q, v, a, gripped))
+    return actuator_loads(dyn, check_cycle_motion(dyn, q, v, a, gripped))
 
 
 def test_force_rule_reproduces_the_prescribed_motion(result):
@@ -75,7 +75,7 @@ def test_integrator_order(dyn):
     for rate in (500.0, 1000.0):
         kin = feeding_cycle(device(), math.radians(ELEVATIONS_DEG[1]), CycleSpec(rate=rate))
         loads = _loads(dyn, kin.q, kin.v, kin.a, kin.gripped)
-        motion = simulate(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
+        motion = simulate_feeder(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
         errors.append(np.abs(motion.q - kin.q)[:, 2:].max())
     assert errors[0] / errors[1] >= 2.0**ORDER
     assert errors[0] <= TRACKING_TOLERANCE
@@ -99,7 +99,7 @@ def test_baumgarte_closes_a_small_initial_gap(dyn):
         np.full(t.size, loads.piston_force[0]),
         np.full(t.size, loads.forearm_torque[0]),
     )
-    motion = simulate(dyn, rule, q0, np.zeros(4))
+    motion = simulate_feeder(dyn, rule, q0, np.zeros(4))
     assert motion.closure_residual[0] == pytest.approx(gap, rel=GAP_RTOL)
     decay = (1.0 + BAUMGARTE_RATE * t[-1]) * math.exp(-BAUMGARTE_RATE * t[-1])
     assert decay <= 1e-3  # the corrector acts within the run
@@ -135,13 +135,13 @@ def test_non_closing_initial_state_is_refused(result, dyn):
     q0 = kin.q[0].copy()
     q0[1] += 1e-6
     with pytest.raises(UnreachablePoseError, match="does not close"):
-        simulate(dyn, rule, q0, kin.v[0])
+        simulate_feeder(dyn, rule, q0, kin.v[0])
     v0 = kin.v[0].copy()
     v0[1] = 1e-3
     with pytest.raises(InputError, match="velocities of the initial state violate the closure"):
-        simulate(dyn, rule, kin.q[0], v0)
+        simulate_feeder(dyn, rule, kin.q[0], v0)
     with pytest.raises(InputError, match="finite"):
-        simulate(dyn, rule, kin.q[0] * np.nan, kin.v[0])
+        simulate_feeder(dyn, rule, kin.q[0] * np.nan, kin.v[0])
 
 
 def test_initial_state_near_the_toggle_is_refused():
@@ -152,7 +152,7 @@ def test_initial_state_near_the_toggle_is_refused():
     t = np.arange(11) / 1000.0
     rule = ForceRule(t, np.ones(11), np.zeros(11), np.zeros(11), np.zeros(11))
     with pytest.raises(SingularPoseError, match="toggle"):
-        simulate(FeederDynamics(feeder), rule, q0, np.zeros(4))
+        simulate_feeder(FeederDynamics(feeder), rule, q0, np.zeros(4))
 
 
 def test_diverged_run_is_reported_as_such(dyn):
@@ -163,7 +163,7 @@ def test_diverged_run_is_reported_as_such(dyn):
     with pytest.raises(
         ForwardDivergenceError, match=r"end stop of piston_joint at t = \d+\.\d+ s"
     ):
-        simulate(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
+        simulate_feeder(dyn, _rule(kin, loads), kin.q[0], kin.v[0])
 
 
 def test_end_stops_and_blow_up_of_a_run(dyn):

@@ -14,15 +14,15 @@ from feeder.device.loop import (
     check_transmission,
     loop_residual,
     loop_state,
-    stroke_ratio,
     transmission_angle,
 )
 from feeder.device.parameters import GRAVITY, SINGULAR_TRANSMISSION_DEG, VEHICLE_FORWARD
 from feeder.dynamics.forward import constrained_dynamics
-from feeder.dynamics.inverse import ActuatorLoads, actuator_loads, check_motion
+from feeder.dynamics.inverse import ActuatorLoads, actuator_loads, check_cycle_motion
 from feeder.dynamics.models import FeederDynamics
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
 
+from ..device.helpers import stroke_ratio
 from ..dynamics.cases import (
     ELEVATIONS_DEG,
     cycle_result,
@@ -69,7 +69,7 @@ STATICS_TOLERANCE = 1e-7
 
 def _loads(dyn: FeederDynamics, q, v, a, gripped) -> ActuatorLoads:
     """The closed chain's inverse dynamics of a motion, checked first (the public path)."""
-    return actuator_loads(dyn, check_motion(dyn, q, v, a, gripped))
+    return actuator_loads(dyn, check_cycle_motion(dyn, q, v, a, gripped))
 
 
 def _closed(p, phi3, phi4=0.0) -> np.ndarray:
@@ -307,7 +307,7 @@ def test_loads_are_a_view_of_the_chain_s_runs(dyn):
     )
     np.testing.assert_array_equal(loads.closure_force[last.samples], last.loads.closure_forces)
     assert loads.base is None
-    motion = check_motion(dyn, kin.q[:5], kin.v[:5], kin.a[:5], kin.gripped[:5])
+    motion = check_cycle_motion(dyn, kin.q[:5], kin.v[:5], kin.a[:5], kin.gripped[:5])
     with pytest.raises(InputError, match=r"one time per sample, shape \(5,\)"):
         actuator_loads(dyn, motion, np.zeros(4))
     riding = FeederDynamics(dyn.feeder, BaseMotion((Terrain(),), VEHICLE_FORWARD))

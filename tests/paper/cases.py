@@ -24,7 +24,7 @@ import pinocchio as pin
 from feeder.device.feeder import Feeder, load_feeder
 from feeder.device.loop import arm_travel, loop_state, solve_loop, transmission_sine
 from feeder.device.parameters import FeederParameters
-from feeder.dynamics.inverse import actuator_loads, check_motion
+from feeder.dynamics.inverse import actuator_loads, check_cycle_motion
 from feeder.dynamics.models import FeederDynamics
 
 DEVICE_NAMES = ("projectile", "charge")
@@ -151,7 +151,7 @@ class PinocchioReference:
     def inverse(self, q, v, a, gripped):
         """The product's Pinocchio inverse dynamics: columns F, τ4, λ1, λ2, shape (N, 4)."""
         dyn = self.dynamics_models
-        loads = actuator_loads(dyn, check_motion(dyn, q, v, a, gripped))
+        loads = actuator_loads(dyn, check_cycle_motion(dyn, q, v, a, gripped))
         return np.column_stack(
             [loads.piston_force, loads.forearm_torque, -loads.closure_force[:, :2]]
         )

@@ -23,7 +23,7 @@ from feeder.motion.cycle import feeding_cycle
 from feeder.paper import bodies, closure, lagrange
 from feeder.paper.lagrange import LagrangeLoads
 
-from . import cases
+from . import cases, helpers
 from .cases import relative_error
 
 DYNAMICS_RTOL = 1e-10
@@ -100,7 +100,7 @@ def test_closed_form_mass_matrix_is_eq17(device, states):
         bodies.body_masses(p) * weights,
         bodies.translational_jacobians(p, q),
         bodies.rotational_jacobians(p, q),
-        bodies.central_inertias(p, q) * weights[..., None, None],
+        helpers.central_inertias(p, q) * weights[..., None, None],
     )
     closed = lagrange.mass_matrix(p, q, gripped)
     assert np.all(relative_error(closed, eq17, (1, 2)) <= DYNAMICS_RTOL)
@@ -154,14 +154,14 @@ def test_gravity_is_gradient_of_potential(device, states):
     p, q, gripped = device.params, states.q, states.gripped
     cases.assert_derivative(
         lagrange.gravity_vector(p, q, gripped),
-        lambda x: lagrange.potential_energy(p, x, gripped),
+        lambda x: helpers.potential_energy(p, x, gripped),
         q,
     )
 
 
 def test_forward_dynamics_match_pinocchio(device, reference, states):
     p, (q, qd, _, gripped, tau) = device.params, states
-    qdd, lam = lagrange.forward_dynamics(p, q, qd, tau, gripped)
+    qdd, lam = helpers.forward_dynamics(p, q, qd, tau, gripped)
     closure_rate = np.einsum(
         "nij,nj->ni", closure.closure_jacobian(p, q), qdd
     ) + closure.closure_bias(p, q, qd)
@@ -174,7 +174,7 @@ def test_forward_dynamics_match_pinocchio(device, reference, states):
 
 def test_inverse_dynamics_match_pinocchio(device, reference, states):
     p, (q, qd, qdd, gripped, _) = device.params, states
-    loads = lagrange.inverse_dynamics(p, q, qd, qdd, gripped)
+    loads = lagrange.lagrange_loads(p, q, qd, qdd, gripped)
     assert isinstance(loads, LagrangeLoads)
     assert loads.tau.shape == q.shape and loads.lambdas.shape == (q.shape[0], 2)
     assert np.all(loads.tau[:, [0, 2]] == 0.0)
@@ -184,7 +184,7 @@ def test_inverse_dynamics_match_pinocchio(device, reference, states):
     assert np.all(relative_error(loads.tau[:, [1, 3]], expected[:, :2], (1,)) <= SOLVE_RTOL)
     assert np.all(relative_error(loads.lambdas, expected[:, 2:], (1,)) <= SOLVE_RTOL)
     # And back: the forward dynamics under these loads reproduce the motion.
-    qdd_back, lam_back = lagrange.forward_dynamics(p, q, qd, loads.tau, gripped)
+    qdd_back, lam_back = helpers.forward_dynamics(p, q, qd, loads.tau, gripped)
     assert np.all(relative_error(qdd_back, qdd, (1,)) <= SOLVE_RTOL)
     assert np.all(relative_error(lam_back, loads.lambdas, (1,)) <= SOLVE_RTOL)
 
@@ -194,7 +194,7 @@ def test_cycle_loads_match_matrix_form_and_pinocchio(device, reference, device_c
     in matrix form (M, Kronecker C, g, J_f, LAPACK) and Pinocchio's inverse dynamics."""
     k = device_cycle
     motion = (k.q, k.v, k.a, k.gripped)
-    loads = lagrange.inverse_dynamics(device.params, *motion)
+    loads = lagrange.lagrange_loads(device.params, *motion)
     closed = np.column_stack([loads.piston_force, loads.forearm_torque, loads.lambdas])
     assert closed.shape == (k.t.size, 4)
     for expected in (matrix_inverse_dynamics(device.params, *motion), reference.inverse(*motion)):
@@ -216,10 +216,10 @@ def test_power_balance_along_cycle(device, device_cycle):
     is bounded by the sampled third differences / h³ (margin 2). A missing term (≥ 1e-2 of the
     peak power) is far above that bound (≈ 1e-6 of it)."""
     p, k = device.params, device_cycle
-    loads = lagrange.inverse_dynamics(p, k.q, k.v, k.a, k.gripped)
+    loads = lagrange.lagrange_loads(p, k.q, k.v, k.a, k.gripped)
     mass = lagrange.mass_matrix(p, k.q, k.gripped)
     energy = 0.5 * np.einsum("ni,nij,nj->n", k.v, mass, k.v)
-    energy += lagrange.potential_energy(p, k.q, k.gripped)
+    energy += helpers.potential_energy(p, k.q, k.gripped)
     power = loads.piston_force * k.v[:, 1] + loads.forearm_torque * k.v[:, 3]
     h = 1.0 / k.spec.rate
     scale = np.max(np.abs(power))
@@ -237,7 +237,7 @@ def test_pose_just_inside_the_toggle_band_is_refused(device):
     well, and the pipeline's threshold applies."""
     q, qd, qdd = cases.pose_near_toggle(device.params, REFUSED_DEG)
     with pytest.raises(SingularPoseError, match="sin"):
-        lagrange.inverse_dynamics(device.params, q, qd, qdd)
+        lagrange.lagrange_loads(device.params, q, qd, qdd)
 
 
 def test_pose_just_outside_the_toggle_band_is_solved(device):
@@ -246,7 +246,7 @@ def test_pose_just_outside_the_toggle_band_is_solved(device):
     p = device.params
     q, qd, qdd = cases.pose_near_toggle(p, SOLVED_DEG)
     for gripped in (False, True):
-        loads = lagrange.inverse_dynamics(p, q, qd, qdd, gripped)
+        loads = lagrange.lagrange_loads(p, q, qd, qdd, gripped)
         assert np.all(np.isfinite(loads.tau)) and np.all(np.isfinite(loads.lambdas))
         assert loads.tau[0] == loads.tau[2] == 0.0
         terms = equation_of_motion_terms(p, q, qd, qdd, gripped, loads)
@@ -267,4 +267,4 @@ def test_bad_inputs_raise(device):
         lagrange.mass_matrix(p, np.stack([q, q]), gripped=np.array([1, 0, 1]))
     toggle = np.array([0.5, 0.3, 0.5, 0.0])  # piston axis along the arm lever
     with pytest.raises(SingularPoseError, match="sin"):
-        lagrange.inverse_dynamics(p, toggle, np.zeros(4), np.zeros(4))
+        lagrange.lagrange_loads(p, toggle, np.zeros(4), np.zeros(4))

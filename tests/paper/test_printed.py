@@ -171,7 +171,7 @@ def test_m44_from_eq39_with_printed_eq34(feeder, reference_cycle, evaluated):
 
 def test_printed_loads_are_finite_and_differ(feeder, reference_cycle, evaluated):
     k = reference_cycle
-    loads = lagrange.inverse_dynamics(feeder.params, k.q, k.v, k.a, k.gripped)
+    loads = lagrange.lagrange_loads(feeder.params, k.q, k.v, k.a, k.gripped)
     assert np.all(np.isfinite(evaluated.piston_force))
     assert np.all(np.isfinite(evaluated.forearm_torque))
     peak = np.max(np.abs(loads.piston_force))

@@ -31,7 +31,7 @@ from feeder.study.sweep_table import (
     QUANTITIES,
     TABLE,
     TABLE_COLUMNS,
-    read_table,
+    read_sweep_table,
     row_sha256,
 )
 from feeder.viz.report import png_bytes, sweep_figures, write_png
@@ -97,7 +97,7 @@ def test_table_has_one_row_per_case_with_its_peaks(tmp_path):
     grid = _grid(variants=(Variant("reference"), Variant("heavier", {"mass_factor": 1.2})))
     path = run_sweep(grid, tmp_path, progress=False).table
     assert path == tmp_path / TABLE
-    rows, rejected = read_table(path)
+    rows, rejected = read_sweep_table(path)
     assert rejected == []
     assert path.read_text(encoding="utf-8").splitlines()[0].split(",") == list(TABLE_COLUMNS)
     assert [(r["device"], r["variant"], r["elevation_deg"]) for r in rows] == [
@@ -159,13 +159,13 @@ def test_an_interrupted_sweep_keeps_what_it_finished(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_folder, "CHECKPOINT_SECONDS", 3600.0)  # only the final save
     with pytest.raises(KeyboardInterrupt):
         run_sweep(_grid(), tmp_path, progress=False, workers=1)
-    rows, _ = read_table(tmp_path / TABLE)
+    rows, _ = read_sweep_table(tmp_path / TABLE)
     assert len(rows) == 2
     record = json.loads((tmp_path / MANIFEST).read_text())
     assert record["complete"] is False and record["files"] == {TABLE: sha256(tmp_path / TABLE)}
     monkeypatch.setattr(sweep_module, "case_peaks", original)
     outputs = run_sweep(_grid(), tmp_path, progress=False, workers=1)
-    rows, _ = read_table(outputs.table)
+    rows, _ = read_sweep_table(outputs.table)
     assert len(rows) == 6 and (outputs.kept, outputs.computed) == (2, 4)
 
 
@@ -197,14 +197,14 @@ def test_overrides_of_devices_and_elevations(tmp_path):
     outputs = run_sweep(
         None, tmp_path, devices=["charge"], elevations=[0.0, 10.0], workers=1, progress=False
     )
-    rows, _ = read_table(outputs.table)
+    rows, _ = read_sweep_table(outputs.table)
     assert [(r["device"], r["elevation_deg"]) for r in rows] == [("charge", 0.0), ("charge", 10.0)]
 
 
 def test_parquet_copy_holds_the_same_table(tmp_path):
     pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow (the parquet extra) not installed")
     run_sweep(_grid(), tmp_path, progress=False, parquet=True)
-    rows, _ = read_table(tmp_path / TABLE)
+    rows, _ = read_sweep_table(tmp_path / TABLE)
     table = pq.read_table(tmp_path / PARQUET).to_pydict()
     assert list(table) == list(TABLE_COLUMNS)
     for name in TABLE_COLUMNS[:-1]:
@@ -287,7 +287,7 @@ def test_dask_cluster_gives_the_table_of_the_local_run(tmp_path):
 
 
 def test_peak_times_lie_in_the_cycle(tmp_path):
-    rows, _ = read_table(run_sweep(_grid(), tmp_path, progress=False).table)
+    rows, _ = read_sweep_table(run_sweep(_grid(), tmp_path, progress=False).table)
     end = float(SWEEP_SPEC.boundaries[-1])
     for row in rows:
         times = [value for name, value in row.items() if name.endswith("_time")]
@@ -388,7 +388,7 @@ def test_a_row_moved_to_another_case_fails_its_checksum(tmp_path):
         return lines
 
     _edit_table(tmp_path / TABLE, move)
-    rows, rejected = read_table(tmp_path / TABLE)
+    rows, rejected = read_sweep_table(tmp_path / TABLE)
     assert rejected == [(2, "checksum mismatch")] and len(rows) == 5
 
 

@@ -19,7 +19,7 @@ from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.motion.laws import CycleSpec
 from feeder.study.csv import read_csv
 from feeder.study.grid_file import read_grid
-from feeder.study.sweep_table import read_table
+from feeder.study.sweep_table import read_sweep_table
 
 SPEC = CycleSpec(rate=100.0)
 
@@ -175,7 +175,7 @@ def test_vehicle_cases_in_a_sweep_grid(tmp_path):
         )
         == 0
     )
-    rows, rejected = read_table(tmp_path / "s" / "sweep_peaks.csv")
+    rows, rejected = read_sweep_table(tmp_path / "s" / "sweep_peaks.csv")
     assert rejected == []
     by = {(row["variant"], row["elevation_deg"]): row for row in rows}
     assert (

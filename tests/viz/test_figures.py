@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 import threading
+from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +24,6 @@ from feeder.viz.report import (
     FigureWorkers,
     draw,
     study_figure_names,
-    write_figures,
 )
 
 ELEVATION = math.radians(-4.0)
@@ -44,6 +45,19 @@ def data(feeder):
 @pytest.fixture(scope="module")
 def figures(data):
     return {name: draw(name, data) for name in study_figure_names()}
+
+
+def write_figures(
+    data: FigureData,
+    names: Sequence[str],
+    directory: str | Path,
+    workers: int | None = None,
+) -> list[Path]:
+    """Draw ``names`` of a cycle and write them into ``directory`` (which must exist), each
+    under its file name (:meth:`FigureData.file_name`)."""
+    directory = Path(directory)
+    with FigureWorkers(workers) as pool:
+        return [writer(directory / name) for name, writer in pool.writers(data, names).items()]
 
 
 def test_engineering_units():

@@ -66,19 +66,16 @@ class ClosureWrench:
 
     Attributes:
         force, moment: World axes [N], [N·m] (moment about frame a's origin), (N, 3).
-        local_force, local_moment: The same in frame a's axes, (N, 3).
     """
 
     force: np.ndarray
     moment: np.ndarray
-    local_force: np.ndarray
-    local_moment: np.ndarray
 
 
 def closure_wrenches(
     chain: ClosedChain, rows: ClosureKinematics, lam: np.ndarray
 ) -> tuple[dict[str, ClosureWrench], list[tuple[int, np.ndarray]]]:
-    """Each closure's wrench on the body of frame a (world and local axes) from the closure forces
+    """Each closure's wrench on the body of frame a (world axes) from the closure forces
     λ (N, nc), and the wrenches that :func:`joint_reactions` applies: (frame id, world wrench
     [force, moment about the frame's origin] (N, 6)), on frame a and, opposite, on frame b."""
     out, terms = {}, []
@@ -86,13 +83,7 @@ def closure_wrenches(
         chain.cuts, chain.row_slices, chain.frame_ids, rows.frames, strict=True
     ):
         force, moment = cut.wrench(frames, lam[:, span])
-        rotation = frames.rotation_a
-        out[cut.label] = ClosureWrench(
-            force,
-            moment,
-            np.einsum("nji,nj->ni", rotation, force),
-            np.einsum("nji,nj->ni", rotation, moment),
-        )
+        out[cut.label] = ClosureWrench(force, moment)
         wrench = np.hstack([force, moment])
         terms += [(a, wrench), (b, -wrench)]
     return out, terms

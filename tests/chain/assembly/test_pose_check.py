@@ -14,18 +14,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain import (
-    ChainPose,
-    Closure,
-    Partition,
-    PoseCheck,
-    Trajectory,
-    load_closed_chain,
-    load_mechanism,
-    read_spec,
-    track,
-)
+from feeder.chain import Closure, Partition, load_closed_chain, load_mechanism, read_spec, track
 from feeder.chain.assembly.newton import POSITION_TOLERANCE
+from feeder.chain.results import ChainPose, PoseCheck, Trajectory
 from feeder.exceptions import FeederWarning, InputError, UnreachablePoseError
 
 from ...conftest import REPO

@@ -9,17 +9,15 @@ import pinocchio as pin
 import pytest
 
 import feeder
-from feeder.chain import (
+from feeder.chain import load_closed_chain, load_mechanism, read_spec
+from feeder.chain.readers import (
     build_model,
     check_inertia,
     check_urdf,
-    load_closed_chain,
-    load_mechanism,
     mesh_path,
     read_force_file,
     read_motion,
     read_pose,
-    read_spec,
     read_table,
     read_urdf,
 )
@@ -35,7 +33,7 @@ EXAMPLE = REPO / "examples" / "four_bar"
 MODEL = pin.buildSampleModelManipulator()
 
 READERS = {
-    "feeder.load_closed_chain": lambda bad: feeder.load_closed_chain(bad, []),
+    "feeder.chain.load_closed_chain": lambda bad: feeder.chain.load_closed_chain(bad, []),
     "load_closed_chain": lambda bad: load_closed_chain(bad, []),
     "read_spec": lambda bad: read_spec(bad),
     "read_spec(model=)": lambda bad: read_spec(

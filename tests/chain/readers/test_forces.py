@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from feeder.chain import read_force_file, read_spec, read_table
+from feeder.chain import read_spec
 from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
+from feeder.chain.readers import read_force_file, read_table
 from feeder.exceptions import InputError
 
 from ...conftest import REPO

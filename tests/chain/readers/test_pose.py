@@ -21,7 +21,7 @@ def test_a_value_that_is_not_a_number_is_refused(value):
 
 def test_a_pose_file_value_with_a_unit_is_named(tmp_path):
     """'40deg' is not read as NaN and then refused as "not finite": the message shows the text."""
-    from feeder.chain import read_pose
+    from feeder.chain.readers import read_pose
 
     model = load_closed_chain(REPO / "examples" / "four_bar" / "four_bar.urdf", []).model
     (tmp_path / "pose.csv").write_text("joint,value\ncrank_joint,40deg\n", encoding="utf-8")

@@ -1,0 +1,39 @@
+"""What :mod:`feeder.chain`'s workflow returns, in one place for type annotations and
+``isinstance`` checks; each type is defined (and documented) in the module named beside it.
+
+* :class:`ChainLoads` — :func:`~feeder.chain.inverse_dynamics`: actuator loads, closure forces
+  and wrenches (:class:`ClosureWrench`), every joint's reaction (:class:`JointWrench`) and the
+  mount's (:class:`MountWrench`) (:mod:`feeder.chain.dynamics.inverse`, ``.reactions``);
+* :class:`ForwardRun` — :func:`~feeder.chain.simulate` (:mod:`feeder.chain.dynamics.forward_run`);
+* :class:`Trajectory` — :func:`~feeder.chain.track`, and :class:`PoseCheck` — a pose checked by
+  a :class:`~feeder.chain.Partition` (:mod:`feeder.chain.assembly`);
+* :class:`ChainPose` — one configuration's kinematics, run once, and :class:`FrameMotion` —
+  :func:`~feeder.chain.frame_motion` (:mod:`feeder.chain.kinematics`);
+* :class:`MobilityReport` — :func:`~feeder.chain.mobility` (:mod:`feeder.chain.mobility`);
+* :class:`BaseState` — a :class:`~feeder.chain.BaseMotion` at the sample times
+  (:mod:`feeder.chain.model.base`).
+"""
+
+from .assembly.check import PoseCheck
+from .assembly.trajectory import Trajectory
+from .dynamics.forward_run import ForwardRun
+from .dynamics.inverse import ChainLoads
+from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+from .kinematics.frames import FrameMotion
+from .kinematics.pose import ChainPose
+from .mobility import MobilityReport
+from .model.base import BaseState
+
+__all__ = [
+    "BaseState",
+    "ChainLoads",
+    "ChainPose",
+    "ClosureWrench",
+    "ForwardRun",
+    "FrameMotion",
+    "JointWrench",
+    "MobilityReport",
+    "MountWrench",
+    "PoseCheck",
+    "Trajectory",
+]
