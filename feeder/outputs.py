@@ -209,8 +209,8 @@ def _write_mechanism(
 
 def _pose_csv(chain: ClosedChain, assembled: np.ndarray) -> str:
     """The assembled pose as CSV: joint, coordinate, value (SI units; the coordinates of
-    :func:`~feeder.study.analyze.joint_columns`)."""
-    from .study.analyze import pose_rows
+    :func:`~feeder.study.mechanism_table.joint_columns`)."""
+    from .study.mechanism_table import pose_rows
 
     rows = pose_rows(chain.model, assembled)
     return "joint,coordinate,value\n" + "".join(f"{j},{c},{x:.17g}\n" for j, c, x in rows)

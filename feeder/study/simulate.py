@@ -26,15 +26,8 @@ from ..chain.readers.forces import read_force_file
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import InputError
 from ..validation import check_number
-from .analyze import (
-    gravity_text,
-    joint_columns,
-    load_columns,
-    load_peaks,
-    mount_lines,
-    mount_mechanism,
-    warn_if_gravity_idle,
-)
+from .analyze import gravity_text, mount_lines, mount_mechanism, warn_if_gravity_idle
+from .mechanism_table import joint_columns, load_columns, load_peaks
 
 SAMPLES = 1001
 """Default number of output samples over the run (both ends included)."""
@@ -69,8 +62,9 @@ class Simulation:
 
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
-        coordinates, rates and accelerations (:func:`~feeder.study.analyze.joint_columns`); the
-        loads (:func:`~feeder.study.analyze.load_columns`: the actuated joints' drive — zero
+        coordinates, rates and accelerations
+        (:func:`~feeder.study.mechanism_table.joint_columns`); the loads
+        (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — zero
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
         ``energy`` (kinetic, gravitational and elastic [J]), ``work`` (of the non-conservative

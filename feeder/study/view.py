@@ -27,8 +27,9 @@ from ..chain.model.closure import ClosedChain
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederError, InputError
 from ..files import verified_output
-from .analyze import Analysis, analyze, load_columns, mount_mechanism, q_from_columns
+from .analyze import Analysis, analyze, mount_mechanism
 from .csv import read_csv
+from .mechanism_table import load_columns, q_from_columns
 from .simulate import Simulation
 
 RUN_TABLES = ("loads.csv", "states.csv")

@@ -18,7 +18,8 @@ from matplotlib.figure import Figure
 
 from ..chain.dynamics.inverse import ChainLoads
 from ..chain.kinematics.tree import reach
-from ..study.analyze import Analysis, load_unit
+from ..study.analyze import Analysis
+from ..study.mechanism_table import load_unit
 from ..study.simulate import Simulation
 from .axes import (
     Curve,

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..chain.kinematics.joints import joint_axes, kind_of
 from ..exceptions import InputError
-from ..study.analyze import column_stem
+from ..study.mechanism_table import column_stem
 from ..study.view import MechanismView
 from .arrows import Arrows, ForceSeries
 from .legend import note

@@ -23,8 +23,9 @@ from feeder.chain import read_spec
 from feeder.cli import main
 from feeder.exceptions import FeederWarning, InputError
 from feeder.outputs import MANIFEST, write_analysis_outputs
-from feeder.study.analyze import analyze, joint_columns, q_from_columns
+from feeder.study.analyze import analyze
 from feeder.study.csv import read_csv, write_csv
+from feeder.study.mechanism_table import joint_columns, q_from_columns
 from feeder.study.view import analysis_view, pose_view, run_view
 from feeder.viz._meshcat_server import LOOPBACK
 from feeder.viz.arrows import ARROW_LENGTH, HEAD_LENGTH
