@@ -35,10 +35,6 @@ On a moving base (:class:`~feeder.chain.model.base.BaseMotion`: a slope, a ride,
 q, q̇, q̈ are the motion relative to the base, and every vector (reactions, closure forces, external
 wrenches) is in the base's moving axes; the closure rows are the relative motion's and the
 Newton–Euler passes take the absolute one (:func:`~feeder.chain.kinematics.tree.on_base`).
-
-The module is long (~500 lines) for one concern, the load solve: its equations, the three ways of
-solving them (the inverse of a square system, the normal equations, the SVD where the rank drops)
-and the checks that decide which of them may answer share their tolerances and their messages.
 """
 
 from __future__ import annotations
