@@ -8,7 +8,15 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .options import Once, add_command, command_line, device_options, path_argument, switch
+from .options import (
+    Once,
+    add_command,
+    command_line,
+    device_options,
+    out_option,
+    path_argument,
+    switch,
+)
 
 
 def add(commands: argparse._SubParsersAction) -> None:
@@ -38,15 +46,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         metavar="DEG",
         help="one elevation ε [deg] to differentiate the peaks at (default: none)",
     )
-    sensitivities.add_argument(
-        "--out",
-        action=Once,
-        type=path_argument,
-        required=True,
-        metavar="DIR",
-        help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
-        "outputs are replaced; the manifest feeder-run.json records the run)",
-    )
+    out_option(sensitivities)
     device_options(sensitivities, "projectile")
     sensitivities.add_argument(
         "--parameter",

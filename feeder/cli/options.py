@@ -188,16 +188,21 @@ def study_options(sub: argparse.ArgumentParser, out: bool = True, required: bool
         + ", inside the device's range (−4 … 70 for the built-in ones)",
     )
     if out:
-        sub.add_argument(
-            "--out",
-            action=Once,
-            type=path_argument,
-            required=True,
-            metavar="DIR",
-            help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
-            "outputs are replaced; the manifest feeder-run.json records the run)",
-        )
+        out_option(sub)
     device_options(sub, "projectile")
+
+
+def out_option(sub: argparse.ArgumentParser) -> None:
+    """``--out DIR``, required: a study's output folder (:class:`feeder.files.OutputFolder`)."""
+    sub.add_argument(
+        "--out",
+        action=Once,
+        type=path_argument,
+        required=True,
+        metavar="DIR",
+        help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
+        "outputs are replaced; the manifest feeder-run.json records the run)",
+    )
 
 
 def mechanism_options(parser: argparse.ArgumentParser, required: bool = True) -> None:

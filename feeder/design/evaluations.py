@@ -13,18 +13,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from concurrent.futures import Executor, Future, as_completed
+from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
-from tqdm import tqdm
 
 from ..device.loop import check_device
 from ..device.parameters import FeederParameters
 from ..exceptions import FeederError
 from ..motion.laws import CycleSpec
 from ..study.grid import SweepCase
-from ..study.sweep import BATCHES_PER_WORKER, MAX_BATCH, case_peaks
+from ..study.sweep import case_peaks, run_cases
 from ..study.sweep_table import Row
 from .differences import OFFSETS, offsets, step
 from .differentiable import DesignParameter
@@ -105,15 +104,12 @@ Outcome = Row | str
 """A case's peaks (a sweep table's row), or why its cycle failed."""
 
 
-def _run_batch(cases: list[SweepCase]) -> list[tuple[tuple[str, str, float], Outcome]]:
-    """Each case's key and outcome (in a worker)."""
-    done = []
-    for case in cases:
-        try:
-            done.append((case.key, case_peaks(case)))
-        except FeederError as exc:
-            done.append((case.key, f"{case.variant} at {case.elevation_deg:g}°: {exc}"))
-    return done
+def _outcome(case: SweepCase) -> tuple[tuple[str, str, float], Outcome]:
+    """A case's key and outcome (in a worker)."""
+    try:
+        return case.key, case_peaks(case)
+    except FeederError as exc:
+        return case.key, f"{case.variant} at {case.elevation_deg:g}°: {exc}"
 
 
 def run_evaluations(
@@ -130,22 +126,6 @@ def run_evaluations(
         slots: Cases the executor runs at once (sets the batch size, as the sweep's).
         progress: A progress bar on a terminal.
     """
-    quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
-    with tqdm(total=len(cases), desc="sensitivities", unit="cycle", disable=quiet) as bar:
-        if executor is None:
-            for case in cases:
-                yield from _run_batch([case])
-                bar.update()
-            return
-        size = max(1, min(MAX_BATCH, math.ceil(len(cases) / (slots * BATCHES_PER_WORKER))))
-        futures: list[Future] = []
-        try:
-            for k in range(0, len(cases), size):
-                futures.append(executor.submit(_run_batch, list(cases[k : k + size])))
-            for future in as_completed(futures):
-                done = future.result()
-                bar.update(len(done))
-                yield from done
-        finally:
-            for future in futures:
-                future.cancel()
+    return run_cases(
+        cases, executor, slots, progress, work=_outcome, unit="cycle", desc="sensitivities"
+    )

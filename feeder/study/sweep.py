@@ -20,8 +20,9 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future, as_completed
+from typing import TypeVar
 from urllib.parse import urlsplit
 
 from tqdm import tqdm
@@ -45,6 +46,10 @@ moves, and after Ctrl-C a worker finishes its batch and the one queued for it wi
 
 SCHEDULER_TIMEOUT = 10.0
 """Seconds to wait for a Dask scheduler to answer before giving up with a clear error."""
+
+
+Result = TypeVar("Result")
+"""What :func:`run_cases` computes of each case."""
 
 
 @functools.lru_cache(maxsize=16)
@@ -71,8 +76,8 @@ def case_peaks(case: SweepCase) -> Row:
     return row
 
 
-def _run_batch(cases: list[SweepCase]) -> list[Row]:
-    return [case_peaks(case) for case in cases]
+def _run_batch(work: Callable[[SweepCase], Result], cases: list[SweepCase]) -> list[Result]:
+    return [work(case) for case in cases]
 
 
 def check_scheduler(address: str) -> str:
@@ -142,20 +147,28 @@ def run_cases(
     executor: Executor | None,
     slots: int = 1,
     progress: bool = True,
-) -> Iterator[Row]:
-    """Compute the cases' rows, yielded as they complete (not in order).
+    work: Callable[[SweepCase], Result] | None = None,
+    unit: str = "case",
+    desc: str = "sweep",
+) -> Iterator[Result]:
+    """Compute ``work`` of each case (by default its row of peaks, :func:`case_peaks`), yielded
+    as they complete (not in order).
 
     Args:
         cases: The cases.
         executor: Where to run them (:func:`sweep_executor`); None: in this process.
         slots: Cases the executor runs at once (sets the batch size).
         progress: Show a progress bar on a terminal (none when stderr is not one).
+        work: What to compute of a case (default :func:`case_peaks`): a module-level function
+            (workers receive it pickled).
+        unit, desc: The progress bar's unit and label.
     """
+    work = case_peaks if work is None else work
     quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
     if executor is None:
-        with tqdm(total=len(cases), desc="sweep", unit="case", disable=quiet) as bar:
+        with tqdm(total=len(cases), desc=desc, unit=unit, disable=quiet) as bar:
             for case in cases:
-                yield case_peaks(case)
+                yield work(case)
                 bar.update()
         return
     size = max(1, min(MAX_BATCH, math.ceil(len(cases) / (slots * BATCHES_PER_WORKER))))
@@ -163,12 +176,12 @@ def run_cases(
     try:
         # Each future is kept as it is made, so that a Ctrl-C meanwhile cancels them.
         for k in range(0, len(cases), size):
-            futures.append(executor.submit(_run_batch, list(cases[k : k + size])))
-        with tqdm(total=len(cases), desc="sweep", unit="case", disable=quiet) as bar:
+            futures.append(executor.submit(_run_batch, work, list(cases[k : k + size])))
+        with tqdm(total=len(cases), desc=desc, unit=unit, disable=quiet) as bar:
             for future in as_completed(futures):
-                rows = future.result()
-                bar.update(len(rows))
-                yield from rows
+                results = future.result()
+                bar.update(len(results))
+                yield from results
     finally:
         for future in futures:
             future.cancel()
