@@ -477,10 +477,16 @@ def interrupt_when_serving() -> None:
 
 
 def test_serve_forever_stops_on_ctrl_c(viewer):
-    interrupter = threading.Thread(target=interrupt_when_serving)
-    interrupter.start()
-    viewer.serve_forever()  # returns instead of raising KeyboardInterrupt
-    interrupter.join()
+    # Python's own Ctrl-C handler, whatever this process inherited: a job that a non-interactive
+    # shell starts in the background ignores SIGINT, and serve_forever would never hear it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        interrupter = threading.Thread(target=interrupt_when_serving)
+        interrupter.start()
+        viewer.serve_forever()  # returns instead of raising KeyboardInterrupt
+        interrupter.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @pytest.mark.parametrize(
