@@ -156,12 +156,8 @@ def cycle_forces(feeder: Feeder, dynamics: CycleDynamics) -> dict[str, ForceSeri
     p, kinematics = feeder.params, dynamics.kinematics
     q = kinematics.q
     axis = np.column_stack([np.cos(q[:, 0]), np.sin(q[:, 0]), np.zeros(len(q))])
-    model, data = feeder.model, feeder.model.createData()
-    hinge_joint = model.getJointId("forearm_joint")
-    hinge = np.empty((len(q), 3))
-    for k, q_k in enumerate(feeder.to_pinocchio(q)):
-        pin.forwardKinematics(model, data, q_k)
-        hinge[k] = data.oMi[hinge_joint].translation
+    joints = joint_placements(feeder.model, feeder.to_pinocchio(q))
+    hinge = joints[:, feeder.model.getJointId("forearm_joint"), :3, 3]
     reactions = dynamics.reactions
     return {
         "piston force": (dynamics.loads.piston_force[:, None] * axis, q[:, 1:2] * axis),

@@ -54,11 +54,12 @@ def model_scene(view: MechanismView, reactions: Sequence[str] | None = None) -> 
         FeederWarning: Mesh files that are not found or not usable (their visuals are not
             drawn, :func:`~feeder.viz.model_visuals.model_bodies`).
     """
-    picked = pick_reactions(view, reactions)
+    peaks = reaction_peaks(view)
+    picked = pick_reactions(peaks, reactions)
     visuals, legend = model_bodies(view)
     model = view.chain.model
     joints = joint_placements(model, view.q)
-    arrows, zero = _arrows(view, joints, reaction_peaks(view), picked)
+    arrows, zero = _arrows(view, joints, peaks, picked)
     title = f"{view.spec.model.name}: {view.source}"
     if view.base is not None:
         title += f"; {view.spec.base.describe()}"
@@ -92,14 +93,14 @@ def reaction_peaks(view: MechanismView) -> dict[str, float]:
     return peaks
 
 
-def pick_reactions(view: MechanismView, reactions: Sequence[str] | None) -> list[str]:
+def pick_reactions(peaks: dict[str, float], reactions: Sequence[str] | None) -> list[str]:
     """The joints whose reaction force is drawn: ``reactions`` as given (checked), or the
-    :data:`DEFAULT_REACTIONS` of largest peak force.
+    :data:`DEFAULT_REACTIONS` of largest peak force, from the peak reaction force [N] of every
+    joint with a reaction in the view's table (:func:`reaction_peaks`).
 
     Raises:
         InputError: A name that is not a joint with a reaction in the table.
     """
-    peaks = reaction_peaks(view)
     if reactions is None:
         ranked = sorted(peaks, key=peaks.get, reverse=True)
         return [name for name in ranked[:DEFAULT_REACTIONS] if peaks[name] > 0.0]

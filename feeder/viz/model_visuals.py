@@ -129,7 +129,6 @@ def _stick_figure(view: MechanismView) -> pin.GeometryModel:
     model = view.chain.model
     data = model.createData()
     pin.forwardKinematics(model, data, view.q[0])
-    pin.updateFramePlacements(model, data)
     origins = np.array([data.oMi[j].translation for j in range(model.njoints)])
     extent = float(np.ptp(origins, axis=0).max()) if model.njoints > 1 else 1.0
     radius = _STICK_SHARE * (extent or 1.0)
