@@ -78,6 +78,26 @@ def check_elevation(elevation: float, limits: tuple[float, float]) -> float:
     return eps
 
 
+def check_elevations_deg(
+    values: float | Iterable[float] | np.ndarray, limits: tuple[float, float] | None
+) -> list[float]:
+    """Return the elevations [deg] as a list of floats, at least one, each a finite number (not
+    text nor a truth value) and, unless ``limits`` is None, inside ``limits`` [rad].
+
+    Raises:
+        InputError: An entry that is not one finite number; no entry.
+        ElevationError: An elevation outside the range.
+    """
+    entries = np.ravel(np.asarray(values, dtype=object))  # objects: text stays text, True True
+    elevations = [check_number("elevation [deg]", e) for e in entries]
+    if not elevations:
+        raise InputError("the elevations are empty: at least one elevation is needed")
+    if limits is not None:
+        for e in elevations:
+            check_elevation(math.radians(e), limits)
+    return elevations
+
+
 def check_vector(name: str, value: np.ndarray, size: int) -> np.ndarray:
     """``value`` as a finite float array of shape (size,)."""
     array = check_finite(name, value)

@@ -13,11 +13,11 @@ import feeder
 from .conftest import REPO
 
 
-def _modules_after(code: str) -> set[str]:
-    """Top-level modules imported by ``code`` in a fresh interpreter."""
-    script = (
-        f"import sys\n{code}\nprint(' '.join(sorted({{m.split('.')[0] for m in sys.modules}})))"
-    )
+def _modules_after(code: str, full: bool = False) -> set[str]:
+    """Top-level modules (every module and submodule if ``full``) imported by ``code`` in a
+    fresh interpreter."""
+    name = "m" if full else "m.split('.')[0]"
+    script = f"import sys\n{code}\nprint(' '.join(sorted({{{name} for m in sys.modules}})))"
     done = subprocess.run(
         [sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True
     )
@@ -42,6 +42,21 @@ def test_figure_writers_load_matplotlib_only_to_draw():
     loaded = _modules_after("import feeder.viz.report as r\nr.study_figure_names()")
     assert "matplotlib" not in loaded
     assert "matplotlib" in _modules_after("from feeder.viz import sweep_figure")
+
+
+def test_design_sensitivities_load_nothing_of_the_optimisation():
+    """``feeder design sensitivities`` imports neither the optimisation's modules nor what only
+    they use, scipy.stats (~0.3 s). (scipy.optimize is loaded all the same: scipy.integrate,
+    which the forward run of feeder.chain uses, imports it.)"""
+    loaded = _modules_after(
+        "import feeder.cli as c\nc.parser()\nimport feeder.design as d\nd.run_sensitivities\n"
+        "from feeder.design import outputs, tables",
+        full=True,
+    )
+    assert "feeder.design.outputs" in loaded
+    optimisation = {"feeder.design.optimize", "feeder.design.search", "feeder.design.feasibility"}
+    assert not (optimisation | {"scipy.stats"}) & loaded
+    assert "scipy.stats" in _modules_after("from feeder.design import run_optimization", True)
 
 
 def test_every_public_name_resolves_to_its_module_object():

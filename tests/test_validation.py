@@ -15,7 +15,7 @@ import pytest
 import feeder as api
 from feeder.device import PROJECTILE_FEEDER, LinkInertia
 from feeder.exceptions import ElevationError, FeederError, InputError
-from feeder.validation import check_elevation, check_number, check_path
+from feeder.validation import check_elevation, check_elevations_deg, check_number, check_path
 
 
 @pytest.mark.parametrize(
@@ -63,6 +63,30 @@ def test_check_number_accepts_real_numbers(value, expected):
 def test_check_number_refuses_everything_else(bad):
     with pytest.raises(FeederError, match="x must be"):
         check_number("x", bad)
+
+
+def test_check_elevations_deg_gives_floats_in_the_range():
+    limits = PROJECTILE_FEEDER.elevation_limits
+    assert check_elevations_deg(np.array([-4, 30, 70]), limits) == [-4.0, 30.0, 70.0]
+    assert check_elevations_deg(30, limits) == [30.0]
+    assert check_elevations_deg([80.0], None) == [80.0]  # no limits: numbers only
+
+
+@pytest.mark.parametrize(
+    "bad, error, match",
+    [
+        (["x"], InputError, "must be numeric, got the text 'x'"),
+        ("30", InputError, "must be numeric, got the text '30'"),
+        ([30.0, True], InputError, "truth value"),
+        ([30.0, math.nan], InputError, "must be finite"),
+        ([], InputError, "at least one elevation"),
+        ([30.0, 71.0], ElevationError, "elevation 71° is outside"),
+    ],
+)
+def test_check_elevations_deg_refuses(bad, error, match):
+    with pytest.raises(error, match=match) as info:
+        check_elevations_deg(bad, PROJECTILE_FEEDER.elevation_limits)
+    assert type(info.value) is error
 
 
 @pytest.mark.parametrize(

@@ -15,7 +15,9 @@ Commands:
                 elements: states, loads, reactions, drift and energy balance
     design      designing the geometry: ``design sensitivities``, the derivative and elasticity
                 of every peak load with respect to every length and mass, at one elevation and
-                as the envelope over elevations
+                as the envelope over elevations; ``design optimize``, the free geometry that
+                minimises a peak over every elevation and vehicle case, within the design
+                file's bounds and constraints
 
 Each command has a module of its own here: ``add(commands)`` builds its sub-parser from the
 shared option groups (:mod:`feeder.cli.options`), so that every command spells ``--device``,

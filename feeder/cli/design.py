@@ -8,15 +8,28 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..design.differences import STEP_FACTOR
+from ..design.differentiable import SCALES
+from ..design.problem import DEFAULT_ELEVATIONS, DEFAULT_RATE
 from .options import (
+    RATE_HELP,
     Once,
     add_command,
     command_line,
     device_options,
+    elevations_option,
     out_option,
+    parallel_options,
     path_argument,
     switch,
+    typed,
 )
+
+
+def _exponent(number: float) -> str:
+    """``6.06e-6``: three digits, the exponent without padding."""
+    mantissa, _, exponent = f"{number:.2e}".partition("e")
+    return f"{mantissa}e{int(exponent)}"
 
 
 def add(commands: argparse._SubParsersAction) -> None:
@@ -30,14 +43,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         run,
         "derivatives and elasticities of every peak load with respect to every length and mass",
     )
-    sensitivities.add_argument(
-        "--elevations",
-        action=Once,
-        nargs=3,
-        type=float,
-        metavar=("START", "STOP", "STEP"),
-        help="the envelope's elevations [deg], STOP included when on a step (default: none; "
-        "give this, --elevation, or both)",
+    elevations_option(
+        sensitivities, "none; give this, --elevation, or both", "the envelope's elevations"
     )
     sensitivities.add_argument(
         "--elevation",
@@ -60,30 +67,14 @@ def add(commands: argparse._SubParsersAction) -> None:
         action=Once,
         type=float,
         metavar="REL",
-        help="relative finite-difference step, in (0, 0.1] (default: ε^(1/3) = 6.06e-6 of "
-        "max(|p|, 0.1 m or 1 kg), checked by halving)",
+        help="relative finite-difference step, in (0, 0.1] (default: ε^(1/3) = "
+        f"{_exponent(STEP_FACTOR)} of max(|p|, {SCALES['m']:g} m or {SCALES['kg']:g} kg), "
+        "checked by halving)",
     )
     sensitivities.add_argument(
-        "--rate",
-        action=Once,
-        type=float,
-        default=1000.0,
-        metavar="HZ",
-        help="sample rate of every cycle [Hz] (default: %(default)g)",
+        "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=RATE_HELP
     )
-    sensitivities.add_argument(
-        "--workers",
-        action=Once,
-        type=int,
-        help="local processes (default: every core; 1: this process)",
-    )
-    sensitivities.add_argument(
-        "--scheduler",
-        action=Once,
-        metavar="tcp://HOST:PORT",
-        help="run the cycles on this Dask cluster (pip install 'feeder[cluster]'; default: "
-        "this machine)",
-    )
+    parallel_options(sensitivities)
     switch(
         sensitivities,
         "--no-figures",
@@ -95,7 +86,6 @@ def add(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Sensitivities of every peak; the tables, the summary, the figure and the manifest."""
-    from ..design.differences import STEP_FACTOR
     from ..design.outputs import run_sensitivities
     from ..design.tables import summary
     from ..motion.laws import CycleSpec
@@ -160,14 +150,7 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
     )
     switch(optimize, "--print-design", "print_design", "print the built-in design file and "
            "exit (default: optimise)")  # fmt: skip
-    optimize.add_argument(
-        "--elevations",
-        action=Once,
-        nargs=3,
-        type=float,
-        metavar=("START", "STOP", "STEP"),
-        help="elevations [deg], STOP included when on a step (default: the grid's, else -4 70 2)",
-    )
+    elevations_option(optimize, f"the grid's, else {typed(DEFAULT_ELEVATIONS)}")
     optimize.add_argument(
         "--grid",
         action=Once,
@@ -182,7 +165,7 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
         action=Once,
         type=float,
         metavar="HZ",
-        help="sample rate of every cycle [Hz] (default: the grid's, else 100)",
+        help=f"sample rate of every cycle [Hz] (default: the grid's, else {DEFAULT_RATE:g})",
     )
     device_options(optimize, "projectile")
     optimize.add_argument(
@@ -202,19 +185,7 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
         help="local searches (SLSQP), from the best points of the global start (default: "
         "%(default)s)",
     )
-    optimize.add_argument(
-        "--workers",
-        action=Once,
-        type=int,
-        help="local processes (default: every core; 1: this process)",
-    )
-    optimize.add_argument(
-        "--scheduler",
-        action=Once,
-        metavar="tcp://HOST:PORT",
-        help="run the cycles on this Dask cluster (pip install 'feeder[cluster]'; default: "
-        "this machine)",
-    )
+    parallel_options(optimize)
     switch(optimize, "--no-figures", "figures", "no optimum.png (default: written)")
     switch(
         optimize,

@@ -1,6 +1,7 @@
 """The command line's shared parts: options given once, the option groups every command spells
-alike (``--device``, ``--params``, ``--elevation``, ``--out``; a user mechanism's MODEL,
-``--closures``, ``--pose``), and the small conversions between arguments and the package."""
+alike (``--device``, ``--params``, ``--elevation``, ``--out``, ``--elevations``, ``--workers``,
+``--scheduler``; a user mechanism's MODEL, ``--closures``, ``--pose``), and the small
+conversions between arguments and the package."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ if TYPE_CHECKING:
 
 
 RATE_HELP = "sample rate [Hz] (default: %(default)g)"
-"""Help of ``--rate`` (cycle, kinematics)."""
+"""Help of ``--rate`` (cycle, kinematics, design sensitivities)."""
 
 
 def add_command(
@@ -202,6 +203,44 @@ def out_option(sub: argparse.ArgumentParser) -> None:
         metavar="DIR",
         help="output folder, required: new, empty, or one an earlier feeder run wrote (its "
         "outputs are replaced; the manifest feeder-run.json records the run)",
+    )
+
+
+def typed(numbers: Sequence[float]) -> str:
+    """Numbers as they are typed on the command line: ``-4 70 2``."""
+    return " ".join(f"{x:g}" for x in numbers)
+
+
+def elevations_option(
+    sub: argparse.ArgumentParser, default_text: str, what: str = "elevations"
+) -> None:
+    """``--elevations START STOP STEP`` [deg] (:func:`~feeder.study.grid.elevation_range`);
+    ``what`` they are and ``default_text`` (what applies without them) for the help."""
+    sub.add_argument(
+        "--elevations",
+        action=Once,
+        nargs=3,
+        type=float,
+        metavar=("START", "STOP", "STEP"),
+        help=f"{what} [deg], STOP included when on a step (default: {default_text})",
+    )
+
+
+def parallel_options(sub: argparse.ArgumentParser, runs: str = "the cycles") -> None:
+    """``--workers N`` and ``--scheduler tcp://HOST:PORT``: where ``runs`` run
+    (:func:`~feeder.study.sweep.sweep_executor`)."""
+    sub.add_argument(
+        "--workers",
+        action=Once,
+        type=int,
+        help="local processes (default: every core; 1: this process)",
+    )
+    sub.add_argument(
+        "--scheduler",
+        action=Once,
+        metavar="tcp://HOST:PORT",
+        help=f"run {runs} on this Dask cluster (pip install 'feeder[cluster]'; default: this "
+        "machine)",
     )
 
 

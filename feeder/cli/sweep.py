@@ -6,12 +6,16 @@ import argparse
 from pathlib import Path
 
 from ..device.builtin import DEVICES
+from ..study.grid import DEFAULT_ELEVATIONS_DEG
 from .options import (
     Once,
     add_command,
     command_line,
+    elevations_option,
+    parallel_options,
     path_argument,
     switch,
+    typed,
 )
 
 
@@ -42,30 +46,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         choices=sorted(DEVICES),
         help="built-in device, replacing the grid's (repeatable; default: the grid's)",
     )
-    sweep.add_argument(
-        "--elevations",
-        action=Once,
-        nargs=3,
-        type=float,
-        metavar=("START", "STOP", "STEP"),
-        help=(
-            "elevations [deg], STOP included when it lies on a step, replacing the grid's "
-            "(default: -4 70 1)"
-        ),
-    )
-    sweep.add_argument(
-        "--workers",
-        action=Once,
-        type=int,
-        help="local processes (default: every core; 1: this process)",
-    )
-    sweep.add_argument(
-        "--scheduler",
-        action=Once,
-        metavar="tcp://HOST:PORT",
-        help="run the cases on this Dask cluster (pip install 'feeder[cluster]'; default: "
-        "this machine)",
-    )
+    elevations_option(sweep, f"the grid's, else {typed(DEFAULT_ELEVATIONS_DEG)}")
+    parallel_options(sweep, "the cases")
     switch(
         sweep,
         "--parquet",

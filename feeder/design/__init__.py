@@ -27,15 +27,42 @@ Optimisation:
 * :mod:`~feeder.design.report`, :mod:`~feeder.design.optimum_figure`,
   :mod:`~feeder.design.optimize` — ``optimum.csv``, the summary, the figure and the output
   folder.
+
+The names below load on first use, so that ``feeder design sensitivities`` does not import the
+optimisation's SciPy modules (``scipy.optimize``, ``scipy.stats``), nor the command line's
+parser either of the commands.
 """
 
-from .design_space import BUILT_IN, DesignSpace, read_design
-from .differentiable import DesignParameter, design_parameters
-from .objectives import Objective, parse_objective
-from .optimize import run_optimization
-from .outputs import run_sensitivities
-from .report import Optimum
-from .sensitivities import Sensitivities, Sensitivity, design_sensitivities
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .design_space import BUILT_IN, DesignSpace, read_design
+    from .differentiable import DesignParameter, design_parameters
+    from .objectives import Objective, parse_objective
+    from .optimize import run_optimization
+    from .outputs import run_sensitivities
+    from .report import Optimum
+    from .sensitivities import Sensitivities, Sensitivity, design_sensitivities
+
+_SOURCES = {
+    "BUILT_IN": ".design_space",
+    "DesignSpace": ".design_space",
+    "read_design": ".design_space",
+    "DesignParameter": ".differentiable",
+    "design_parameters": ".differentiable",
+    "Objective": ".objectives",
+    "parse_objective": ".objectives",
+    "run_optimization": ".optimize",
+    "run_sensitivities": ".outputs",
+    "Optimum": ".report",
+    "Sensitivities": ".sensitivities",
+    "Sensitivity": ".sensitivities",
+    "design_sensitivities": ".sensitivities",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "BUILT_IN",
@@ -52,3 +79,16 @@ __all__ = [
     "run_optimization",
     "run_sensitivities",
 ]
+
+
+def __getattr__(name: str):
+    """Import a public name on first use (PEP 562) and keep it."""
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import difflib
 import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..device.loop import TRANSMISSION_BAND_DEG
@@ -21,7 +21,7 @@ from ..device.parameters import SINGULAR_TRANSMISSION_DEG, FeederParameters
 from ..exceptions import FeederError, InputError
 from ..study.sweep_table import QUANTITIES
 from ..validation import check_number
-from .differentiable import LEFT_OUT, DesignParameter, design_parameters
+from .differentiable import DesignParameter, design_parameters, why_not
 
 END_STOPS = {
     "r2_min": "the piston's end stop, retracted",
@@ -134,20 +134,10 @@ def _choices() -> dict[str, DesignParameter]:
 def _parameter(where: str, name: str, known: dict[str, DesignParameter]) -> DesignParameter:
     if name in known:
         return known[name]
-    why = LEFT_OUT.get(name) or _not_free(name)
+    why = why_not(name, "free")
     near = difflib.get_close_matches(name, list(known), n=1)
     hint = f" (did you mean {near[0]!r}?)" if near else f"; choose from {', '.join(known)}"
     raise InputError(f"{where} names {name!r}, not a free parameter of the device: {why}{hint}")
-
-
-def _not_free(name: str) -> str:
-    field = {f.name: f for f in fields(FeederParameters)}.get(name)
-    if field is None:
-        return "no such parameter"
-    if field.type == "LinkInertia":
-        return f"a link: free its mass, {name}.mass"
-    unit = field.metadata.get("unit")
-    return "an angle: a motion definition or a limit" if unit == "rad" else "not a number"
 
 
 def _table(where: str, data: dict, key: str) -> dict:

@@ -68,7 +68,7 @@ def step(value: float, scale: float, factor: float = STEP_FACTOR) -> float:
     return factor * max(abs(value), scale)
 
 
-def offsets(value: float, h: float) -> np.ndarray:
+def offsets(value: float, h: float) -> tuple[np.ndarray, np.ndarray]:
     """The values p + o·h for o in :data:`OFFSETS` and the exact steps taken: (values, steps),
     each (5,). The step of a stepped float is what it differs from p by after rounding, which
     the subtraction gives exactly; the differences below divide by it, not by o·h."""

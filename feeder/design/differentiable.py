@@ -94,7 +94,7 @@ def chosen_parameters(names: list[str] | tuple[str, ...] | None) -> tuple[Design
         raise InputError(f"parameters must be a non-empty list of names, got {names!r}")
     for name in names:
         if name not in available:
-            why = LEFT_OUT.get(name) or _why_not(name)
+            why = why_not(name)
             raise InputError(
                 f"parameter {name!r} is not differentiable ({why}); choose from "
                 f"{', '.join(available)}"
@@ -104,13 +104,20 @@ def chosen_parameters(names: list[str] | tuple[str, ...] | None) -> tuple[Design
     return tuple(available[name] for name in names)
 
 
-def _why_not(name: object) -> str:
-    known = {field.name: field for field in fields(FeederParameters)}
-    if not isinstance(name, str) or name not in known:
+def why_not(name: object, verb: str = "differentiate") -> str:
+    """Why ``name`` is not a parameter of the design commands, for their messages: its
+    :data:`LEFT_OUT` reason, or what its field is (a link: ``verb`` its mass instead; an angle;
+    not a number), or that there is no such parameter."""
+    if not isinstance(name, str):
         return "no such parameter"
-    unit = known[name].metadata.get("unit")
-    if known[name].type == "LinkInertia":
-        return f"a link: differentiate its mass, {name}.mass"
+    if name in LEFT_OUT:
+        return LEFT_OUT[name]
+    field = {f.name: f for f in fields(FeederParameters)}.get(name)
+    if field is None:
+        return "no such parameter"
+    if field.type == "LinkInertia":
+        return f"a link: {verb} its mass, {name}.mass"
+    unit = field.metadata.get("unit")
     if unit == "rad":
         return "an angle: a motion definition or a limit"
     return "not a number" if not unit else f"unit {unit}"

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import tempfile
 import time
 from collections.abc import Sequence
@@ -34,27 +33,22 @@ from ..exceptions import InputError
 from ..files import MANIFEST, OutputFolder, Writer, write_text
 from ..motion.laws import CycleSpec
 from ..study.grid import SweepGrid, Variant, base_fingerprint, elevation_range
-from ..study.grid_file import read_grid
+from ..study.grid_file import as_grid
 from ..study.sweep import sweep_executor
-from ..validation import check_elevation, check_number
+from ..validation import check_elevations_deg
+from ..viz.catalog import elevations_text
 from ..workers import check_workers
 from .design_space import DesignSpace, read_design
 from .differentiable import design_parameters
 from .feasibility import check_feasible
 from .history import HISTORY, History, read_history
 from .objectives import Objective, parse_objective
-from .problem import Evaluation, Problem, Scope
+from .outputs import figure_writer, sensitivity_writers
+from .problem import DEFAULT_ELEVATIONS, DEFAULT_RATE, Evaluation, Problem, Scope
 from .report import INTERRUPTED, Optimum, optimum_rows, summary
 from .search import Found, Search
 from .sensitivities import Sensitivities, design_sensitivities
-from .tables import detail_rows, wide_rows, write_rows
-
-DEFAULT_ELEVATIONS = (-4.0, 70.0, 2.0)
-"""Elevations (start, stop, step) [deg] without ``--elevations`` or a grid."""
-
-DEFAULT_RATE = 100.0
-"""Sample rate [Hz] without ``--rate`` or a grid: 101 samples a 1 s stage, a peak missed by
-< 0.05 % (:data:`~feeder.motion.laws.PEAK_TOLERANCE`), at a fifth of 1 kHz's cost."""
+from .tables import write_rows
 
 SAMPLES_PER_VARIABLE = 8
 """Global-start points per variable that loads depend on, without ``samples``."""
@@ -65,7 +59,6 @@ PARAMETER_FILE, TABLE, SUMMARY, FIGURE = (
     "summary.txt",
     "optimum.png",
 )
-SENSITIVITIES, DETAILS = "sensitivities.csv", "sensitivity_details.csv"
 
 SAME_POINT = 1e-9
 """[-] SLSQP's last point is the optimum when no scaled variable differs by more."""
@@ -84,10 +77,7 @@ class Setup:
 
 
 def _scope(space, grid, elevations_deg, spec) -> Scope:
-    if isinstance(grid, str | Path):
-        grid = read_grid(grid)
-    elif grid is not None and not isinstance(grid, SweepGrid):
-        raise InputError(f"grid must be a TOML file's path or a SweepGrid, got {grid!r}")
+    grid = None if grid is None else as_grid(grid)
     variants = grid.variants if grid is not None else (Variant("reference"),)
     if elevations_deg is None:
         elevations_deg = grid.elevations_deg if grid else elevation_range(*DEFAULT_ELEVATIONS)
@@ -101,11 +91,7 @@ def _scope(space, grid, elevations_deg, spec) -> Scope:
                 f"grid variant {variant.name!r} changes a variable ({sorted(keys & names) or ''}"
                 f"{'payload.mass' if retrofit else ''}): keep the grid to vehicle cases"
             )
-    elevations = [check_number("elevation [deg]", e) for e in np.ravel(elevations_deg)]
-    if not elevations:
-        raise InputError("the elevation range is empty")
-    for e in elevations:
-        check_elevation(math.radians(e), space.device.elevation_limits)
+    elevations = check_elevations_deg(elevations_deg, space.device.elevation_limits)
     return Scope(tuple(dict.fromkeys(elevations)), tuple(variants), spec)
 
 
@@ -182,17 +168,6 @@ def _written(problem: Problem, candidates: Sequence[Evaluation]) -> tuple[Evalua
     return None, ""
 
 
-def _describe(scope: Scope) -> str:
-    """``ε = −4° … 70° (every 2°)``, or the elevations listed when not evenly spaced."""
-    e = scope.elevations_deg
-    steps = np.diff(e)
-    if len(e) > 2 and np.allclose(steps, steps[0], rtol=0.0, atol=1e-9):
-        text = f"ε = {e[0]:g}° … {e[-1]:g}° (every {steps[0]:g}°)"
-    else:
-        text = "ε = " + ", ".join(f"{x:g}°" for x in e)
-    return text.replace("-", "−")
-
-
 def run_optimization(
     params: FeederParameters,
     out_dir: str | Path,
@@ -222,7 +197,7 @@ def run_optimization(
         grid: A sweep grid (file or :class:`~feeder.study.grid.SweepGrid`) whose variants are
             the vehicle cases; its elevations and timing apply unless given here; its devices
             do not (the device is ``params``).
-        spec: The cycles' timing (default: the grid's, else :data:`DEFAULT_RATE`).
+        spec: The cycles' timing (default: the grid's, else :data:`~.problem.DEFAULT_RATE`).
         samples: Global-start points (default :data:`SAMPLES_PER_VARIABLE` per variable that
             loads depend on; 0: none).
         starts: Local searches, from the best feasible points of the global start.
@@ -304,13 +279,6 @@ def _sensitivities(optimum: Optimum, workers, scheduler, progress) -> Sensitivit
     )
 
 
-def _figure(optimum: Optimum, path: Path) -> Path:
-    from ..viz.report import png_bytes, write_png  # matplotlib: only to draw
-    from .optimum_figure import optimum_figure
-
-    return write_png(path, png_bytes(optimum_figure(optimum)))
-
-
 def _write(
     folder: OutputFolder,
     setup: Setup,
@@ -323,16 +291,15 @@ def _write(
 ) -> list[Path]:
     """Every output and the manifest (marked with the status); returns the paths, the history
     first."""
-    report = summary(optimum, _describe(setup.scope)) + "\n"
+    report = summary(optimum, elevations_text(setup.scope.elevations_deg)) + "\n"
     outputs: dict[str, Writer] = {HISTORY: history.write}  # first: what a resumed run reads
     if text:
         outputs[PARAMETER_FILE] = lambda path: write_text(path, text)
     outputs[TABLE] = lambda path: write_rows(path, optimum_rows(optimum))
     outputs[SUMMARY] = lambda path: write_text(path, report)
     if figure:
-        outputs[FIGURE] = lambda path: _figure(optimum, path)
+        outputs[FIGURE] = figure_writer(".optimum_figure", "optimum_figure", optimum)
     if result is not None:
-        outputs[SENSITIVITIES] = lambda path: write_rows(path, wide_rows(result))
-        outputs[DETAILS] = lambda path: write_rows(path, detail_rows(result))
+        outputs |= sensitivity_writers(result)
     record = _record(setup, command, optimum.status, optimum.problem.cycles)
     return folder.write(outputs, record)

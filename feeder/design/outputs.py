@@ -5,6 +5,7 @@ manifest with the SHA-256 of each)."""
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -22,11 +23,27 @@ SUMMARY = "summary.txt"
 FIGURE = "sensitivities.png"
 
 
-def _figure(result: Sensitivities, path: Path) -> Path:
-    from ..viz.report import png_bytes, write_png  # matplotlib: only to draw
-    from .figure import sensitivity_figure
+def figure_writer(module: str, function: str, data: object) -> Writer:
+    """The writer of the PNG that ``function`` of the figure module ``module`` (relative to
+    :mod:`feeder.design`: ``.figure``, ``.optimum_figure``) draws of ``data``: the module, and
+    matplotlib with it, is imported only when the file is written."""
 
-    return write_png(path, png_bytes(sensitivity_figure(result)))
+    def write(path: Path) -> Path:
+        from ..viz.report import png_bytes, write_png
+
+        draw = getattr(importlib.import_module(module, __package__), function)
+        return write_png(path, png_bytes(draw(data)))
+
+    return write
+
+
+def sensitivity_writers(result: Sensitivities) -> dict[str, Writer]:
+    """The writers of the tables :data:`TABLE` and :data:`DETAILS`, in that order (also the
+    sensitivities at the optimum of ``feeder design optimize``)."""
+    return {
+        TABLE: lambda path: write_rows(path, wide_rows(result)),
+        DETAILS: lambda path: write_rows(path, detail_rows(result)),
+    }
 
 
 def record(result: Sensitivities, params: FeederParameters, command: str | None) -> dict:
@@ -57,13 +74,10 @@ def write_sensitivity_outputs(
     ``figure`` is False) and the manifest into ``folder`` (entered); returns the paths, the
     table first."""
     text = summary(result) + "\n"
-    outputs: dict[str, Writer] = {
-        TABLE: lambda path: write_rows(path, wide_rows(result)),
-        DETAILS: lambda path: write_rows(path, detail_rows(result)),
-        SUMMARY: lambda path: write_text(path, text),
-    }
+    outputs = sensitivity_writers(result)
+    outputs[SUMMARY] = lambda path: write_text(path, text)
     if figure:
-        outputs[FIGURE] = lambda path: _figure(result, path)
+        outputs[FIGURE] = figure_writer(".figure", "sensitivity_figure", result)
     return folder.write(outputs, record(result, params, command))
 
 

@@ -49,6 +49,14 @@ WIDENED = (1e-3, math.radians(1.0))
 """How far [m, rad] the end stops and the cylinder's swing are widened beyond the travel for
 the cycles of a trial point (module docstring)."""
 
+DEFAULT_ELEVATIONS = (-4.0, 70.0, 2.0)
+"""Elevations (start, stop, step) [deg] of :class:`Scope` without ``--elevations`` or a grid
+(:func:`~feeder.design.optimize.run_optimization`)."""
+
+DEFAULT_RATE = 100.0
+"""Sample rate [Hz] without ``--rate`` or a grid: 101 samples a 1 s stage, a peak missed by
+< 0.05 % (:data:`~feeder.motion.laws.PEAK_TOLERANCE`), at a fifth of 1 kHz's cost."""
+
 
 class EvaluationFailed(FeederError):
     """A point's cycle failed (its loop cannot be solved, a pose at the toggle): the search from

@@ -26,9 +26,9 @@ import numpy as np
 
 from ..study.elevation_sweeps import UNITS
 from ..study.sweep_table import QUANTITIES
-from ..viz.catalog import display_unit
 from .objectives import Objective
 from .problem import Evaluation, Problem
+from .tables import cell, shown
 
 COLUMNS = (
     "kind", "name", "unit", "before", "after", "change_percent", "lower", "upper", "active",
@@ -77,10 +77,6 @@ class Optimum:
         return math.nan if e is None else self.problem.objective_value(e)
 
 
-def _number(value: float) -> str:
-    return "" if value is None or not math.isfinite(value) else repr(float(value))
-
-
 def _change(before: float, after: float) -> str:
     if before == 0.0 or not (math.isfinite(before) and math.isfinite(after)):
         return ""
@@ -106,38 +102,38 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
     unit = opt.objective.unit
     rows = [list(COLUMNS)]
     value = (opt.value(before), opt.value(after))
-    rows.append(["objective", opt.objective.text, unit, *map(_number, value), _change(*value),
+    rows.append(["objective", opt.objective.text, unit, *map(cell, value), _change(*value),
                  "", "", "", "", "", " or ".join(opt.objective.quantities())])  # fmt: skip
     for k, v in enumerate(p.space.variables):
         end = math.nan if after is None else float(after.x[k])
         z = (end - v.lower) / (v.upper - v.lower)
         active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
-        rows.append(["variable", v.name, v.unit, _number(before.x[k]), _number(end),
-                     _change(before.x[k], end), _number(v.lower), _number(v.upper), active,
+        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
+                     _change(before.x[k], end), cell(v.lower), cell(v.upper), active,
                      "", "", v.parameter.meaning])  # fmt: skip
     factor = _multiplier_factor(opt)
     for k, c in enumerate(p.geometry):
         margin = math.nan if after is None else float(after.margins[k])
         multiplier = opt.multipliers.get(c.name, math.nan) * factor / c.scale
         active = after is not None and (margin / c.scale <= ACTIVE or multiplier > 0.0)
-        rows.append(["constraint", c.name, c.unit, _number(before.margins[k]), _number(margin),
-                     "", "", "", str(int(active)), _number(multiplier), _per(unit, c.unit),
+        rows.append(["constraint", c.name, c.unit, cell(before.margins[k]), cell(margin),
+                     "", "", "", str(int(active)), cell(multiplier), _per(unit, c.unit),
                      c.meaning])  # fmt: skip
     for q, limit in p.space.limits.items():
         margins = [limit - abs(signed_peak(e, q)) for e in (before, after)]
         shares = [m for n, m in opt.multipliers.items() if n.startswith(f"limit:{q}@")]
         multiplier = sum(shares) * factor / limit if shares else math.nan
         active = after is not None and (margins[1] / limit <= ACTIVE or multiplier > 0.0)
-        rows.append(["constraint", f"limit:{q}", UNITS[q], *map(_number, margins), "", "",
-                     _number(limit), str(int(active)), _number(multiplier), _per(unit, UNITS[q]),
+        rows.append(["constraint", f"limit:{q}", UNITS[q], *map(cell, margins), "", "",
+                     cell(limit), str(int(active)), cell(multiplier), _per(unit, UNITS[q]),
                      f"peak {q} ≤ {limit:g} {UNITS[q]}"])  # fmt: skip
     for name, (quantity, case, share) in binding(opt).items():
-        peaks = [_case_peak(e, p, quantity, case) for e in (before, after)]
-        rows.append(["binding", name, UNITS[quantity], *map(_number, peaks), _change(*peaks),
-                     "", "", "1", _number(share), "-", "sets the objective"])  # fmt: skip
+        peaks = [_case_peak(e, quantity, case) for e in (before, after)]
+        rows.append(["binding", name, UNITS[quantity], *map(cell, peaks), _change(*peaks),
+                     "", "", "1", cell(share), "-", "sets the objective"])  # fmt: skip
     for q in QUANTITIES:
         peaks = [signed_peak(e, q) for e in (before, after)]
-        rows.append(["peak", q, UNITS[q], *map(_number, peaks), _change(*peaks),
+        rows.append(["peak", q, UNITS[q], *map(cell, peaks), _change(*peaks),
                      "", "", "", "", "", ""])  # fmt: skip
     return rows
 
@@ -146,7 +142,7 @@ def _per(unit: str, other: str) -> str:
     return f"{unit or '-'} per {other}"
 
 
-def _case_peak(e: Evaluation | None, p: Problem, quantity: str, case: int) -> float:
+def _case_peak(e: Evaluation | None, quantity: str, case: int) -> float:
     return math.nan if e is None or e.failure else abs(float(e.rows[case][quantity]))
 
 
@@ -167,13 +163,6 @@ def binding(opt: Optimum) -> dict[str, tuple[str, int, float]]:
     return found
 
 
-def _shown(value: float, unit: str) -> str:
-    if not math.isfinite(value):
-        return "–"
-    factor, shown = display_unit(unit)
-    return f"{value * factor:.6g} {shown}".replace("-", "−").rstrip()
-
-
 def summary(opt: Optimum, elevations: str) -> str:
     """The summary printed and written to ``summary.txt``."""
     p = opt.problem
@@ -185,7 +174,8 @@ def summary(opt: Optimum, elevations: str) -> str:
         f"status: {opt.status}",
         f"Minimise {opt.objective.text}: {terms}, over {elevations}, "
         f"{cases} vehicle case{'s' if cases > 1 else ''}, at {p.scope.spec.rate:g} Hz.",
-        f"Objective: {_shown(before, unit)} (the device as given) → {_shown(after, unit)}"
+        f"Objective: {shown(before, unit, '.6g')} (the device as given) → "
+        f"{shown(after, unit, '.6g')}"
         + (
             f" ({100.0 * (after - before) / before:+.2f} %)".replace("-", "−")
             if math.isfinite(after)

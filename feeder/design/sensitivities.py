@@ -43,7 +43,8 @@ from ..motion.laws import CycleSpec
 from ..study.elevation_sweeps import UNITS
 from ..study.sweep import sweep_executor
 from ..study.sweep_table import row_quantities
-from ..validation import check_elevation, check_number
+from ..validation import check_elevation, check_elevations_deg, check_number
+from ..viz.catalog import elevations_text
 from .differences import STEP_FACTOR, Estimate, check_step_factor, estimate
 from .differentiable import DesignParameter, chosen_parameters
 from .evaluations import NOMINAL, Outcome, Stepped, cases_of, run_evaluations, stepped
@@ -134,13 +135,10 @@ class Scope:
 
     @property
     def title(self) -> str:
-        """``ε = 30°`` or ``envelope over ε = −4° … 70° (every 2°)``."""
-        first, last = self.elevations_deg[0], self.elevations_deg[-1]
-        if self.name == "elevation":
-            return f"ε = {first:g}°".replace("-", "−")
-        every = self.elevations_deg[1] - first if len(self.elevations_deg) > 1 else 0.0
-        text = f"envelope over ε = {first:g}° … {last:g}° (every {every:g}°)"
-        return text.replace("-", "−")
+        """``ε = 30°`` or ``envelope over ε = −4° … 70° (every 2°)``
+        (:func:`~feeder.viz.catalog.elevations_text`)."""
+        text = elevations_text(self.elevations_deg)
+        return text if self.name == "elevation" else f"envelope over {text}"
 
 
 @dataclass(frozen=True)
@@ -191,12 +189,11 @@ def _elevations(
 ) -> tuple[list[float], float | None]:
     if elevations_deg is None and elevation_deg is None:
         raise InputError("give an elevation range (--elevations), an elevation, or both")
-    every = [] if elevations_deg is None else [float(e) for e in np.ravel(elevations_deg)]
-    if elevations_deg is not None and not every:
-        raise InputError("the elevation range is empty")
+    limits = params.elevation_limits
+    every = [] if elevations_deg is None else check_elevations_deg(elevations_deg, limits)
     one = None if elevation_deg is None else check_number("elevation [deg]", elevation_deg)
-    for e in [*every, *([] if one is None else [one])]:
-        check_elevation(math.radians(check_number("elevation [deg]", e)), params.elevation_limits)
+    if one is not None:
+        check_elevation(math.radians(one), limits)
     return every, one
 
 

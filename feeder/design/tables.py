@@ -48,7 +48,8 @@ SUMMARY_TOP = 5
 """Elasticities the summary lists per peak, largest magnitude first."""
 
 
-def _number(value: float) -> str:
+def cell(value: float | None) -> str:
+    """A number as a table's cell: the float's ``repr``; empty when missing or not finite."""
     return "" if value is None or not math.isfinite(value) else repr(float(value))
 
 
@@ -61,10 +62,10 @@ def wide_rows(result: Sensitivities) -> list[list[str]]:
         for peak in scope.peaks:
             entries = [scope.entries[(peak.name, n)] for n in names]
             rows.append(
-                [scope.name, peak.name, peak.unit, _number(peak.value)]
-                + [_number(peak.elevation_deg), _number(peak.time)]
-                + [_number(e.derivative) for e in entries]
-                + [_number(e.elasticity) for e in entries]
+                [scope.name, peak.name, peak.unit, cell(peak.value)]
+                + [cell(peak.elevation_deg), cell(peak.time)]
+                + [cell(e.derivative) for e in entries]
+                + [cell(e.elasticity) for e in entries]
             )
     return rows
 
@@ -80,10 +81,10 @@ def detail_rows(result: Sensitivities) -> list[list[str]]:
                 found = e.estimate
                 rows.append(
                     [scope.name, peak.name, peak.unit, parameter.name, parameter.unit]
-                    + [_number(e.value), _number(e.h), _number(e.derivative)]
-                    + [f"{peak.unit}/{parameter.unit}", _number(found and found.error)]
-                    + [_number(e.elasticity), _number(found and found.forward)]
-                    + [_number(found and found.backward), _number(found and found.residual)]
+                    + [cell(e.value), cell(e.h), cell(e.derivative)]
+                    + [f"{peak.unit}/{parameter.unit}", cell(found and found.error)]
+                    + [cell(e.elasticity), cell(found and found.forward)]
+                    + [cell(found and found.backward), cell(found and found.residual)]
                     + [e.status, e.moved, e.reason]
                 )
     return rows
@@ -105,9 +106,13 @@ def _signed(value: float, form: str) -> str:
     return format(value, form).replace("-", "−")
 
 
-def _shown(value: float, unit: str) -> str:
-    factor, shown = display_unit(unit)
-    return f"{_signed(value * factor, '.4g')} {shown}".rstrip()
+def shown(value: float, unit: str, form: str = ".4g") -> str:
+    """A value [SI ``unit``] as the summaries print it: in the unit figures show, formatted by
+    ``form``, with a true minus sign; "–" when not finite."""
+    if not math.isfinite(value):
+        return "–"
+    factor, unit_shown = display_unit(unit)
+    return f"{_signed(value * factor, form)} {unit_shown}".rstrip()
 
 
 def _top(scope: Scope, peak: str, names: list[str]) -> str:
@@ -157,7 +162,7 @@ def summary(result: Sensitivities) -> str:
                 f"ε = {_signed(peak.elevation_deg, 'g')}°, " if scope.name == "envelope" else ""
             )
             lines.append(
-                f"  {words(peak.name):<{width}}  {_shown(peak.value, peak.unit)} "
+                f"  {words(peak.name):<{width}}  {shown(peak.value, peak.unit)} "
                 f"({where}t = {peak.time:g} s): {_top(scope, peak.name, names)}"
             )
         lines += _flags(scope)

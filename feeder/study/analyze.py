@@ -6,7 +6,8 @@ Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder
 (:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
 coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
 dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
-(:meth:`Analysis.columns`, its column names :func:`column_stem`) and its summary.
+(:meth:`Analysis.columns`, its column names
+:func:`~feeder.study.mechanism_table.column_stem`) and its summary.
 
 The table's columns, units, peaks and pose lines are :mod:`feeder.study.mechanism_table`.
 """

@@ -25,7 +25,7 @@ from ..device.loop import check_device
 from ..device.parameters import VEHICLE_FORWARD, FeederParameters
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
-from ..validation import check_elevation, check_number
+from ..validation import check_elevations_deg, check_number
 from .retrofit import retrofit
 
 DEFAULT_ELEVATIONS_DEG = (-4.0, 70.0, 1.0)
@@ -276,11 +276,7 @@ def make_grid(
         raise InputError("a sweep needs at least one device")
     if elevations_deg is None:
         elevations_deg = elevation_range(*DEFAULT_ELEVATIONS_DEG)
-    elevations = np.array(
-        [check_number("elevation [deg]", e) for e in np.ravel(np.asarray(elevations_deg, object))]
-    )
-    if elevations.size == 0:
-        raise InputError("a sweep needs at least one elevation")
+    elevations = np.array(check_elevations_deg(elevations_deg, None))
     variants = tuple(variants)
     if not variants:
         raise InputError("a sweep needs at least one variant (e.g. 'reference', no change)")
@@ -296,8 +292,7 @@ def make_grid(
     if len(set(names)) != len(names):
         raise InputError(f"variant names must be unique, got {names}")
     for device, params in chosen.items():
-        for e in elevations:
-            check_elevation(math.radians(e), params.elevation_limits)
+        check_elevations_deg(elevations, params.elevation_limits)
         for variant in variants:
             try:
                 check_device(variant.apply(params))

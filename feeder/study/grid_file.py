@@ -42,7 +42,7 @@ from ..chain.readers import read_base
 from ..device.parameters import VEHICLE_FORWARD
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
-from ..validation import check_number
+from ..validation import check_elevations_deg
 from .grid import SweepGrid, Variant, elevation_range, make_grid
 
 
@@ -65,7 +65,7 @@ def _elevations(value: object) -> np.ndarray:
             )
         return elevation_range(value["start"], value["stop"], value.get("step", 1.0))
     if isinstance(value, list):
-        return np.array([check_number("elevation [deg]", e) for e in value])
+        return np.array(check_elevations_deg(value, None))
     raise InputError(f"elevations must be a list or {{start, stop, step}} [deg], got {value!r}")
 
 
@@ -108,3 +108,17 @@ def read_grid(path: str | Path) -> SweepGrid:
         )
     except FeederError as exc:
         raise type(exc)(f"{path}: {exc}") from exc
+
+
+def as_grid(grid: str | Path | SweepGrid) -> SweepGrid:
+    """``grid`` as a checked grid: a grid file's path read (:func:`read_grid`), a
+    :class:`~feeder.study.grid.SweepGrid` as it is.
+
+    Raises:
+        InputError: Neither a path nor a grid; any error of :func:`read_grid`.
+    """
+    if isinstance(grid, SweepGrid):
+        return grid
+    if isinstance(grid, str | Path):
+        return read_grid(grid)
+    raise InputError(f"grid must be a TOML file's path or a SweepGrid, got {grid!r}")

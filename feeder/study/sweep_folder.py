@@ -21,7 +21,7 @@ from pathlib import Path
 from ..exceptions import InputError
 from ..files import OutputFolder, Writer
 from .grid import SweepCase, SweepGrid, make_grid
-from .grid_file import read_grid
+from .grid_file import as_grid
 from .sweep import run_cases, sweep_executor
 from .sweep_table import (
     PARQUET,
@@ -44,14 +44,7 @@ def _grid(
     devices: Sequence[str] | None,
     elevations: Sequence[float] | None,
 ) -> SweepGrid:
-    if grid is None:
-        base = make_grid()
-    elif isinstance(grid, SweepGrid):
-        base = grid
-    elif isinstance(grid, str | Path):
-        base = read_grid(grid)
-    else:
-        raise InputError(f"grid must be a TOML file's path or a SweepGrid, got {grid!r}")
+    base = make_grid() if grid is None else as_grid(grid)
     if devices is None and elevations is None:
         return base
     return make_grid(

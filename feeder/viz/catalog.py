@@ -1,6 +1,6 @@
 """What the figures show, without drawing anything (no matplotlib): the time histories of a
 cycle, their file names (named for the payload), the words for each quantity, the unit an
-engineer reads for each SI unit, and the one format of the elevation.
+engineer reads for each SI unit, and the one format of the elevation and of a set of them.
 
 :mod:`feeder.viz.report` names and ships the figures from here before matplotlib is loaded;
 :mod:`feeder.viz.figures` draws them.
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..study.columns import COLUMNS
@@ -77,6 +78,22 @@ def elevation_text(elevation: float) -> str:
     a true minus sign)."""
     degrees = round(math.degrees(elevation), 2) + 0.0  # + 0.0: no "−0"
     return f"ε = {degrees:g}°".replace("-", "−")
+
+
+SAME_STEP = 1e-9
+"""[deg] Elevations are evenly spaced when their steps differ by no more."""
+
+
+def elevations_text(elevations_deg: Sequence[float]) -> str:
+    """``ε = 30°``, ``ε = −4° … 70° (every 2°)`` for evenly spaced elevations [deg], or
+    ``ε = −4°, 30°, 70°`` listed when they are not (a true minus sign)."""
+    e = [float(x) for x in elevations_deg]
+    steps = [b - a for a, b in zip(e, e[1:], strict=False)]
+    if steps and all(abs(s - steps[0]) <= SAME_STEP for s in steps):
+        text = f"ε = {e[0]:g}° … {e[-1]:g}° (every {steps[0]:g}°)"
+    else:
+        text = "ε = " + ", ".join(f"{x:g}°" for x in e)
+    return text.replace("-", "−")
 
 
 @dataclass(frozen=True)

@@ -12,9 +12,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from feeder.design import optimize as optimize_module
+from feeder.cli import main
+from feeder.design.differences import STEP_FACTOR
 from feeder.design.optimize import run_optimization
-from feeder.design.problem import Problem
+from feeder.design.problem import DEFAULT_ELEVATIONS, DEFAULT_RATE, Problem
 from feeder.device.builtin import PROJECTILE_FEEDER
 from feeder.device.feeder import load_feeder
 from feeder.device.loop import loop_state, transmission_angle
@@ -253,12 +254,35 @@ def test_a_grid_variant_may_not_change_a_variable(design_file, tmp_path):
     assert not (tmp_path / "out").exists()
 
 
-def test_defaults_are_documented():
-    assert optimize_module.DEFAULT_RATE == 100.0 and optimize_module.DEFAULT_ELEVATIONS == (
-        -4.0,
-        70.0,
-        2.0,
-    )
+@pytest.mark.parametrize(
+    "elevations, message",
+    [
+        (["x"], r"elevation \[deg\] must be numeric, got the text 'x'"),
+        ([], "at least one elevation"),
+        ([-4.0, 75.0], "elevation 75° is outside the device's range"),
+    ],
+)
+def test_bad_elevations_are_refused_before_any_folder(design_file, tmp_path, elevations, message):
+    with pytest.raises(InputError, match=message):
+        run_optimization(PROJECTILE_FEEDER, tmp_path / "out", design=design_file,
+                         elevations_deg=elevations)  # fmt: skip
+    assert not (tmp_path / "out").exists()
+
+
+def test_defaults_are_documented(capsys):
+    """``--help`` states the defaults that a run without a grid uses."""
+    with pytest.raises(SystemExit) as info:
+        main(["design", "optimize", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert info.value.code == 0
+    start, stop, step = DEFAULT_ELEVATIONS
+    assert f"(default: the grid's, else {start:g} {stop:g} {step:g})" in text
+    assert f"[Hz] (default: the grid's, else {DEFAULT_RATE:g})" in text
+    with pytest.raises(SystemExit):
+        main(["design", "sensitivities", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    mantissa, exponent = f"{STEP_FACTOR:.2e}".split("e")
+    assert f"(default: ε^(1/3) = {mantissa}e{int(exponent)} of max(|p|, 0.1 m or 1 kg)" in text
 
 
 def test_the_multipliers_are_the_objective_s_rate_of_change(optimum, tmp_path):

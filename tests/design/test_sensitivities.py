@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from feeder.design import design_sensitivities, evaluations
+from feeder.design.sensitivities import Scope
 from feeder.device.builtin import PROJECTILE_FEEDER
 from feeder.device.feeder import load_feeder
 from feeder.dynamics.cycle import cycle_dynamics
@@ -210,10 +211,29 @@ def test_workers_give_the_same_derivatives_as_this_process():
         ({"elevation_deg": -10.0}, ElevationError, "-10"),
         ({"factor": 0.0}, InputError, "relative step"),
         ({"elevations_deg": None, "elevation_deg": None}, InputError, "elevation"),
+        ({"elevations_deg": ["x"]}, InputError, r"elevation \[deg\] must be numeric, got the"),
+        ({"elevations_deg": [30.0, True]}, InputError, "truth value"),
+        ({"elevations_deg": []}, InputError, "at least one elevation"),
     ],
 )
 def test_bad_input_is_refused_in_one_line(arguments, error, message):
     kwargs = {"elevation_deg": 30.0, "spec": SPEC, "workers": 1, "progress": False}
     with pytest.raises(error, match=message) as info:
         design_sensitivities(PROJECTILE_FEEDER, **(kwargs | arguments))
+    assert type(info.value) is error  # not a bare ValueError, nor another subclass
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "name, elevations, title",
+    [
+        ("elevation", (30.0,), "ε = 30°"),
+        ("envelope", (-4.0, -2.0, 0.0), "envelope over ε = −4° … 0° (every 2°)"),
+        ("envelope", (-4.0, 70.0), "envelope over ε = −4° … 70° (every 74°)"),
+        ("envelope", (-4.0, 30.0, 70.0), "envelope over ε = −4°, 30°, 70°"),
+        ("envelope", (12.5,), "envelope over ε = 12.5°"),
+    ],
+)
+def test_a_scope_s_title_lists_uneven_elevations(name, elevations, title):
+    """Once "every 34°" for −4°, 30°, 70°: the step between the first two."""
+    assert Scope(name, elevations, (), {}).title == title
