@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
+import sys
 import threading
+import time
 
 import pytest
 
 from feeder.exceptions import InputError
-from feeder.workers import check_workers, interrupts_held, local_workers, process_pool
+from feeder.workers import check_workers, interrupts_held, process_pool
+
+from .conftest import REPO
 
 
 def signal_policy() -> tuple[int, int, bool]:
@@ -51,12 +56,24 @@ def test_a_threaded_process_gets_no_forked_pool_when_only_fork_will_do():
 
 
 def test_interrupts_are_held_back_not_lost():
+    """A Ctrl-C while the block runs does not interrupt it, and is raised once it ends."""
+
     def blocked() -> bool:
         return signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, set())
 
     assert not blocked()
-    with interrupts_held():
-        assert blocked()
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in an interpreter
+    finished = False
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with interrupts_held():
+                assert blocked()
+                signal.pthread_kill(threading.get_ident(), signal.SIGINT)
+                time.sleep(0.05)  # a SIGINT let through would be raised by now
+                finished = True
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert finished  # held back: the block ran to its end
     assert not blocked()
 
 
@@ -66,5 +83,17 @@ def test_a_worker_count_that_is_not_a_whole_number_above_zero_is_refused(workers
         check_workers("workers", workers)
 
 
+@pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="no CPU affinity here")
 def test_local_workers_are_the_cores_this_process_may_use():
-    assert local_workers() == len(os.sched_getaffinity(0))
+    """In a process bound to one core (as a batch scheduler or ``taskset`` binds it), one
+    worker, whatever the machine has."""
+    script = (
+        "import os\n"
+        "os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})\n"
+        "from feeder.workers import local_workers\n"
+        "print(local_workers())\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True
+    )
+    assert done.stdout == "1\n"

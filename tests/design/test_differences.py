@@ -6,6 +6,7 @@ whose argmax changes (flagged, with the elevation that moved)."""
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -30,7 +31,9 @@ def test_step_is_the_cube_root_of_epsilon_relative_to_the_value_or_its_scale():
     assert step(0.49, 0.1) == STEP_FACTOR * 0.49
     assert step(-0.014, 0.1) == STEP_FACTOR * 0.1  # an offset near zero: the scale
     stepped, steps = offsets(0.3, step(0.3, 0.1))
-    assert np.array_equal(stepped - 0.3, steps)  # the steps are the floats' exact differences
+    # The steps are the exact differences of the floats, in exact arithmetic: no rounding.
+    for value, h in zip(stepped, steps, strict=True):
+        assert Fraction(float(value)) - Fraction(0.3) == Fraction(float(h))
     assert steps[2] == 0.0 and steps[0] < steps[1] < 0.0 < steps[3] < steps[4]
 
 
