@@ -1,8 +1,9 @@
 """Closed kinematic chains of any model: strict reading, typed loop closures, assembly, mobility,
 inverse dynamics with every joint's reaction, and forward simulation.
 
-This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions` and
-:mod:`feeder.validation` (tests/test_layers.py checks it). Its subpackages follow the data:
+This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions`,
+:mod:`feeder.validation` and :mod:`feeder.inertia` (tests/test_layers.py checks it). Its
+subpackages follow the data:
 
 * :mod:`~feeder.chain.model` — the tree, its loop closures (:class:`ClosedChain`,
   :class:`Closure`), its force elements (:class:`Spring`, :class:`Cylinder`,
