@@ -3,8 +3,8 @@ module imports itself through others.
 
 The contracts live in ``pyproject.toml`` ([tool.importlinter]) and are checked with
 import-linter (which also gives ``lint-imports`` on the command line): chain → device → motion
-→ dynamics → paper → study → viz → outputs → CLI, over the leaf modules files, validation and
-exceptions; inside chain, model → readers | kinematics → assembly → mobility → dynamics;
+→ dynamics → paper → study → viz → outputs → CLI, over the leaf modules files, validation, inertia
+and exceptions; inside chain, model → readers | kinematics → assembly → mobility → dynamics;
 ``feeder.paper`` reaches neither Pinocchio nor the pipeline, directly or not; the device's layers
 (device, motion, dynamics, paper, the device's studies) import ``feeder.chain``'s public names
 only: those of ``feeder.chain``, ``feeder.chain.readers`` and ``feeder.chain.results`` (never
@@ -48,7 +48,7 @@ def test_no_import_cycles():
 
 def test_chain_imports_nothing_of_the_device():
     graph = grimp.build_graph("feeder")
-    allowed = ("feeder.chain", "feeder.exceptions", "feeder.validation")
+    allowed = ("feeder.chain", "feeder.exceptions", "feeder.validation", "feeder.inertia")
     for module in graph.find_descendants("feeder.chain") | {"feeder.chain"}:
         for imported in graph.find_modules_directly_imported_by(module):
             assert imported.startswith(allowed), f"{module} imports {imported}"

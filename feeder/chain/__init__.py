@@ -1,8 +1,9 @@
 """Closed kinematic chains of any model: strict reading, typed loop closures, assembly, mobility,
 inverse dynamics with every joint's reaction, and forward simulation.
 
-This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions` and
-:mod:`feeder.validation` (tests/test_layers.py checks it). Its subpackages follow the data:
+This layer knows nothing of the feeding device: it imports only :mod:`feeder.exceptions`,
+:mod:`feeder.validation` and :mod:`feeder.inertia` (tests/test_layers.py checks it). Its
+subpackages follow the data:
 
 * :mod:`~feeder.chain.model` — the tree, its loop closures (:class:`ClosedChain`,
   :class:`Closure`), its force elements (:class:`Spring`, :class:`Cylinder`,
@@ -12,10 +13,11 @@ This layer knows nothing of the feeding device: it imports only :mod:`feeder.exc
   Extended-URDF YAML) and motion tables, read strictly into a :class:`ClosedChain`;
 * :mod:`~feeder.chain.kinematics` — the tree's motion and the closure rows at every sample at
   once, the motion of named frames (:func:`frame_motion`), and one pose with its kinematics run
-  once (:class:`ChainPose`);
+  once (:class:`~feeder.chain.results.ChainPose`);
 * :mod:`~feeder.chain.assembly` — closed poses from the open one, the pose check, velocities and
-  accelerations (:class:`Partition`, :class:`PoseCheck`), and continuation along a motion
-  (:func:`track`, giving a :class:`Trajectory`);
+  accelerations (:class:`Partition`, :class:`~feeder.chain.results.PoseCheck`), and
+  continuation along a motion (:func:`track`, giving a
+  :class:`~feeder.chain.results.Trajectory`);
 * :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
   motions, distance to a singular pose;
 * :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
@@ -25,8 +27,8 @@ The names below are the workflow for any mechanism: read it (:func:`read_spec`,
 :func:`load_mechanism`, or :func:`load_closed_chain` for a URDF and closures given in code), its
 closures and base motion, assemble and track it (:class:`Partition`, :func:`track`), count its
 freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
-:func:`inverse_dynamics`, :func:`simulate`, the force elements). Two public groupings hold the
-rest:
+:func:`inverse_dynamics`, :func:`simulate` and its default :data:`BAUMGARTE_RATE`, the force
+elements). Two public groupings hold the rest:
 
 * :mod:`feeder.chain.readers` — the individual readers and their records (``read_urdf``,
   ``build_model``, ``read_motion`` → ``MotionTable``, ``read_base``, ``read_force_file``,
@@ -34,13 +36,14 @@ rest:
 * :mod:`feeder.chain.results` — what the workflow returns (``ChainLoads``, ``JointWrench``,
   ``ForwardRun``, ``Trajectory``, ``PoseCheck``, ``MobilityReport``, …), for type annotations.
 
-Tolerances and limits (``MAX_GAIN``, ``POSITION_TOLERANCE``) live next to where they are checked
-(:mod:`feeder.chain.assembly.partition`).
+Tolerances and limits live next to where they are checked (``MAX_GAIN`` in
+:mod:`feeder.chain.assembly.partition`, ``POSITION_TOLERANCE`` in
+:mod:`feeder.chain.assembly.newton`).
 """
 
 from .assembly.partition import Partition
 from .assembly.tracking import track
-from .dynamics.forward import simulate
+from .dynamics.forward import BAUMGARTE_RATE, simulate
 from .dynamics.inverse import ChainDynamics, inverse_dynamics
 from .kinematics.frames import frame_motion
 from .mobility import mobility
@@ -53,6 +56,7 @@ from .readers.mechanism import load_mechanism, read_spec
 from .readers.urdf import load_closed_chain
 
 __all__ = [
+    "BAUMGARTE_RATE",
     "BaseMotion",
     "Bump",
     "ChainDynamics",

@@ -34,6 +34,7 @@ import numpy as np
 import scipy.linalg
 
 from ..exceptions import SingularPoseError
+from .assembly.check import idle_motions
 from .assembly.newton import RANK_TOLERANCE
 from .assembly.partition import Partition
 from .assembly.rank import moved_joints
@@ -153,7 +154,8 @@ def mobility(
     """
     model = chain.model
     q = chain.check_q(q)
-    jac = chain.jacobian(q)
+    pose = ChainPose(chain, q)  # its Jacobian computed once, for the report and the checks
+    jac = pose.jacobian
     joints = tuple(model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1)
     columns = {name: chain.joint_slice(name).start for name in joints}
     singular = np.linalg.svd(jac, compute_uv=False) if jac.size else np.zeros(0)
@@ -186,14 +188,15 @@ def mobility(
     if independent is not None:
         independent = tuple(independent)
         partition = Partition(chain, independent)
-        try:
-            motions = partition.idle_motions(q)
-            partition.check_pose(ChainPose(chain, q))
+        try:  # the idle-motion test first: its refusal is the one reported when both fail
+            motions = idle_motions(partition, pose)
+            gain = partition.check_pose(pose).gain
         except SingularPoseError as exc:
             determined = str(exc)
             motions = np.zeros((0, dof))
+            gain = partition.gain(q)  # also past the partition's limit
         idle = tuple(moved_joints(model, motion) for motion in _localised(motions))
-        gain, definition = partition.gain(q), partition.gain_definition
+        definition = partition.gain_definition
     tree = tuple(
         model.names[j] + (f" ({model.joints[j].nv})" if model.joints[j].nv != 1 else "")
         for j in range(1, model.njoints)

@@ -45,9 +45,8 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-# The numpy-only module, not feeder.chain: feeder.paper reads the parameters without the pipeline.
-from ..chain.readers.inertia import check_inertia
 from ..exceptions import InputError
+from ..inertia import check_inertia
 from ..validation import check_number, check_vector
 
 GRAVITY = np.array([0.0, -9.81, 0.0])

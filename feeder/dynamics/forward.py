@@ -17,10 +17,10 @@ this one checks the force rule at its own samples, the generic one runs users' m
 
 **Loop closure.** Baumgarte stabilisation inside ``constraintDynamics``: the pin constraint's
 acceleration target is −Kp e − Kd ė with Kp = ω², Kd = 2ω, ω = 20 rad/s
-(:data:`~feeder.dynamics.models.BAUMGARTE_RATE`: critically damped, time constant 1/ω = 50 ms,
-hω = 0.02 well inside the integrator's stability region). It costs nothing per step and leaves
-the motion untouched while the loop is closed (e ~ 1e-13 m). Projection onto the constraint
-manifold (a Newton solve of :class:`~feeder.chain.Partition` every step) would cost
+(:data:`feeder.chain.BAUMGARTE_RATE`, the generic run's: critically damped, time constant
+1/ω = 50 ms, hω = 0.02 well inside the integrator's stability region). It costs nothing per step
+and leaves the motion untouched while the loop is closed (e ~ 1e-13 m). Projection onto the
+constraint manifold (a Newton solve of :class:`~feeder.chain.Partition` every step) would cost
 several Jacobian evaluations per step and is not needed: the integrator's own drift is ~1e-13 m.
 
 **Grip.** At a change of the grip flag the model switches (with or without the payload's

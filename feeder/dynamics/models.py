@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain import BaseMotion, ChainDynamics, ClosedChain
+from ..chain import BAUMGARTE_RATE, BaseMotion, ChainDynamics, ClosedChain
 from ..device.feeder import CLOSURE, PAPER_JOINTS, Feeder
 
 ACTUATED_JOINTS = ("piston_joint", "forearm_joint")
@@ -25,12 +25,6 @@ ACTUATED_JOINTS = ("piston_joint", "forearm_joint")
 
 PAYLOAD_FRAME = "projectile"
 """Frame of the payload link (its centre of gravity, y = payload axis), fixed to the forearm."""
-
-BAUMGARTE_RATE = 20.0
-"""Baumgarte rate ω [1/s] of the forward run's pin constraint: Kp = ω², Kd = 2ω, critically
-damped, a loop error decays in 1/ω = 50 ms (the generic run's default,
-:func:`feeder.chain.simulate`); hω = 0.02 at 1 kHz is well inside the integrator's stability
-region."""
 
 PROXIMAL_MU = 1e-8
 """Proximal regularisation of ``constraintDynamics`` [1/kg, the Delassus matrix's unit]. It must
@@ -109,6 +103,9 @@ class InertiaCase:
         self.constraint_datas = pin.StdVec_RigidConstraintData()
         for constraint in constraint_models:
             own = pin.RigidConstraintModel(constraint)
+            # The generic run's Baumgarte rate ω (feeder.chain.simulate): critically damped, a
+            # loop error decays in 1/ω = 50 ms; hω = 0.02 at 1 kHz is well inside the
+            # integrator's stability region.
             gains = own.m_baumgarte_parameters
             gains.Kp = BAUMGARTE_RATE**2
             gains.Kd = 2.0 * BAUMGARTE_RATE

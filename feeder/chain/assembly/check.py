@@ -81,7 +81,8 @@ class PoseCheck:
 
     def velocity(self, v_independent: np.ndarray) -> np.ndarray:
         """The velocity (nv,) with independent components ``v_independent`` (n_ind,) and
-        J q̇ = 0 (unchecked inputs: :meth:`Partition.velocity` checks them)."""
+        J q̇ = 0 (unchecked inputs:
+        :meth:`~feeder.chain.assembly.partition.Partition.velocity` checks them)."""
         v = np.zeros(self.jacobian.shape[1])
         v[self.independent] = v_independent
         v[self.dependent] = -self.inverse @ (self.jacobian @ v)

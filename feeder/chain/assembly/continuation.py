@@ -1,5 +1,7 @@
 """Sequential continuation along a motion, on one assembly branch: each sample from the one
-before it, through the public methods of :class:`~feeder.chain.assembly.partition.Partition`.
+before it, through the public methods of :class:`~feeder.chain.assembly.partition.Partition`
+(and, for a first sample on a requested branch, the assembly behind
+:meth:`~feeder.chain.assembly.partition.Partition.assemble`, whose pose check it keeps).
 
 Each step starts Newton from the previous pose moved along the closure's tangent (a first-order
 predictor, :meth:`~feeder.chain.assembly.check.PoseCheck.step`), with no restarts; its correction
@@ -20,9 +22,9 @@ import pinocchio as pin
 
 from ...exceptions import SingularPoseError
 from ..kinematics.pose import ChainPose
-from . import refusals
+from . import refusals, restarts
 from .check import PoseCheck
-from .newton import CONTINUATION_STEP, POSITION_TOLERANCE, newton
+from .newton import CONTINUATION_STEP, MAX_ITERATIONS, POSITION_TOLERANCE, newton
 from .rank import rank_tolerance
 from .trajectory import Trajectory
 
@@ -57,9 +59,9 @@ def first_sample(
     ``x0`` by continuation in steps of at most :data:`MOUNT_STEP` — unless ``branch`` is given,
     which picks it by :meth:`~feeder.chain.assembly.partition.Partition.assemble` instead."""
     chain = partition.chain
-    if branch is not None:
-        q = partition.assemble(partition.with_independent(q_start, x0), branch)
-        return partition.check_pose(ChainPose(chain, q))
+    if branch is not None:  # assembled and checked once
+        guess = partition.with_independent(q_start, x0)
+        return restarts.assemble(partition, guess, branch, MAX_ITERATIONS)
     gap = float(np.abs(chain.residual(q_start)).max(initial=0.0))
     q = partition.mount(q_start) if gap > POSITION_TOLERANCE else q_start
     start = partition.independent_values(q)
@@ -114,7 +116,7 @@ def advance(
                 jac, q = current.jacobian, current.q
                 weakest = refusals.weakest_joints(partition, jac, rank_tolerance(jac))
                 at = partition.with_independent(q, start)
-                raise refusals.dead_centre(partition, at, q, weakest, partition.gain(q))
+                raise refusals.dead_centre(partition, at, q, weakest, current.gain)
         q = partition.wrap(current.q)
         partition.check_limits(q)
         if last is not None and q.tobytes() == last.q.tobytes():

@@ -319,7 +319,7 @@ class Partition:
                 outside the joint limits.
             SingularPoseError: The solution is singular or near it (module docstring).
         """
-        return restarts.assemble(self, q_guess, branch, max_iterations)
+        return restarts.assemble(self, q_guess, branch, max_iterations).q.copy()
 
     # -- independent coordinates ------------------------------------------------------------
 

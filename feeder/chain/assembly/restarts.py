@@ -14,6 +14,7 @@ import pinocchio as pin
 from ...exceptions import SingularPoseError
 from ..kinematics.pose import ChainPose
 from . import refusals
+from .check import PoseCheck
 from .newton import POSITION_TOLERANCE, newton
 
 RESTARTS = 50
@@ -27,9 +28,10 @@ def assemble(
     q_guess: np.ndarray,
     branch: Callable[[np.ndarray], bool] | None,
     max_iterations: int,
-) -> np.ndarray:
+) -> PoseCheck:
     """:meth:`~feeder.chain.assembly.partition.Partition.assemble` (its docstring) for
-    ``partition``."""
+    ``partition``, the pose's check returned (its ``q`` is the configuration that method
+    returns): a caller that goes on from the pose need not check it again."""
     chain = partition.chain
     q_guess = chain.check_q(q_guess)
     rng = np.random.default_rng(0)
@@ -47,8 +49,7 @@ def assemble(
             missed_branch = True
             continue
         partition.check_limits(q)
-        partition.check_pose(ChainPose(chain, q))
-        return q
+        return partition.check_pose(ChainPose(chain, q))
     if missed_branch:
         raise refusals.missed_branch(RESTARTS + 1)
     norm, q = best

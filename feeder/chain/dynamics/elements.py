@@ -39,7 +39,7 @@ import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError
 from ..kinematics.joints import kind_of
-from ..kinematics.tree import TreeMotion, cross, frame_placements
+from ..kinematics.tree import TreeMotion, cross, frame_placements, frame_velocity
 from ..model.closure import ClosedChain
 from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table, tables_of
 from ..model.jacobians import frame_jacobian
@@ -210,7 +210,7 @@ class LineElement(BoundElement):
         rate = np.einsum(
             "ni,ni->n",
             direction,
-            _velocity(model, motion, b, pb) - _velocity(model, motion, a, pa),
+            frame_velocity(model, motion, b, pb) - frame_velocity(model, motion, a, pa),
         )
         push = np.array([self.push(x) for x in t])
         tension = self.tension(length, rate, push)
@@ -406,9 +406,3 @@ def _body_frame(model: pin.Model, joint: int, name: str) -> int:
         if model.frames[f].parentJoint == joint:
             return f
     raise InputError(f"{name}: the body of joint {model.names[joint]!r} has no frame")
-
-
-def _velocity(model: pin.Model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
-    """World velocity (N, 3) of a frame's origin at ``point`` (N, 3)."""
-    j = model.frames[frame].parentJoint
-    return motion.velocity[j] + cross(motion.omega[j], point - motion.origin[j])

@@ -74,7 +74,11 @@ class ForwardEquations:
         if self.actuation is None:
             return elements.generalized(q, v, t) if elements else (self.zero, 0.0)
         tau = np.zeros(self.model.nv)
-        u = check_finite(f"actuation at t = {t:.6g} s [N or N·m]", self.actuation(t, q, v))
+        u = self.actuation(t, q, v)
+        if not (type(u) is np.ndarray and u.dtype == np.float64 and np.isfinite(u).all()):
+            # anything but finite floats (or not an array): converted or refused, the message
+            # built only here (each evaluation of the right-hand side passes this way)
+            u = check_finite(f"actuation at t = {t:.6g} s [N or N·m]", u)
         if u.shape != self.columns.shape:
             raise InputError(
                 f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "

@@ -12,7 +12,7 @@ import numpy as np
 from ...exceptions import InputError
 from ...validation import check_samples
 from ..model.closure import ClosedChain
-from .tree import cross, frame_placements, tree_motion
+from .tree import frame_placements, frame_velocity, tree_motion
 
 
 @dataclass(frozen=True)
@@ -58,8 +58,7 @@ def frame_motion(
     out = {}
     for name, frame in ids.items():
         rotation, position = frame_placements(model, motion, frame)
-        joint = model.frames[frame].parentJoint
-        lever = position - motion.origin[joint]
-        velocity = motion.velocity[joint] + cross(motion.omega[joint], lever)
-        out[name] = FrameMotion(rotation, position, velocity, motion.omega[joint])
+        velocity = frame_velocity(model, motion, frame, position)
+        omega = motion.omega[model.frames[frame].parentJoint]
+        out[name] = FrameMotion(rotation, position, velocity, omega)
     return out

@@ -188,6 +188,16 @@ def frame_placements(
     return rotation, origin
 
 
+def frame_velocity(
+    model: pin.Model, motion: TreeMotion, frame: int, origin: np.ndarray
+) -> np.ndarray:
+    """World velocity (N, 3) of a frame's origin, whose world position ``origin`` (N, 3) is
+    :func:`frame_placements`'s: its parent joint's origin velocity and the turn about it,
+    v_j + ω_j × (origin − o_j)."""
+    j = model.frames[frame].parentJoint
+    return motion.velocity[j] + cross(motion.omega[j], origin - motion.origin[j])
+
+
 def reach(model: pin.Model, q: np.ndarray) -> float:
     """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
     frame's origin (joints, links, cut frames) from the world origin, at least

@@ -93,8 +93,8 @@ class HullTable:
         return Channels(values[:, :6], values[:, 6:12], values[:, 12:])
 
     def peaks(self) -> np.ndarray:
-        """The peaks (:meth:`BoundedProfile.peaks`): the largest |entry| of each column (the
-        table is interpolated linearly between its rows)."""
+        """The peaks (:meth:`~feeder.chain.model.channels.BoundedProfile.peaks`): the largest
+        |entry| of each column (the table is interpolated linearly between its rows)."""
         return np.abs(self.table.values).max(axis=0).reshape(3, 6)
 
     def describe(self) -> str:

@@ -12,9 +12,9 @@ motion table (:func:`read_motion` → :class:`MotionTable`), a moving base (:fun
 (:class:`MechanismSpec`).
 """
 
+from ...inertia import check_inertia
 from .base_motion import parse_profile, read_base, read_hull_table
 from .forces import read_force_file, read_table
-from .inertia import check_inertia
 from .motion_table import MotionTable, read_motion
 from .pose import read_pose
 from .spec import MechanismSpec

@@ -17,7 +17,9 @@ In a TOML mechanism file::
 The hull table (CSV, header row): ``t`` [s] and any of the channels ``x``, ``y``, ``z`` [m],
 ``roll``, ``pitch``, ``yaw`` [rad] (or ``roll_deg`` … [°]), their rates ``v_<channel>`` and
 accelerations ``a_<channel>`` (same unit rule, per second and per second²); a channel left out is
-zero, rates left out are differentiated from the values (``numpy.gradient``, second order).
+zero, rates left out are differentiated from the values (``numpy.gradient``, second order), rates
+given are checked against them as a motion table's are
+(:func:`~feeder.chain.readers.motion_table.check_rates`).
 
 On the command line a profile is ``NAME`` or ``NAME:key=value,key=value`` (the keys above).
 """
@@ -41,7 +43,7 @@ from ..model.forces import Table
 from ..model.hull import CHANNELS
 from ..model.hull_table import COLUMNS, HullTable
 from ..model.profiles import PROFILES, Slope
-from .motion_table import read_columns
+from .motion_table import check_rates, read_columns
 
 BASE_KEYS = {"forward", "pitch_deg", "roll_deg", "table", "profile"}
 """Keys a ``[base]`` table may have."""
@@ -118,7 +120,8 @@ def read_hull_table(path: str | Path) -> HullTable:
     Raises:
         InputError: A missing or malformed file, an unknown column, a channel given both in
             radians and in degrees, too few rows to differentiate, a value past a plausible
-            limit (:class:`~feeder.chain.model.hull_table.HullTable`).
+            limit (:class:`~feeder.chain.model.hull_table.HullTable`), rates that contradict
+            their values (:func:`_check_given_rates`).
     """
     path, header, columns = read_columns(path, "the hull motion file")
     t = columns.pop("t")
@@ -158,7 +161,37 @@ def read_hull_table(path: str | Path) -> HullTable:
                     values[:, 6 * (level - 1) + k], t, edge_order=2
                 )
                 names[6 * level + k] = f"{plain} (differentiated)"
-    return HullTable(Table(t, values, source=f"hull motion {path.name}"), tuple(names))
+    table = HullTable(Table(t, values, source=f"hull motion {path.name}"), tuple(names))
+    for channel in CHANNELS:
+        _check_given_rates(path, t, columns, channel)
+    return table
+
+
+def _check_given_rates(
+    path: Path, t: np.ndarray, columns: dict[str, np.ndarray], channel: str
+) -> None:
+    """:func:`~feeder.chain.readers.motion_table.check_rates` on the rate columns a hull table
+    gives for ``channel``, as written (radians or degrees): ``v_`` against the values, ``a_``
+    against ``v_`` or, without it, the values; a rate without the column below it is not
+    checked."""
+    given = {}  # level → (column, name, unit [rad or m])
+    for level, prefix in enumerate(("", "v_", "a_")):
+        for name, unit in ((f"{prefix}{channel}", 1.0), (f"{prefix}{channel}_deg", math.pi / 180)):
+            if name in columns:
+                given[level] = (columns[name], name, unit)
+    for level in (1, 2):
+        below = level - 1 if level - 1 in given else level - 2
+        if level in given and below in given:
+            value, value_name, value_unit = given[below]
+            rate, rate_name, rate_unit = given[level]
+            check_rates(
+                path,
+                t,
+                (value, value_name),
+                (rate, rate_name),
+                order=level - below,
+                unit=rate_unit / value_unit,
+            )
 
 
 def read_base(

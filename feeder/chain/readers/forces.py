@@ -39,6 +39,7 @@ Each may have a ``name`` (its label in the results).
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from pathlib import Path
 
@@ -57,9 +58,15 @@ KINDS: dict[str, type] = {
 }
 """The ``type`` of a ``[[force]]`` table and the element it makes."""
 
-REQUIRED = {"spring": ("frames",), "cylinder": ("frames", "bore", "rod"),
-            "joint_spring": ("joint",), "load": ("frame",)}  # fmt: skip
-"""The keys each ``type`` must give."""
+REQUIRED = {
+    kind: tuple(
+        f.name
+        for f in dataclasses.fields(cls)
+        if f.init and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    )
+    for kind, cls in KINDS.items()
+}
+"""The keys each ``type`` must give: its element's fields without a default, in their order."""
 
 KEYS = {
     "spring": {"frames", "stiffness", "rest_length", "damping", "force", "force_table"},

@@ -6,7 +6,7 @@ with an uninitialised placement, and once crashed the process), ignores ``<inclu
 ``<equality>`` types other than ``connect`` and ``weld``, and builds negative or NaN masses. So
 every MJCF file is checked here first (:func:`check_mjcf`), strictly, and what the reader would
 misread is refused with a :class:`~feeder.exceptions.UrdfError` naming the element; the built
-model's bodies are checked again (:func:`~feeder.chain.readers.inertia.check_inertia`).
+model's bodies are checked again (:func:`~feeder.inertia.check_inertia`).
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ import pinocchio as pin
 from lxml import etree
 
 from ...exceptions import UrdfError
+from ...inertia import check_inertia
 from ...validation import check_path
 from ..model.closure import Closure
-from .inertia import check_inertia
 from .urdf import parse_xml_file
 
 UNSUPPORTED = ("include", "replicate", "attach", "frame", "composite", "flexcomp")

@@ -100,10 +100,13 @@ def check_rates(
     values: tuple[np.ndarray, str],
     rates: tuple[np.ndarray, str],
     order: int = 1,
+    unit: float = 1.0,
 ) -> None:
     """Refuse a table's rates (a column (N,) and its name) that contradict the values (N,) they
     are the ``order``-th time derivative of (1: a position's speed or a speed's acceleration; 2:
-    a position's acceleration), at times ``t`` [s] (N,).
+    a position's acceleration), at times ``t`` [s] (N,). ``unit`` is the rates' unit in the
+    values' unit (per second or second²): π/180 for rates in degrees beside values in radians;
+    both columns are taken as written, for their digits.
 
     Over each run of ``order`` + 1 samples i … i + order, the values' divided difference times
     order! is their derivative at some instant of the run (the mean value theorem; a weighted
@@ -125,6 +128,8 @@ def check_rates(
             both rates and the tolerance.
     """
     (value, value_name), (rate, rate_name) = values, rates
+    rate_digits = _half_units(rate) * unit
+    rate = rate * unit
     window = np.lib.stride_tricks.sliding_window_view
     steps, digits_t = np.diff(t), _half_units(t)
     step_error = np.minimum(digits_t[:-1] + digits_t[1:], np.abs(steps - steps.mean()))
@@ -136,19 +141,20 @@ def check_rates(
         error = level * (error[1:] + error[:-1]) / span + np.abs(derivative) * span_error / span
     reach = window(np.pad(rate, 1, mode="edge"), order + 3)
     mean = window(rate, order + 1).mean(axis=1)
-    digits = window(_half_units(rate), order + 1).max(axis=1)
+    digits = window(rate_digits, order + 1).max(axis=1)
     tolerance = reach.max(axis=1) - reach.min(axis=1) + error + digits
     miss = np.abs(derivative - mean)
     bad = np.flatnonzero(miss > tolerance)
     if bad.size:
         i = int(bad[0])
         per = "per second" if order == 1 else "per second²"
+        converted = "" if unit == 1.0 else f" in the unit of {value_name!r}"
         raise InputError(
             f"{path}: column {rate_name!r} contradicts {value_name!r} between t = {t[i]:g} s and "
             f"{t[i + order]:g} s (data rows {i + 1} to {i + order + 1}): {value_name!r} changes "
-            f"by {derivative[i]:.6g} {per} there, {rate_name!r} says {mean[i]:.6g} (off by "
-            f"{miss[i]:.3g}, more than the {tolerance[i]:.3g} the sampling allows): correct it, "
-            "or leave the column out to have the rates differentiated"
+            f"by {derivative[i]:.6g} {per} there, {rate_name!r} says {mean[i]:.6g}{converted} "
+            f"(off by {miss[i]:.3g}, more than the {tolerance[i]:.3g} the sampling allows): "
+            "correct it, or leave the column out to have the rates differentiated"
         )
 
 

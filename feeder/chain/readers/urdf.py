@@ -21,10 +21,10 @@ import pinocchio as pin
 from lxml import etree
 
 from ...exceptions import InertiaError, InputError, ModelFolderError, UrdfError
+from ...inertia import check_inertia
 from ...validation import check_path
 from ..model.closure import ClosedChain, Closure
 from .bodies import check_bodies
-from .inertia import check_inertia
 from .model_files import inside_folder
 
 _JOINT_TYPES = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"}

@@ -57,6 +57,54 @@ def test_hull_table_with_given_rates(tmp_path):
 @pytest.mark.parametrize(
     ("text", "match"),
     [
+        (
+            "t,roll,v_roll\n0,0,0\n1,0.15,0\n2,0.3,0\n",
+            r"column 'v_roll' contradicts 'roll' between t = 0 s and 1 s .* says 0 \(off by 0.15,",
+        ),
+        (
+            "t,roll_deg,v_roll_deg\n0,0,0\n1,5,0\n2,10,0\n",
+            r"column 'v_roll_deg' contradicts 'roll_deg' .* changes by 5 per second there",
+        ),
+        (
+            "t,roll_deg,v_roll\n0,0,0\n1,5,0\n2,10,0\n",
+            r"'v_roll' contradicts 'roll_deg' .* says 0 in the unit of 'roll_deg'",
+        ),
+        (
+            "t,z,v_z,a_z\n0,0,0,0\n1,1,2,0\n2,4,4,0\n",
+            r"column 'a_z' contradicts 'v_z' between t = 0 s and 1 s",
+        ),
+        (
+            "t,z,a_z\n0,0,0\n1,1.5,0\n2,6,0\n",
+            r"column 'a_z' contradicts 'z' between t = 0 s and 2 s .* per second²",
+        ),
+    ],
+    ids=["zero-roll-rate", "in-degrees", "mixed-units", "acceleration", "acceleration-of-z"],
+)
+def test_hull_table_rates_that_contradict_their_values_are_refused(tmp_path, text, match):
+    """Rates given beside their values are checked as a motion table's are: all-zero rates
+    beside a moving roll column are refused, in the unit each column is written in."""
+    path = tmp_path / "hull.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=match):
+        read_hull_table(path)
+
+
+def test_hull_table_with_consistent_rates_is_accepted(tmp_path):
+    """A roll of 0.1 rad/s given in radians, its rate in degrees per second, and a heave
+    z = t² with its rate 2t and acceleration 2: accepted, the rates as given."""
+    path = tmp_path / "hull.csv"
+    path.write_text(
+        "t,roll,v_roll_deg,a_roll,z,v_z,a_z\n"
+        "0,0,5.7296,0,0,0,2\n1,0.1,5.7296,0,1,2,2\n2,0.2,5.7296,0,4,4,2\n"
+    )
+    channels = read_hull_table(path).channels(np.array([1.0]))
+    np.testing.assert_allclose(channels.rate[0, [2, 3]], [2.0, math.radians(5.7296)])
+    np.testing.assert_allclose(channels.acceleration[0, [2, 3]], [2.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
         ("t,z,heave\n0,0,0\n1,0,0\n2,0,0\n", "unknown column 'heave'"),
         ("t,roll,roll_deg\n0,0,0\n1,0,0\n2,0,0\n", "both given"),
         ("t,z\n0,0\n1,0\n", "at least 3 rows"),

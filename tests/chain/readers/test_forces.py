@@ -96,6 +96,23 @@ def test_bad_entries_are_named(tmp_path, entry, message):
         read_force_file(path)
 
 
+@pytest.mark.parametrize(
+    ("kind", "keys"),
+    [
+        ("spring", "'frames'"),
+        ("cylinder", "'frames', 'bore', 'rod'"),
+        ("joint_spring", "'joint'"),
+        ("load", "'frame'"),
+    ],
+)
+def test_each_type_names_every_key_it_needs(tmp_path, kind, keys):
+    """A table with only its type: the keys its element has no default for, in their order."""
+    path = tmp_path / "forces.toml"
+    path.write_text(f'[[force]]\ntype = "{kind}"\n')
+    with pytest.raises(InputError, match=rf"forces.toml \[\[force\]\] #1: a {kind} needs {keys}$"):
+        read_force_file(path)
+
+
 def test_a_mechanism_file_carries_its_forces():
     spec = read_spec(REPO / "examples" / "andrews_squeezer" / "squeezer.toml")
     assert [type(element) for element in spec.forces] == [Spring, Load]

@@ -1,5 +1,5 @@
-"""Physical rigid-body inertia (feeder.chain.readers.inertia): what no rigid body can have is
-refused, whatever the frame the tensor is written in."""
+"""Physical rigid-body inertia (feeder.inertia, also exported by feeder.chain.readers): what no
+rigid body can have is refused, whatever the frame the tensor is written in."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain.readers.inertia import check_inertia
+from feeder.chain import readers
 from feeder.exceptions import InertiaError
+from feeder.inertia import check_inertia
 
 
 def rotation_z(angle: float) -> np.ndarray:
@@ -77,3 +78,8 @@ def test_idealised_bodies_are_accepted(mass, moments):
     """Real exports: frame links, and the triangle inequality's limiting cases in any frame."""
     rotation = rotation_z(0.7)
     check_inertia("ideal", mass, rotation @ np.diag(moments) @ rotation.T)
+
+
+def test_the_readers_export_the_same_check():
+    """feeder.chain.readers gives the check of feeder.inertia (numpy only), not a copy."""
+    assert readers.check_inertia is check_inertia

@@ -5,14 +5,15 @@ model is checked here first. What real CAD exports contain is accepted: frame li
 and zero inertia (attached by fixed joints, they only add frames to their parent's body), and the
 idealised shapes whose principal moments meet the triangle inequality with equality — a lamina
 (I₃ = I₁ + I₂) or a thin rod (one moment zero, two equal). Legal but implausible bodies get a
-:class:`~feeder.exceptions.FeederWarning` naming them (:mod:`.bodies`).
+:class:`~feeder.exceptions.FeederWarning` naming them
+(:mod:`feeder.chain.readers.bodies`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...exceptions import InertiaError, InputError
+from .exceptions import InertiaError, InputError
 
 ROUND_OFF = 1e-9
 """Relative slack [-] of the positivity and triangle tests, against the largest principal moment:
