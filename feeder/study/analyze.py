@@ -24,6 +24,8 @@ import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
+from ..chain.dynamics.free_freedoms import free_freedoms
+from ..chain.dynamics.hybrid import HybridRun, hybrid_run
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
@@ -57,6 +59,8 @@ class Analysis:
         reference: The pose the mechanism was mounted from (nq,): the model's zero pose or the
             user's pose file.
         assembled: The closed pose nearest to it (nq,), where the motion starts from.
+        hybrid: The hybrid run when the actuated joints leave freedoms free that move mass
+            (:mod:`feeder.chain.dynamics.hybrid`: they were integrated forward), else None.
     """
 
     spec: MechanismSpec
@@ -70,6 +74,7 @@ class Analysis:
     report: MobilityReport
     reference: np.ndarray
     assembled: np.ndarray
+    hybrid: HybridRun | None = None
 
     def columns(self) -> dict[str, np.ndarray]:
         """The loads table, each column (N,), SI units, world axes:
@@ -103,6 +108,8 @@ class Analysis:
                 f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
                 "kinematics, their accelerations solved with the loads (no lock, no extra load)"
             )
+        if self.hybrid is not None:
+            lines += [f"  {line}" for line in self.hybrid.text(self.chain.model)]
         if self.motion.differentiated:
             lines.append(
                 "  rates differentiated from positions for: "
@@ -237,10 +244,20 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
-    loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
-    warn_if_gravity_idle(spec, chain, motion.q)
     report = mobility(chain, assembled, spec.independent)
-    kinematics = (motion.q, motion.v, motion.a, motion.gain)
-    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled)
+    hybrid = None
+    if report.determined is not None and set(spec.actuated) == set(spec.independent):
+        if len(free_freedoms(dyn, assembled)):  # freedoms that move mass: integrated forward
+            order = [spec.independent.index(name) for name in spec.actuated]
+            x, dx, ddx = (values[:, order] for values in (table.x, table.dx, table.ddx))
+            hybrid = hybrid_run(dyn, table.t, x, dx, ddx, assembled)
+    if hybrid is None:
+        motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
+        kinematics = (motion.q, motion.v, motion.a, motion.gain)
+        loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
+    else:
+        gain = np.array([partition.gain(q) for q in hybrid.q])
+        kinematics, loads = (hybrid.q, hybrid.v, hybrid.a, gain), hybrid.loads
+    warn_if_gravity_idle(spec, chain, kinematics[0])
+    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled, hybrid)
