@@ -176,6 +176,18 @@ def mount_lines(
     ]
 
 
+def free_joints(
+    spec: MechanismSpec, dyn: ChainDynamics, report: MobilityReport, assembled: np.ndarray
+) -> tuple[tuple[str, ...], ...]:
+    """The joints of each freedom that the actuated joints leave free and that moves mass at the
+    assembled pose (:mod:`feeder.chain.dynamics.free_freedoms`), when the independent joints do
+    not determine the mechanism there (``report``) and are the actuated ones: ``analyze`` then
+    integrates them forward (a hybrid run); empty otherwise."""
+    if report.determined is None or set(spec.actuated) != set(spec.independent):
+        return ()
+    return free_freedoms(dyn, assembled).joints
+
+
 def mount_mechanism(spec_path, model, pose):
     """The side-file, its chain, the partition of its independent joints, the reference pose
     (the pose file, or the side-file's pose, or the model's zero pose) and the closed pose
@@ -201,12 +213,15 @@ class MechanismCheck:
 
     report: MobilityReport
     text: str
+    free: tuple[tuple[str, ...], ...] = ()
 
     @property
     def drives(self) -> bool:
-        """Whether the independent joints determine the mechanism there (up to idle motions), as
-        ``feeder analyze`` needs: :attr:`MobilityReport.determined` is None."""
-        return self.report.determined is None
+        """Whether ``feeder analyze`` can follow a motion of the independent joints there: they
+        determine the mechanism (up to idle motions; :attr:`MobilityReport.determined` is None),
+        or the freedoms they leave free move mass and are integrated (:attr:`free`: the joints
+        of each)."""
+        return self.report.determined is None or bool(self.free)
 
 
 def check_mechanism(
@@ -217,9 +232,18 @@ def check_mechanism(
     ``feeder analyze`` starts and measures its own report."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     report = mobility(chain, assembled, spec.independent)
-    return MechanismCheck(
-        report, "\n".join(mount_lines(report, chain.model, reference, assembled))
-    )
+    lines = mount_lines(report, chain.model, reference, assembled)
+    free = ()
+    if report.determined is not None:
+        dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
+        free = free_joints(spec, dyn, report, assembled)
+    if free:
+        lines.append(
+            f"{len(free)} freedom(s) left free move mass ("
+            + "; ".join(", ".join(joints) for joints in free)
+            + "): feeder analyze --motion integrates them forward (a hybrid run)"
+        )
+    return MechanismCheck(report, "\n".join(lines), free)
 
 
 def analyze(
@@ -247,11 +271,10 @@ def analyze(
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
     report = mobility(chain, assembled, spec.independent)
     hybrid = None
-    if report.determined is not None and set(spec.actuated) == set(spec.independent):
-        if len(free_freedoms(dyn, assembled)):  # freedoms that move mass: integrated forward
-            order = [spec.independent.index(name) for name in spec.actuated]
-            x, dx, ddx = (values[:, order] for values in (table.x, table.dx, table.ddx))
-            hybrid = hybrid_run(dyn, table.t, x, dx, ddx, assembled)
+    if free_joints(spec, dyn, report, assembled):  # freedoms that move mass: integrated forward
+        order = [spec.independent.index(name) for name in spec.actuated]
+        x, dx, ddx = (values[:, order] for values in (table.x, table.dx, table.ddx))
+        hybrid = hybrid_run(dyn, table.t, x, dx, ddx, assembled)
     if hybrid is None:
         motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
         kinematics = (motion.q, motion.v, motion.a, motion.gain)

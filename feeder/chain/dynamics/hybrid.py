@@ -77,6 +77,7 @@ class HybridRun:
         steps, evaluations, projections: Accepted steps, right-hand sides evaluated, steps
             projected back.
         settings: The integrator and its tolerances, as text.
+        idle: The idle motions (moving no point) integrated with the free freedoms.
     """
 
     t: np.ndarray
@@ -92,6 +93,7 @@ class HybridRun:
     evaluations: int
     projections: int
     settings: str
+    idle: int
 
     def excursion(self) -> np.ndarray:
         """Each free freedom's largest |travel| over the run [rad or m], (m,)."""
@@ -114,6 +116,10 @@ class HybridRun:
             lines.append(
                 f"  free freedom {k} moves {', '.join(joints)}; max excursion {excursion:.4g} "
                 f"{unit} (of {velocity_name(model, pivot)})"
+            )
+        if self.idle:
+            lines.append(
+                f"  {self.idle} idle motion(s) (moving no point) integrated with them, from rest"
             )
         ids = sorted({velocity_joint(model, pivot) for pivot in self.free.pivots})
         lines.append(
@@ -392,4 +398,5 @@ def _results(equations: HybridEquations, t, states, counts, start, settings) -> 
         evaluations=equations.count,
         projections=counts[1],
         settings=settings,
+        idle=equations.accelerations(t[0], q[0], v[0])[1].shape[1] - len(equations.free),
     )
