@@ -174,6 +174,9 @@ class HybridEquations:
         self.columns = np.array(dyn.columns, dtype=int)
         self.select = np.zeros((self.columns.size, model.nv))
         self.select[np.arange(self.columns.size), self.columns] = 1.0
+        self.turning = np.array(
+            [model.joints[model.getJointId(name)].nq == 2 for name in dyn.actuated]
+        )  # continuous joints: their gaps to the table are angles, wrapped
         self.velocity = None if model.nq == model.nv else ConfigurationRate(model)
         self.data = model.createData()
         self.count = 0
@@ -186,7 +189,7 @@ class HybridEquations:
         x, dx, ddx = self.table(t)
         jac = chain.jacobian(q)
         stacked = np.vstack([jac, self.select])
-        gap = x - self.dyn.partition.independent_values(q)
+        gap = self.table_gap(x, q)
         target = np.concatenate(
             [
                 -chain.bias(q, v) - 2.0 * w * (jac @ v) - w**2 * chain.residual(q),
@@ -220,8 +223,14 @@ class HybridEquations:
     def gap(self, t: float, q: np.ndarray) -> float:
         """The largest gap [m, rad] of q to the loops and to the table's x(t)."""
         loops = float(np.abs(self.dyn.chain.residual(q)).max(initial=0.0))
-        table = np.abs(self.table(t)[0] - self.dyn.partition.independent_values(q))
+        table = np.abs(self.table_gap(self.table(t)[0], q))
         return max(loops, float(table.max(initial=0.0)))
+
+    def table_gap(self, x: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """x − the actuated coordinates of q (n,) [rad, m], a continuous joint's wrapped into
+        [−π, π)."""
+        gap = x - self.dyn.partition.independent_values(q)
+        return np.where(self.turning, np.mod(gap + np.pi, 2.0 * np.pi) - np.pi, gap)
 
     def project(self, t: float, y: np.ndarray) -> np.ndarray:
         """y with (q, q̇) moved onto the loops with the actuated joints at x(t), ẋ(t) (module
