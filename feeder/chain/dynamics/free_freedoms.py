@@ -67,11 +67,15 @@ def free_freedoms(dyn, q: np.ndarray) -> FreeFreedoms:
     chain, model = dyn.chain, dyn.chain.model
     pose = ChainPose(chain, q)
     jac = pose.jacobian
-    _, locked = locked_motions(jac, dyn.partition.dependent, rank_tolerance(jac))
+    tolerance = rank_tolerance(jac)
+    rank, locked = locked_motions(jac, dyn.partition.dependent, tolerance)
     nothing = FreeFreedoms(
         np.zeros((0, model.nv)), np.zeros((0, model.nv)), np.zeros(0, dtype=int), ()
     )
-    if locked.shape[0] == 0:
+    # The actuated joints must be free to move, their columns in the range of the others' (at a
+    # singular pose, a dead centre, they are not, and the locked motion that appears there is
+    # no freedom of the mechanism): the whole Jacobian has the rank of the others' columns.
+    if locked.shape[0] == 0 or np.linalg.matrix_rank(jac, tol=tolerance) > rank:
         return nothing
     _, s, vt = np.linalg.svd(pose.point_rows() @ locked.T, full_matrices=False)
     moving = vt[s > IDLE_TOLERANCE * dyn.partition.length] @ locked

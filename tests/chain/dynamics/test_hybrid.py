@@ -16,6 +16,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from feeder.chain import ChainDynamics, Partition, hybrid_run, load_mechanism, read_spec
+from feeder.chain.assembly.newton import newton
+from feeder.chain.assembly.rank import locked_motions, rank_tolerance
 from feeder.chain.dynamics.forward import ATOL, RTOL
 from feeder.chain.dynamics.free_freedoms import free_freedoms
 from feeder.exceptions import FeederWarning, InputError
@@ -166,3 +168,25 @@ def test_bad_arguments_are_refused(ball_rod):
         hybrid_run(dyn, np.array([0.0, 1.0]), x, x, x, q)
     with pytest.raises(InputError, match="method"):
         hybrid_run(dyn, np.array([0.0, 0.5, 1.0]), x, x, x, q, method="Euler")
+
+
+def test_a_dead_centre_has_no_free_freedom():
+    """The example four-bar driven from its rocker, at its folded dead centre (crank and coupler
+    aligned): with the rocker locked the crank may still turn there (to first order), moving
+    mass, but the rocker cannot move freely: a singular pose, not a free freedom (the kinematics
+    refuse it as before)."""
+    spec = read_spec(REPO / "examples" / "four_bar" / "closures.toml")
+    chain = load_mechanism(spec)
+    dyn = ChainDynamics(chain, ["rocker_joint"])
+    names = ("crank_joint", "coupler_joint", "rocker_joint")
+    crank, coupler, rocker = (chain.joint_slice(name).start for name in names)
+    folded = np.zeros(3)
+    folded[[crank, coupler, rocker]] = 4.0, np.pi, 2.2  # coupler folded back onto the crank
+    q, gap = newton(chain, folded, np.array([crank, rocker]))
+    assert gap <= 1e-13
+    # the rocker at the dead centre, cos φ = (0.08² − 0.1² − 0.08²)/(2 · 0.1 · 0.08)
+    assert q[rocker] == pytest.approx(np.arccos(-0.625), abs=1e-12)
+    jac = chain.jacobian(q)
+    _, locked = locked_motions(jac, dyn.partition.dependent, rank_tolerance(jac))
+    assert locked.shape[0] == 1 and locked[0, crank] != 0.0  # the crank turns, a mass moves
+    assert len(free_freedoms(dyn, q)) == 0
