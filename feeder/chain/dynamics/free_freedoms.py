@@ -96,7 +96,9 @@ def free_freedoms(dyn, q: np.ndarray) -> FreeFreedoms:
 def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
     """The pose at rest of the free freedoms ``free`` near the closed pose ``q`` (nq,) (module
     docstring): the actuated joints and every coordinate the free freedoms leave alone as in
-    ``q``, the force elements taken at time ``t`` [s]; (nq,).
+    ``q``, the force elements taken at time ``t`` [s]; (nq,), its revolute angles wrapped
+    (:meth:`~feeder.chain.assembly.partition.Partition.wrap`: the minimiser may wind one past
+    a turn on its way).
 
     Raises:
         UnreachablePoseError: The loops do not close along the way (the free freedoms run into
@@ -132,4 +134,4 @@ def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
     start = np.zeros(len(free))
     basin = scipy.optimize.minimize(potential, start, method="BFGS").x
     polished = scipy.optimize.root(stationarity, basin, method="hybr")
-    return pose(polished.x if polished.success else basin)
+    return dyn.partition.wrap(pose(polished.x if polished.success else basin))

@@ -15,7 +15,14 @@ import pinocchio as pin
 import pytest
 from scipy.integrate import solve_ivp
 
-from feeder.chain import ChainDynamics, Partition, hybrid_run, load_mechanism, read_spec
+from feeder.chain import (
+    ChainDynamics,
+    Partition,
+    hybrid_run,
+    load_closed_chain,
+    load_mechanism,
+    read_spec,
+)
 from feeder.chain.assembly.newton import newton
 from feeder.chain.assembly.rank import locked_motions, rank_tolerance
 from feeder.chain.dynamics.forward import ATOL, RTOL
@@ -236,3 +243,38 @@ def test_a_continuous_drive_turning_twice_is_followed_as_a_revolute_one(tmp_path
         continuous.loads.actuators["slider"], torque, atol=bound * np.abs(torque).max()
     )
     assert revolute.excursion()[0] > 0.01  # the turning swings the rod
+
+
+def test_a_rod_hung_from_one_ball_on_the_carriage_swings_in_three_freedoms():
+    """The rod without its second ball (no closure): three free freedoms (the ball's three
+    revolutes), coming to rest hanging straight down (gravity −z, the model's), where every
+    generalized force vanishes (the loads' consistency check is relative to the joints'
+    wrenches there, not to their sum, round-off). The slider's force is the whole mechanism's
+    horizontal momentum rate: (carriage + rod mass) × its centre of gravity's acceleration,
+    from Pinocchio's centerOfMass (round-off: 1e-12 of the force's scale)."""
+    chain = load_closed_chain(DATA / "ball_rod.urdf", [])
+    model = chain.model
+    t = np.linspace(0.0, 0.5, 51)
+    x, dx, ddx = carriage(t)
+    run = hybrid_run(
+        ChainDynamics(chain, ["slider"]), t, x[:, None], dx[:, None], ddx[:, None],
+        np.zeros(model.nq),
+    )  # fmt: skip
+    assert sorted(name for joints in run.free.joints for name in joints) == [
+        "ball_rx", "ball_ry", "ball_rz",
+    ]  # fmt: skip
+    data = model.createData()
+    pin.forwardKinematics(model, data, run.start)
+    rod = model.getJointId("ball_rz")
+    centre = data.oMi[rod].act(model.inertias[rod].lever) - data.oMi[rod].translation
+    np.testing.assert_allclose(centre / np.linalg.norm(centre), [0, 0, -1], atol=1e-8)
+    assert np.all(np.abs(run.start[1:]) <= np.pi)  # angles wrapped
+    total = sum(inertia.mass for inertia in model.inertias)
+    rate = []
+    for state in zip(run.q, run.v, run.a, strict=True):
+        pin.centerOfMass(model, data, *state)
+        rate.append(total * data.acom[0][0])
+    force = run.loads.actuators["slider"]
+    scale = total * np.abs(ddx).max()  # [N]: round-off ~1e-16 of it (measured 2e-15 N of 9 N)
+    np.testing.assert_allclose(force, rate, rtol=0, atol=1e-12 * scale)
+    assert np.abs(force).max() > 1.0  # the carriage's 3.9 m/s² on 2.5 kg
