@@ -5,7 +5,9 @@ Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder
 → the closed pose nearest to the reference (the assembled pose) and the mobility report there
 (:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
 coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
-dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
+dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) — or, when the actuated
+joints leave freedoms free that move mass, a hybrid run that integrates them while the actuated
+joints follow the table (:mod:`feeder.chain.dynamics.hybrid`) — → the table
 (:meth:`Analysis.columns`, its column names
 :func:`~feeder.study.mechanism_table.column_stem`) and its summary.
 
