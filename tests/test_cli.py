@@ -623,25 +623,52 @@ def test_analyze_check_prints_the_mobility_report(capsys):
     assert "actual mobility 3 − 2 = 1" in out and "admissible independent joints" in out
 
 
+FOLDED_DEAD_CENTRE = {
+    "crank_joint": 4.037257447447691,
+    "coupler_joint": 3.141592653589793,
+    "rocker_joint": 2.2459278597319257,
+}
+"""The example four-bar's folded dead centre (coupler folded back onto the crank), closed to
+2e-15 m: Newton over the crank and rocker with the coupler at π."""
+
+
 def test_analyze_check_is_a_gate_for_scripts(tmp_path, capsys):
-    """The 5-bar export with one motor of its two: --check prints the report, says in one line
-    that the independent joints cannot drive the mechanism, and exits with status 2, as
-    ``analyze`` of any motion then does; the help says so."""
-    cad = REPO / "examples" / "cad" / "5bar_linkage"
-    side = (cad / "robot.yaml").read_text(encoding="utf-8")
-    assert "name_mot: ['mot1', 'mot2']" in side
-    (tmp_path / "robot.yaml").write_text(side.replace("['mot1', 'mot2']", "['mot1']"))
-    arguments = [str(cad / "robot.urdf"), "--closures", str(tmp_path / "robot.yaml"), "--check"]
-    assert main(["analyze", *arguments]) == 2
+    """The four-bar driven from its rocker, mounted at its folded dead centre: --check prints the
+    report, says in one line that the independent joints cannot drive the mechanism, and exits
+    with status 2, as ``analyze`` of any motion then does; the help says so."""
+    folder = REPO / "examples" / "four_bar"
+    pose = ", ".join(f"{name} = {value!r}" for name, value in FOLDED_DEAD_CENTRE.items())
+    (tmp_path / "rocker.toml").write_text(
+        f'[mechanism]\nurdf = "{folder / "four_bar.urdf"}"\nactuated = ["rocker_joint"]\n'
+        f'independent = ["rocker_joint"]\ngravity = [0.0, -9.81, 0.0]\npose = {{{pose}}}\n\n'
+        '[[closure]]\nframes = ["coupler_tip", "rocker_tip"]\ntype = "revolute"\n',
+        encoding="utf-8",
+    )
+    arguments = [str(folder / "four_bar.urdf"), "--closures", str(tmp_path / "rocker.toml")]
+    assert main(["analyze", *arguments, "--check"]) == 2
     captured = capsys.readouterr()
-    assert "with independent ['mot1']: the closure does not determine" in captured.out
+    assert "with independent ['rocker_joint']: the closure does not determine" in captured.out
     (error,) = [line for line in captured.err.splitlines() if "error" in line]
-    assert error.startswith("feeder: error: the independent joints ['mot1'] cannot drive")
+    assert error.startswith("feeder: error: the independent joints ['rocker_joint'] cannot drive")
     with pytest.raises(SystemExit):
         main(["analyze", "--help"])
     assert "exit status 0 when the independent joints drive" in " ".join(
         capsys.readouterr().out.split()
     )
+
+
+def test_analyze_check_passes_a_mechanism_whose_free_freedom_moves_mass(tmp_path, capsys):
+    """The 5-bar export with one motor of its two: the other arm is free and moves mass, so
+    ``analyze --motion`` integrates it (a hybrid run); --check names it and exits with 0."""
+    cad = REPO / "examples" / "cad" / "5bar_linkage"
+    side = (cad / "robot.yaml").read_text(encoding="utf-8")
+    assert "name_mot: ['mot1', 'mot2']" in side
+    (tmp_path / "robot.yaml").write_text(side.replace("['mot1', 'mot2']", "['mot1']"))
+    arguments = [str(cad / "robot.urdf"), "--closures", str(tmp_path / "robot.yaml"), "--check"]
+    assert main(["analyze", *arguments]) == 0
+    out = capsys.readouterr().out
+    assert "with independent ['mot1']: the closure does not determine" in out
+    assert "1 freedom(s) left free move mass (" in out and "a hybrid run" in out
 
 
 def test_analyze_reads_a_cad_export_as_shipped(tmp_path, capsys):

@@ -21,14 +21,16 @@ subpackages follow the data:
 * :mod:`~feeder.chain.mobility` — degrees of freedom, redundant rows, admissible inputs, idle
   motions, distance to a singular pose;
 * :mod:`~feeder.chain.dynamics` — inverse dynamics (actuator loads, closure forces, every joint's
-  reaction) and forward runs with error control (:func:`simulate`).
+  reaction), forward runs with error control (:func:`simulate`), and hybrid runs whose actuated
+  joints follow a motion while the freedoms they leave free are integrated
+  (:func:`hybrid_run`).
 
 The names below are the workflow for any mechanism: read it (:func:`read_spec`,
 :func:`load_mechanism`, or :func:`load_closed_chain` for a URDF and closures given in code), its
 closures and base motion, assemble and track it (:class:`Partition`, :func:`track`), count its
 freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
-:func:`inverse_dynamics`, :func:`simulate` and its default :data:`BAUMGARTE_RATE`, the force
-elements). Two public groupings hold the rest:
+:func:`inverse_dynamics`, :func:`simulate` and its default :data:`BAUMGARTE_RATE`,
+:func:`hybrid_run`, the force elements). Two public groupings hold the rest:
 
 * :mod:`feeder.chain.readers` — the individual readers and their records (``read_urdf``,
   ``build_model``, ``read_motion`` → ``MotionTable``, ``read_base``, ``read_force_file``,
@@ -44,6 +46,7 @@ Tolerances and limits live next to where they are checked (``MAX_GAIN`` in
 from .assembly.partition import Partition
 from .assembly.tracking import track
 from .dynamics.forward import BAUMGARTE_RATE, simulate
+from .dynamics.hybrid import hybrid_run
 from .dynamics.inverse import ChainDynamics, inverse_dynamics
 from .kinematics.frames import frame_motion
 from .mobility import mobility
@@ -74,6 +77,7 @@ __all__ = [
     "Table",
     "Terrain",
     "frame_motion",
+    "hybrid_run",
     "inverse_dynamics",
     "load_closed_chain",
     "load_mechanism",

@@ -195,7 +195,7 @@ def mobility(
             determined = str(exc)
             motions = np.zeros((0, dof))
             gain = partition.gain(q)  # also past the partition's limit
-        idle = tuple(moved_joints(model, motion) for motion in _localised(motions))
+        idle = tuple(moved_joints(model, motion) for motion in localised(motions)[0])
         definition = partition.gain_definition
     tree = tuple(
         model.names[j] + (f" ({model.joints[j].nv})" if model.joints[j].nv != 1 else "")
@@ -236,11 +236,13 @@ def _pivoted_choice(jac, joints, columns, rank, tolerance) -> list[tuple[str, ..
     return [choice] if rank_dep == len(others) == rank else []
 
 
-def _localised(motions: np.ndarray) -> np.ndarray:
+def localised(motions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The same span as ``motions`` (k, nv), each row with a unit entry at its own pivot joint and
     zeros at the others' (reduced row echelon form on column-pivoted QR pivots): each idle
-    motion then involves as few joints as the span allows."""
+    motion then involves as few joints as the span allows; and the pivots' velocity indices
+    (k,)."""
     if motions.shape[0] == 0:
-        return motions
+        return motions, np.zeros(0, dtype=int)
     _, _, pivots = scipy.linalg.qr(motions, pivoting=True, mode="economic")
-    return np.linalg.solve(motions[:, pivots[: motions.shape[0]]], motions)
+    chosen = pivots[: motions.shape[0]]
+    return np.linalg.solve(motions[:, chosen], motions), chosen

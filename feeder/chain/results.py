@@ -5,6 +5,7 @@
   and wrenches (:class:`ClosureWrench`), every joint's reaction (:class:`JointWrench`) and the
   mount's (:class:`MountWrench`) (:mod:`feeder.chain.dynamics.inverse`, ``.reactions``);
 * :class:`ForwardRun` — :func:`~feeder.chain.simulate` (:mod:`feeder.chain.dynamics.forward_run`);
+* :class:`HybridRun` — :func:`~feeder.chain.hybrid_run` (:mod:`feeder.chain.dynamics.hybrid`);
 * :class:`Trajectory` — :func:`~feeder.chain.track`, and :class:`PoseCheck` — a pose checked by
   a :class:`~feeder.chain.Partition` (:mod:`feeder.chain.assembly`);
 * :class:`ChainPose` — one configuration's kinematics, run once, and :class:`FrameMotion` —
@@ -17,6 +18,7 @@
 from .assembly.check import PoseCheck
 from .assembly.trajectory import Trajectory
 from .dynamics.forward_run import ForwardRun
+from .dynamics.hybrid import HybridRun
 from .dynamics.inverse import ChainLoads
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
 from .kinematics.frames import FrameMotion
@@ -31,6 +33,7 @@ __all__ = [
     "ClosureWrench",
     "ForwardRun",
     "FrameMotion",
+    "HybridRun",
     "JointWrench",
     "MobilityReport",
     "MountWrench",

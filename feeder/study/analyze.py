@@ -5,7 +5,9 @@ Data flow: side-file and model (:mod:`feeder.chain.readers`) → :class:`~feeder
 → the closed pose nearest to the reference (the assembled pose) and the mobility report there
 (:mod:`feeder.chain.mobility`, what ``--check`` prints) → the motion table's independent
 coordinates tracked by continuation from it (:func:`~feeder.chain.track`) → inverse
-dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) → the table
+dynamics with every reaction (:mod:`feeder.chain.dynamics.inverse`) — or, when the actuated
+joints leave freedoms free that move mass, a hybrid run that integrates them while the actuated
+joints follow the table (:mod:`feeder.chain.dynamics.hybrid`) — → the table
 (:meth:`Analysis.columns`, its column names
 :func:`~feeder.study.mechanism_table.column_stem`) and its summary.
 
@@ -24,6 +26,8 @@ import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
+from ..chain.dynamics.free_freedoms import free_freedoms
+from ..chain.dynamics.hybrid import HybridRun, hybrid_run
 from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
@@ -57,6 +61,8 @@ class Analysis:
         reference: The pose the mechanism was mounted from (nq,): the model's zero pose or the
             user's pose file.
         assembled: The closed pose nearest to it (nq,), where the motion starts from.
+        hybrid: The hybrid run when the actuated joints leave freedoms free that move mass
+            (:mod:`feeder.chain.dynamics.hybrid`: they were integrated forward), else None.
     """
 
     spec: MechanismSpec
@@ -70,6 +76,7 @@ class Analysis:
     report: MobilityReport
     reference: np.ndarray
     assembled: np.ndarray
+    hybrid: HybridRun | None = None
 
     def columns(self) -> dict[str, np.ndarray]:
         """The loads table, each column (N,), SI units, world axes:
@@ -103,6 +110,8 @@ class Analysis:
                 f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
                 "kinematics, their accelerations solved with the loads (no lock, no extra load)"
             )
+        if self.hybrid is not None:
+            lines += [f"  {line}" for line in self.hybrid.text(self.chain.model)]
         if self.motion.differentiated:
             lines.append(
                 "  rates differentiated from positions for: "
@@ -169,6 +178,18 @@ def mount_lines(
     ]
 
 
+def free_joints(
+    spec: MechanismSpec, dyn: ChainDynamics, report: MobilityReport, assembled: np.ndarray
+) -> tuple[tuple[str, ...], ...]:
+    """The joints of each freedom that the actuated joints leave free and that moves mass at the
+    assembled pose (:mod:`feeder.chain.dynamics.free_freedoms`), when the independent joints do
+    not determine the mechanism there (``report``) and are the actuated ones: ``analyze`` then
+    integrates them forward (a hybrid run); empty otherwise."""
+    if report.determined is None or set(spec.actuated) != set(spec.independent):
+        return ()
+    return free_freedoms(dyn, assembled).joints
+
+
 def mount_mechanism(spec_path, model, pose):
     """The side-file, its chain, the partition of its independent joints, the reference pose
     (the pose file, or the side-file's pose, or the model's zero pose) and the closed pose
@@ -194,12 +215,15 @@ class MechanismCheck:
 
     report: MobilityReport
     text: str
+    free: tuple[tuple[str, ...], ...] = ()
 
     @property
     def drives(self) -> bool:
-        """Whether the independent joints determine the mechanism there (up to idle motions), as
-        ``feeder analyze`` needs: :attr:`MobilityReport.determined` is None."""
-        return self.report.determined is None
+        """Whether ``feeder analyze`` can follow a motion of the independent joints there: they
+        determine the mechanism (up to idle motions; :attr:`MobilityReport.determined` is None),
+        or the freedoms they leave free move mass and are integrated (:attr:`free`: the joints
+        of each)."""
+        return self.report.determined is None or bool(self.free)
 
 
 def check_mechanism(
@@ -210,9 +234,18 @@ def check_mechanism(
     ``feeder analyze`` starts and measures its own report."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     report = mobility(chain, assembled, spec.independent)
-    return MechanismCheck(
-        report, "\n".join(mount_lines(report, chain.model, reference, assembled))
-    )
+    lines = mount_lines(report, chain.model, reference, assembled)
+    free = ()
+    if report.determined is not None:
+        dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
+        free = free_joints(spec, dyn, report, assembled)
+    if free:
+        lines.append(
+            f"{len(free)} freedom(s) left free move mass ("
+            + "; ".join(", ".join(joints) for joints in free)
+            + "): feeder analyze --motion integrates them forward (a hybrid run)"
+        )
+    return MechanismCheck(report, "\n".join(lines), free)
 
 
 def analyze(
@@ -237,10 +270,19 @@ def analyze(
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
     table = read_motion(motion_path, spec.independent)
-    motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
-    loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
-    warn_if_gravity_idle(spec, chain, motion.q)
     report = mobility(chain, assembled, spec.independent)
-    kinematics = (motion.q, motion.v, motion.a, motion.gain)
-    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled)
+    hybrid = None
+    if free_joints(spec, dyn, report, assembled):  # freedoms that move mass: integrated forward
+        order = [spec.independent.index(name) for name in spec.actuated]
+        x, dx, ddx = (values[:, order] for values in (table.x, table.dx, table.ddx))
+        hybrid = hybrid_run(dyn, table.t, x, dx, ddx, assembled)
+    if hybrid is None:
+        motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
+        kinematics = (motion.q, motion.v, motion.a, motion.gain)
+        loads = inverse_dynamics(dyn, motion.q, motion.v, motion.a, t=table.t)
+    else:
+        gain = np.array([partition.gain(q) for q in hybrid.q])
+        kinematics, loads = (hybrid.q, hybrid.v, hybrid.a, gain), hybrid.loads
+    warn_if_gravity_idle(spec, chain, kinematics[0])
+    return Analysis(spec, chain, table, *kinematics, loads, report, reference, assembled, hybrid)

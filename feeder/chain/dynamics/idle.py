@@ -20,7 +20,6 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion, tree_motion
 from .newton_euler import generalized_forces, joint_wrenches
 
@@ -29,13 +28,14 @@ INERTIA_RANK = 1e-12
 the Newton–Euler passes is ~1e-16 of it)."""
 
 
-def idle_basis(rows: ClosureKinematics, columns: list[int], count: int) -> np.ndarray:
+def idle_basis(jacobian: np.ndarray, columns: list[int], count: int) -> np.ndarray:
     """Orthonormal bases (N, nv, count) of the idle motions: the last ``count`` right singular
-    vectors of [J; S] at every sample (``columns``: the actuated joints' velocity indices)."""
-    n, _, nv = rows.jacobian.shape
-    stacked = np.zeros((n, rows.jacobian.shape[1] + len(columns), nv))
-    stacked[:, : rows.jacobian.shape[1]] = rows.jacobian
-    stacked[:, rows.jacobian.shape[1] :][:, np.arange(len(columns)), columns] = 1.0
+    vectors of [J; S] at every sample (``jacobian``: the closure rows J (N, nc, nv);
+    ``columns``: the actuated joints' velocity indices)."""
+    n, nc, nv = jacobian.shape
+    stacked = np.zeros((n, nc + len(columns), nv))
+    stacked[:, :nc] = jacobian
+    stacked[:, nc:][:, np.arange(len(columns)), columns] = 1.0
     _, _, vt = np.linalg.svd(stacked, full_matrices=True)
     basis = np.swapaxes(vt[:, nv - count :, :], 1, 2)
     basis[:, columns, :] = 0.0  # zero by construction (S N = 0): no round-off on the motors
@@ -62,10 +62,16 @@ def idle_accelerations(
         inertia_columns[:, :, k] = (
             generalized_forces(model, moving, *joint_wrenches(model, moving)) - rest
         )
+    return np.einsum("nvk,nk->nv", basis, idle_rates(basis, inertia_columns, forces))
+
+
+def idle_rates(basis: np.ndarray, inertia_columns: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """z (N, k) of Nᵀ M N z = −Nᵀ f (module docstring), minimum norm where Nᵀ M N is singular
+    (its singular values at or below :data:`INERTIA_RANK` of the largest |M N| count as zero),
+    from the bases N (N, nv, k), the columns M N (N, nv, k) and the tree's forces f (N, nv)."""
     idle_inertia = np.swapaxes(basis, 1, 2) @ inertia_columns  # (N, k, k)
     rhs = -np.einsum("nvk,nv->nk", basis, forces)
     scale = max(float(np.abs(inertia_columns).max(initial=0.0)), 1e-300)
     u, s, vt = np.linalg.svd(idle_inertia)
     inverse = np.where(s > INERTIA_RANK * scale, 1.0 / np.where(s > 0.0, s, 1.0), 0.0)
-    z = np.einsum("nji,nj->ni", vt, inverse * np.einsum("nji,nj->ni", u, rhs))
-    return np.einsum("nvk,nk->nv", basis, z)
+    return np.einsum("nji,nj->ni", vt, inverse * np.einsum("nji,nj->ni", u, rhs))

@@ -308,7 +308,7 @@ def inverse_dynamics(
         motion = on_base(motion, base)
     count = dyn.idle_count(q[0])
     if count:
-        basis = idle_basis(rows, dyn.columns, count)
+        basis = idle_basis(rows.jacobian, dyn.columns, count)
         a = a + idle_accelerations(dyn.chain.model, q, motion, basis, terms)
         motion = tree_motion(dyn.chain.model, q, v, a)
         if base is not None:

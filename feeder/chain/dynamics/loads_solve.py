@@ -108,7 +108,9 @@ def solve_loads(
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
     system = load_equations(dyn, rows.jacobian)
-    solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels())
+    # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
+    terms = np.abs(np.concatenate(force[1:] + moment[1:], axis=1)).max(axis=1, initial=0.0)
+    solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels(), terms)
     return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale, indeterminate
 
 
@@ -144,10 +146,12 @@ def load_gain(dyn: LoadUnknowns, q: np.ndarray, rank: int) -> float:
 
 
 def _solve(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str]
+    system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str], terms: np.ndarray
 ) -> tuple[np.ndarray, tuple[str, ...]]:
     """Minimum-norm solutions of system[k] x = rhs[k] (n, nv, nx), after the checks of the module
-    docstring; returns x (n, nx) and the labels of indeterminate closure rows.
+    docstring; returns x (n, nx) and the labels of indeterminate closure rows. ``terms`` (n,):
+    the largest term each sample's right-hand side is summed from (its round-off's scale, for the
+    consistency check where the sum cancels: a mechanism at rest in equilibrium).
 
     Where a sample's system has full row rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
@@ -167,7 +171,9 @@ def _solve(
     structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
     indices = np.flatnonzero(detailed)
-    exact, null = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices)
+    exact, null = _solve_svd(
+        system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed]
+    )
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
     indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
     return solution, indeterminate
@@ -203,7 +209,12 @@ def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
 
 
 def _solve_svd(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, expected: int, samples: np.ndarray
+    system: np.ndarray,
+    rhs: np.ndarray,
+    n_act: int,
+    expected: int,
+    samples: np.ndarray,
+    terms: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The singular-value path of :func:`_solve` on some samples (their indices in the motion:
     ``samples``, for the messages): the checks (singular actuation, consistency, determined
@@ -235,8 +246,12 @@ def _solve_svd(
     projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)
     solution = np.einsum("nij,nj->ni", np.swapaxes(vt[:, :k, :], 1, 2), inverse * projected)
     misfit = np.abs(np.einsum("nij,nj->ni", system, solution) - rhs).max(axis=1)
-    size = np.maximum(
-        np.abs(rhs).max(axis=1), np.abs(system).max(axis=(1, 2)) * np.abs(solution).max(axis=1)
+    size = np.maximum.reduce(
+        [
+            np.abs(rhs).max(axis=1),
+            np.abs(system).max(axis=(1, 2)) * np.abs(solution).max(axis=1),
+            terms,
+        ]
     )
     worst = int(np.argmax(misfit / np.maximum(size, 1e-300)))
     if misfit[worst] > CONSISTENCY * max(size[worst], 1e-300):
