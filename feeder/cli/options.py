@@ -106,6 +106,18 @@ def switch(sub: argparse.ArgumentParser, flag: str, dest: str, help: str) -> Non
     sub.add_argument(flag, dest=dest, action=Once, nargs=0, const=on, default=not on, help=help)
 
 
+def figures_switch(sub: argparse.ArgumentParser) -> None:
+    """``--no-figures`` of a mechanism's study (``analyze``, ``simulate``): its table, summary,
+    assembled pose and manifest only, no PNG and no report.html."""
+    switch(
+        sub,
+        "--no-figures",
+        "figures",
+        "write the table, summary.txt, assembled_pose.csv and the manifest only, no figures and "
+        "no report.html, for batch use (default: every figure and report.html)",
+    )
+
+
 def device_options(sub: argparse.ArgumentParser, default: str) -> None:
     """``--device NAME`` or ``--params FILE`` (one of them)."""
     group = sub.add_mutually_exclusive_group()

@@ -9,6 +9,7 @@ from .options import (
     Once,
     add_command,
     command_line,
+    figures_switch,
     mechanism_options,
     path_argument,
     wrote,
@@ -87,6 +88,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         default=ATOL,
         help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
     )
+    figures_switch(simulate)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -108,7 +110,9 @@ def run(args: argparse.Namespace) -> int:
         progress=True,
     )
     with folder:
-        paths = write_simulation_outputs(simulation, folder, command_line(args))
+        paths = write_simulation_outputs(
+            simulation, folder, command_line(args), figures=args.figures
+        )
     print(simulation.summary())
     print(wrote(paths, folder.path))
     return 0

@@ -24,7 +24,8 @@ import pinocchio as pin
 
 from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
-from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.dynamics.indeterminacy import indeterminacy
+from ..chain.dynamics.inverse import CONVENTION, ChainDynamics, ChainLoads, inverse_dynamics
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
@@ -207,12 +208,15 @@ def check_mechanism(
 ) -> MechanismCheck:
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
     the closed pose nearest to the reference (the model's zero pose, or the pose file), where
-    ``feeder analyze`` starts and measures its own report."""
+    ``feeder analyze`` starts and measures its own report; then the reaction components its
+    self-stresses leave indeterminate there
+    (:func:`~feeder.chain.dynamics.indeterminacy.indeterminacy`, as the summaries say them)."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     report = mobility(chain, assembled, spec.independent)
-    return MechanismCheck(
-        report, "\n".join(mount_lines(report, chain.model, reference, assembled))
-    )
+    lines = mount_lines(report, chain.model, reference, assembled)
+    stresses = indeterminacy(chain, assembled[None]).lines(CONVENTION, rows=False)
+    lines += ["  " + line for line in stresses]
+    return MechanismCheck(report, "\n".join(lines))
 
 
 def analyze(

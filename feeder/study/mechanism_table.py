@@ -13,6 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.dynamics.elements import force_unit
+from ..chain.dynamics.indeterminacy import Indeterminacy
 from ..chain.dynamics.inverse import ChainLoads
 from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.coordinates import coordinates, pose_values
@@ -65,6 +66,24 @@ def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
         parts.append(_vector_columns(column_stem(name), wrench.force, wrench.moment, True))
     parts += [{f"{column_stem(name)}_force": values} for name, values in loads.elements.items()]
     return merge_columns(*parts, mount_columns(loads.mount))
+
+
+def indeterminate_columns(indeterminacy: Indeterminacy) -> list[str]:
+    """The columns of :func:`load_columns` that a rigid model does not determine (their values
+    follow the stiffness-weighted convention, :mod:`~feeder.chain.dynamics.indeterminacy`): the
+    cuts' and joints' wrench components the self-stresses change, and the magnitudes
+    ``<joint>_force``, ``<joint>_moment`` of a joint with such a component; empty when everything
+    is determined (the table's sidecar ``indeterminate.txt`` lists them)."""
+    names = []
+    for entries, magnitudes in ((indeterminacy.closures, False), (indeterminacy.joints, True)):
+        for name, components in entries.items():
+            stem = column_stem(name)
+            for what in ("force", "moment"):
+                changed = [c for c in components if c.startswith(what)]
+                if changed and magnitudes:
+                    names.append(f"{stem}_{what}")
+                names += [f"{stem}_{c}" for c in changed]
+    return names
 
 
 def _vector_columns(
@@ -167,13 +186,7 @@ def load_peaks(
     units = element_units(model, elements)
     for name, values in loads.elements.items():
         lines.append(f"  peak force of {name}: {peak(values, units[name])}")
-    if loads.indeterminate:
-        lines.append(
-            "  statically indeterminate closure rows: "
-            + ", ".join(loads.indeterminate)
-            + f" ({loads.convention})"
-        )
-    return lines
+    return lines + ["  " + line for line in loads.indeterminacy.lines(loads.convention)]
 
 
 def load_scale(model: pin.Model, loads: ChainLoads, elements: Sequence[ForceElement]) -> float:
