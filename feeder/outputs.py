@@ -170,6 +170,7 @@ def write_simulation_outputs(
             "value": simulation.chain.model.gravity.linear.tolist(),
             "assumed": simulation.spec.gravity is None,
         },
+        "initial_rates": {"given": simulation.start.given, "used": simulation.start.used},
     }
     duration = simulation.run.t[-1] - simulation.run.t[0]
     return _write_mechanism(

@@ -44,6 +44,12 @@ from .assembly.rank import indeterminate_mask, moved_joints, self_stresses
 from .kinematics.pose import ChainPose
 from .model.closure import ClosedChain
 
+NO_CLOSURE = (
+    "an open tree, no closure: no dependent joint to gain speed, no singular pose of a loop"
+)
+"""What the reports say of the velocity gain of a mechanism without closures (its gain, 0 by
+definition, would read as a distance to a singular pose)."""
+
 MAX_CHOICES = 20_000
 """Largest number of independent-joint combinations :func:`mobility` enumerates."""
 
@@ -130,11 +136,16 @@ class MobilityReport:
         if self.independent is not None:
             if self.determined is None:
                 count = len(self.idle or ())
+                gain = (
+                    f"velocity gain {self.gain:.3g} ({self.gain_definition}; → ∞ at a singular "
+                    "pose)"
+                    if self.constraints
+                    else f"no velocity gain: {NO_CLOSURE}"
+                )
                 lines.append(
                     f"with independent {list(self.independent)}: determined "
                     + (f"up to {count} idle motion(s)" if count else "(no idle motion)")
-                    + f"; velocity gain {self.gain:.3g} ({self.gain_definition}; → ∞ at a "
-                    "singular pose)"
+                    + f"; {gain}"
                 )
             else:
                 lines.append(f"with independent {list(self.independent)}: {self.determined}")

@@ -15,6 +15,7 @@
 """
 
 from .assembly.check import PoseCheck
+from .assembly.rates import InitialRates
 from .assembly.trajectory import Trajectory
 from .dynamics.forward_run import ForwardRun
 from .dynamics.inverse import ChainLoads
@@ -31,6 +32,7 @@ __all__ = [
     "ClosureWrench",
     "ForwardRun",
     "FrameMotion",
+    "InitialRates",
     "JointWrench",
     "MobilityReport",
     "MountWrench",

@@ -63,6 +63,21 @@ def path_argument(text: str) -> Path:
         raise argparse.ArgumentTypeError(str(exc)) from exc
 
 
+def rate_argument(text: str) -> tuple[str, float]:
+    """``JOINT=VALUE``: a joint's name and its rate [rad/s, m/s], a finite number
+    (``feeder simulate --rate``)."""
+    name, sign, value = text.partition("=")
+    if not sign or not name.strip():
+        raise argparse.ArgumentTypeError(f"expected JOINT=VALUE (rad/s or m/s), got {text!r}")
+    try:
+        return name.strip(), check_number(f"the rate of {name.strip()!r}", float(value))
+    except (ValueError, InputError):
+        raise argparse.ArgumentTypeError(
+            f"the rate of {name.strip()!r} must be a finite number [rad/s or m/s], got "
+            f"{value.strip()!r}"
+        ) from None
+
+
 def params_of(args: argparse.Namespace) -> FeederParameters:
     """The parameter set of ``--params FILE`` (read and checked) or of ``--device NAME``."""
     if args.params is not None:

@@ -26,13 +26,13 @@ from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
 from ..chain.dynamics.indeterminacy import indeterminacy
 from ..chain.dynamics.inverse import CONVENTION, ChainDynamics, ChainLoads, inverse_dynamics
-from ..chain.mobility import MobilityReport, mobility
+from ..chain.mobility import NO_CLOSURE, MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
-from ..exceptions import FeederWarning
+from ..exceptions import FeederWarning, InputError
 from .mechanism_table import joint_columns, load_columns, load_peaks, merge_columns, pose_lines
 
 GRAVITY_ROUND_OFF = 1e-9
@@ -110,10 +110,13 @@ class Analysis:
                 + ", ".join(self.motion.differentiated)
             )
         k = int(np.argmax(self.gain))
-        lines.append(
-            f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, largest "
-            f"{self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
-        )
+        if self.chain.nc:
+            lines.append(
+                f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, "
+                f"largest {self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
+            )
+        else:
+            lines.append(f"  velocity gain: none, {NO_CLOSURE}")
         peaks = load_peaks(self.chain.model, t, self.loads, self.spec.forces)
         return "\n".join(lines + peaks)
 
@@ -240,6 +243,12 @@ def analyze(
             cannot produce (each with its own message).
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
+    if not spec.actuated:
+        raise InputError(
+            f"{spec_path}: the motion's loads need actuated joints, and [mechanism] actuated is "
+            "empty: name the joints that drive it (a passive mechanism runs forward with "
+            "feeder simulate)"
+        )
     table = read_motion(motion_path, spec.independent)
     motion = track(partition, assembled, table.x, table.dx, table.ddx, t=table.t)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)

@@ -14,6 +14,7 @@ here is rank-revealing, so redundancy is harmless; :mod:`feeder.chain.mobility` 
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -327,10 +328,13 @@ class ClosedChain:
         """Index range of ``joint`` in the velocity vector.
 
         Raises:
-            InputError: No joint of that name (the message lists the joints).
+            InputError: No joint of that name (the message names the nearest one, or lists the
+                joints).
         """
         if not isinstance(joint, str) or not self.model.existJointName(joint):
             names = list(self.model.names)[1:]
-            raise InputError(f"no joint {joint!r} in model {self.model.name!r}; joints: {names}")
+            near = difflib.get_close_matches(str(joint), names, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else f"joints: {names}"
+            raise InputError(f"no joint {joint!r} in model {self.model.name!r}; {hint}")
         j = self.model.joints[self.model.getJointId(joint)]
         return slice(j.idx_v, j.idx_v + j.nv)

@@ -44,6 +44,9 @@ class MechanismSpec:
         pose: The reference pose the file gives: (joint, value [rad, m], where it was read)
             (:func:`~feeder.chain.readers.pose.pose_from_values`); empty: the model's zero.
         base: The base's motion (``[base]``), or None: the base stands still, level.
+        rates: The initial joint rates of a forward run the file gives: (joint, rate [rad/s,
+            m/s], where it was read) (:mod:`~feeder.chain.assembly.rates`; TOML only: an
+            Extended-URDF YAML gives none); empty: at rest.
     """
 
     model: Path
@@ -57,6 +60,7 @@ class MechanismSpec:
     forces: tuple[ForceElement, ...] = ()
     pose: tuple[tuple[str, float, str], ...] = ()
     base: BaseMotion | None = None
+    rates: tuple[tuple[str, float, str], ...] = ()
 
 
 def format_of(path: Path) -> str:
