@@ -26,6 +26,7 @@ from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
 from ..chain.dynamics.indeterminacy import indeterminacy
 from ..chain.dynamics.inverse import CONVENTION, ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.kinematics.frames import point_motion
 from ..chain.mobility import NO_CLOSURE, MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
@@ -33,7 +34,14 @@ from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederWarning, InputError
-from .mechanism_table import joint_columns, load_columns, load_peaks, merge_columns, pose_lines
+from .mechanism_table import (
+    joint_columns,
+    load_columns,
+    load_peaks,
+    merge_columns,
+    point_columns,
+    pose_lines,
+)
 
 GRAVITY_ROUND_OFF = 1e-9
 """Largest generalized gravity force, as a fraction of Σ m g (reach of the body's centre of
@@ -76,12 +84,16 @@ class Analysis:
         """The loads table, each column (N,), SI units, world axes:
 
         ``t``; the coordinates, rates and accelerations of every joint (:func:`joint_columns`;
-        the accelerations include the idle motions', :attr:`ChainLoads.accelerations`);
-        ``velocity_gain``; the loads (:func:`load_columns`).
+        the accelerations include the idle motions', :attr:`ChainLoads.accelerations`); the
+        mechanism file's points (:func:`point_columns`); ``velocity_gain``; the loads
+        (:func:`load_columns`).
         """
+        a = self.loads.accelerations
+        points = point_motion(self.chain, self.spec.points, self.q, self.v, a)
         return merge_columns(
             {"t": self.motion.t},
-            joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations),
+            joint_columns(self.chain.model, self.q, self.v, a),
+            point_columns(points),
             {"velocity_gain": self.gain},
             load_columns(self.loads),
         )

@@ -17,6 +17,7 @@ from ..chain.dynamics.indeterminacy import Indeterminacy
 from ..chain.dynamics.inverse import ChainLoads
 from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.coordinates import coordinates, pose_values
+from ..chain.kinematics.frames import PointMotion
 from ..chain.kinematics.joints import kind_of
 from ..chain.kinematics.tree import reach
 from ..chain.model.forces import ForceElement
@@ -217,6 +218,30 @@ def column_stem(name: str) -> str:
     that ``numpy.genfromtxt(names=True)``, pandas' attribute access and spreadsheets keep as it
     is."""
     return re.sub(r"[^A-Za-z0-9_]+", "_", name)
+
+
+def point_columns(motions: Mapping[str, PointMotion]) -> dict[str, np.ndarray]:
+    """The mechanism file's points as table columns (N,), world axes (the base's on a moving
+    base), each point's name as :func:`column_stem` writes it: ``point_<p>_x|y|z`` its position
+    [m], ``point_<p>_velocity_x|y|z`` [m/s] and ``point_<p>_acceleration_x|y|z`` [m/s²]
+    (:func:`~feeder.chain.kinematics.frames.point_motion`).
+
+    Raises:
+        InputError: Two points whose names :func:`column_stem` writes alike (named).
+    """
+    parts = []
+    for name, motion in motions.items():
+        stem = f"point_{column_stem(name)}"
+        cols = {}
+        for what, vector in (
+            ("", motion.position),
+            ("_velocity", motion.velocity),
+            ("_acceleration", motion.acceleration),
+        ):
+            for k, axis in enumerate("xyz"):
+                cols[f"{stem}{what}_{axis}"] = vector[:, k]
+        parts.append(cols)
+    return merge_columns(*parts)
 
 
 def joint_columns(

@@ -24,6 +24,7 @@ from ..chain.dynamics.budget import check_sample_count
 from ..chain.dynamics.forward import ATOL, RTOL, simulate
 from ..chain.dynamics.forward_run import ForwardRun
 from ..chain.dynamics.inverse import ChainDynamics
+from ..chain.kinematics.frames import point_motion
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.model.forces import ForceElement
@@ -32,7 +33,13 @@ from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederWarning, InputError
 from ..validation import check_number
 from .analyze import gravity_text, mount_lines, mount_mechanism, warn_if_gravity_idle
-from .mechanism_table import joint_columns, load_columns, load_peaks
+from .mechanism_table import (
+    joint_columns,
+    load_columns,
+    load_peaks,
+    merge_columns,
+    point_columns,
+)
 
 SAMPLES = 1001
 """Default number of output samples over the run (both ends included)."""
@@ -70,7 +77,9 @@ class Simulation:
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
         coordinates, rates and accelerations
-        (:func:`~feeder.study.mechanism_table.joint_columns`); the loads
+        (:func:`~feeder.study.mechanism_table.joint_columns`); the mechanism file's points'
+        positions, velocities and accelerations
+        (:func:`~feeder.study.mechanism_table.point_columns`); the loads
         (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — zero
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
@@ -78,9 +87,13 @@ class Simulation:
         forces since t = 0 [J]) and ``energy_balance`` (energy − energy(0) − work [J], zero for
         an exact run)."""
         run = self.run
-        cols: dict[str, np.ndarray] = {"t": run.t}
-        cols |= joint_columns(self.chain.model, run.q, run.v, run.a)
-        cols |= load_columns(run.loads)
+        points = point_motion(self.chain, self.spec.points, run.q, run.v, run.a)
+        cols = merge_columns(
+            {"t": run.t},
+            joint_columns(self.chain.model, run.q, run.v, run.a),
+            point_columns(points),
+            load_columns(run.loads),
+        )
         cols["drift"] = run.residual
         cols["energy"] = run.energy
         cols["work"] = run.work

@@ -332,3 +332,23 @@ def test_a_load_at_round_off_is_printed_as_zero_without_a_time(tmp_path):
     assert "0 N·m to round-off" in drive and "at t =" not in drive
     reactions = [line for line in lines if "peak reaction force" in line]
     assert len(reactions) == 3 and all(" N at t = " in line for line in reactions)
+
+
+def test_the_mechanism_file_s_points_are_columns_of_the_loads_table(tmp_path):
+    """A ``[[point]]`` at the rocker's tip: its columns are the tip frame's position and velocity
+    (feeder.chain.frame_motion, the named frame's own computation) along the analysed motion."""
+    from feeder.chain import frame_motion
+
+    folder = REPO / "examples" / "four_bar"
+    text = (folder / "closures.toml").read_text(encoding="utf-8")
+    path = tmp_path / "closures.toml"
+    path.write_text(text + '\n[[point]]\nname = "P1"\nframe = "rocker_tip"\n', encoding="utf-8")
+    analysis = analyze(path, folder / "motion.csv", model=folder / "four_bar.urdf")
+    columns = analysis.columns()
+    tip = frame_motion(analysis.chain, ["rocker_tip"], analysis.q, analysis.v)["rocker_tip"]
+    for k, axis in enumerate("xyz"):
+        np.testing.assert_allclose(columns[f"point_P1_{axis}"], tip.position[:, k], atol=1e-15)
+        np.testing.assert_allclose(
+            columns[f"point_P1_velocity_{axis}"], tip.velocity[:, k], atol=1e-15
+        )
+    assert "point_P1_acceleration_x" in columns

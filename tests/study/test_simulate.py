@@ -165,7 +165,9 @@ def pendulum(tmp_path):
     path = tmp_path / "pendulum.toml"
     path.write_text(
         '[mechanism]\nurdf = "pendulum.urdf"\nactuated = []\nindependent = ["hinge"]\n'
-        "gravity = [0.0, -9.81, 0.0]\nrates = {hinge = 1.5}\n"
+        "gravity = [0.0, -9.81, 0.0]\nrates = {hinge = 1.5}\n\n"
+        '[[point]]\nname = "tip"\nframe = "tip"\n\n'
+        '[[point]]\nname = "middle"\nbody = "rod"\noffset = [0.5, 0.0, 0.0]\n'
     )
     return path
 
@@ -213,3 +215,28 @@ def test_a_joint_given_a_rate_must_be_the_model_s(pendulum):
     pendulum.write_text(text)
     with pytest.raises(InputError, match=r"rates: no joint 'hing' .*did you mean 'hinge'\?"):
         simulate_mechanism(pendulum, 0.01, samples=3)
+
+
+def test_the_pendulum_s_points_move_as_by_hand(pendulum):
+    """The tip (a frame) and the middle of the rod (its body at an offset) at radius r from the
+    hinge: r (cos θ, sin θ), r ω (−sin θ, cos θ) and r (−ω² cos θ − α sin θ, −ω² sin θ +
+    α cos θ), with α = −m g c cos θ / I (the pendulum's equation, by hand) and θ, ω from the
+    run's table."""
+    cols = simulate_mechanism(pendulum, 1.0, samples=101).columns()
+    theta, omega = cols["q_hinge"], cols["v_hinge"]
+    alpha = -MASS * G * CENTRE * np.cos(theta) / HINGE_INERTIA
+    c, s = np.cos(theta), np.sin(theta)
+    for name, r in (("tip", 1.0), ("middle", 0.5)):
+        expected = {
+            "": (r * c, r * s),
+            "_velocity": (-r * omega * s, r * omega * c),
+            "_acceleration": (
+                r * (-(omega**2) * c - alpha * s),
+                r * (-(omega**2) * s + alpha * c),
+            ),
+        }
+        for what, (x, y) in expected.items():
+            # the table's θ, ω to the integrator's tolerance; α the closed form's to round-off
+            np.testing.assert_allclose(cols[f"point_{name}{what}_x"], x, rtol=0.0, atol=1e-9)
+            np.testing.assert_allclose(cols[f"point_{name}{what}_y"], y, rtol=0.0, atol=1e-9)
+            assert np.abs(cols[f"point_{name}{what}_z"]).max() == 0.0

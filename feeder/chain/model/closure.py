@@ -185,13 +185,14 @@ class ClosedChain:
         """Pinocchio id of the frame ``name``.
 
         Raises:
-            InputError: No frame of that name in the model (the message lists the frames).
+            InputError: No frame of that name in the model (the message names the nearest one,
+                or lists the frames).
         """
         if not isinstance(name, str) or not self.model.existFrame(name):
-            raise InputError(
-                f"no frame {name!r} in model {self.model.name!r}; "
-                f"frames: {[f.name for f in self.model.frames]}"
-            )
+            names = [f.name for f in self.model.frames]
+            near = difflib.get_close_matches(str(name), names, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else f"frames: {names}"
+            raise InputError(f"no frame {name!r} in model {self.model.name!r}; {hint}")
         return self.model.getFrameId(name)
 
     @property

@@ -26,6 +26,10 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     [base]                          # optional: the base moves (feeder.chain.readers.base_motion)
     roll_deg = 15.0                 # e.g. a side slope
 
+    [[point]]                       # optional: points whose motion the tables report
+    name = "P1"                     # (feeder.chain.readers.points)
+    frame = "rocker_tip"
+
     [[force]]                       # optional: force elements (feeder.chain.readers.forces)
     type = "spring"
     frames = ["coupler_tip", "ground_pin"]
@@ -45,6 +49,7 @@ from ..model.cuts import KINDS
 from .base_motion import read_base
 from .forces import read_forces
 from .joint_types import joint_model
+from .points import read_points
 from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
@@ -133,11 +138,11 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     except RecursionError:  # tomllib parses nested arrays and tables by recursion
         raise InputError(too_deep(path)) from None
     check_depth(document, path)
-    unknown = set(document) - {"mechanism", "closure", "force", "base"}
+    unknown = set(document) - {"mechanism", "closure", "force", "base", "point"}
     if unknown:
         raise InputError(
             f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]], "
-            "[[force]], [base])"
+            "[[force]], [base], [[point]])"
         )
     mechanism = document.get("mechanism")
     if not isinstance(mechanism, dict):
@@ -218,5 +223,6 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         forces=read_forces(document.get("force", []), path.parent, str(path)),
         pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
         rates=rates,
+        points=read_points(document.get("point", []), str(path)),
         base=read_base(document["base"], path.parent, str(path)) if "base" in document else None,
     )

@@ -12,6 +12,7 @@ from ...exceptions import InputError
 from ..model.base import BaseMotion
 from ..model.closure import Closure
 from ..model.forces import ForceElement
+from ..model.points import Point
 
 SIDE_FILE_MAX_BYTES = 100_000
 """Largest side-file read [bytes]. The shipped ones take 0.1–4 kB (the largest,
@@ -47,6 +48,8 @@ class MechanismSpec:
         rates: The initial joint rates of a forward run the file gives: (joint, rate [rad/s,
             m/s], where it was read) (:mod:`~feeder.chain.assembly.rates`; TOML only: an
             Extended-URDF YAML gives none); empty: at rest.
+        points: The points whose motion the tables report (``[[point]]``,
+            :mod:`~feeder.chain.readers.points`; TOML only).
     """
 
     model: Path
@@ -61,6 +64,7 @@ class MechanismSpec:
     pose: tuple[tuple[str, float, str], ...] = ()
     base: BaseMotion | None = None
     rates: tuple[tuple[str, float, str], ...] = ()
+    points: tuple[Point, ...] = ()
 
 
 def format_of(path: Path) -> str:
