@@ -89,10 +89,7 @@ class ChainLoads:
         closures: Closure label → :class:`ClosureWrench`.
         joints: Joint name → :class:`JointWrench` (every joint of the tree but a free-flyer,
             which transmits no wrench).
-        indeterminacy: The closure rows and the cuts' and joints' wrench components that a
-            rigid model does not determine (:mod:`.indeterminacy`; their values follow the
-            convention :data:`CONVENTION`).
-        convention: How indeterminate forces were chosen.
+        convention: How indeterminate forces were chosen (:attr:`indeterminacy` says which).
         accelerations: q̈ (N, nv), the accelerations the loads belong to: the prescribed ones
             plus the idle motions' (:mod:`~feeder.chain.dynamics.idle`; equal to the prescribed
             ones when there is none).
@@ -104,13 +101,13 @@ class ChainLoads:
             id) as the Newton–Euler pass took it: absolute, in the base's axes, idle included.
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
+        chain: The closed chain. q: The motion's configurations (N, nq).
     """
 
     actuators: dict[str, np.ndarray]
     closure_forces: np.ndarray
     closures: dict[str, ClosureWrench]
     joints: dict[str, JointWrench]
-    indeterminacy: Indeterminacy
     convention: str
     accelerations: np.ndarray
     idle_motions: int
@@ -119,6 +116,16 @@ class ChainLoads:
     motion: TreeMotion
     gravity: np.ndarray
     base: BaseState | None = None
+    chain: ClosedChain | None = None
+    q: np.ndarray | None = None
+
+    @cached_property
+    def indeterminacy(self) -> Indeterminacy:
+        """The closure rows and the cuts' and joints' wrench components that a rigid model does
+        not determine along the motion (:func:`~.indeterminacy.indeterminacy`; their values
+        follow the convention :data:`CONVENTION`), computed when first asked (a few ms, which
+        the device's many cycles need not spend)."""
+        return indeterminacy(self.chain, self.q)
 
     def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
         """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
@@ -325,7 +332,6 @@ def inverse_dynamics(
         closure_forces=lam,
         closures=closures,
         joints=joints,
-        indeterminacy=indeterminacy(dyn.chain, q),
         convention=CONVENTION,
         accelerations=a,
         idle_motions=count,
@@ -334,6 +340,8 @@ def inverse_dynamics(
         motion=motion,
         gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
+        chain=dyn.chain,
+        q=q,
     )
 
 
