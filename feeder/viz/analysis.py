@@ -235,7 +235,8 @@ def motion_figure(simulation: Simulation) -> Figure:
         run.t,
         [
             Panel(
-                "Joint coordinates (forward run from rest)",
+                "Joint coordinates (forward run from "
+                + ("its initial rates)" if simulation.start.given else "rest)"),
                 "joint value [rad or m]",
                 "rad or m",
                 tuple(values),
