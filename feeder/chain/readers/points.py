@@ -16,6 +16,7 @@ from __future__ import annotations
 from ...exceptions import InputError
 from ...validation import check_finite
 from ..model.points import Point
+from .spec import table_entries
 
 POINT_KEYS = {"name", "frame", "body", "offset"}
 """Keys a ``[[point]]`` table may have."""
@@ -30,15 +31,8 @@ def read_points(entries: object, where: str) -> tuple[Point, ...]:
             twice, neither or both of ``frame`` and ``body``, an offset that is not 3 finite
             numbers [m].
     """
-    if not isinstance(entries, list):
-        raise InputError(f"{where}: point must be [[point]] tables, got {entries!r}")
     points: list[Point] = []
-    for i, entry in enumerate(entries):
-        here = f"{where} [[point]] #{i + 1}"
-        if not isinstance(entry, dict):
-            raise InputError(f"{here}: must be a table")
-        if set(entry) - POINT_KEYS:
-            raise InputError(f"{here}: unknown keys {sorted(set(entry) - POINT_KEYS)}")
+    for here, entry in table_entries(entries, "point", POINT_KEYS, where):
         name = entry.get("name")
         if not isinstance(name, str) or not name.strip():
             raise InputError(f'{here}: name = "…" is required (the columns point_<name>_…)')

@@ -50,7 +50,14 @@ from .base_motion import read_base
 from .forces import read_forces
 from .joint_types import joint_model
 from .points import read_points
-from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
+from .spec import (
+    MechanismSpec,
+    check_depth,
+    format_of,
+    read_side_text,
+    table_entries,
+    too_deep,
+)
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
 """Keys of ``[mechanism]`` that name the model file, one of them."""
@@ -172,12 +179,9 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     rates = _rates(mechanism.get("rates", {}), where)
     joint_types = _joint_types(mechanism.get("joint_types", {}), model_format, where)
     closures, stiffness = [], {}
-    for i, entry in enumerate(document.get("closure", [])):
-        here = f"{path} [[closure]] #{i + 1}"
-        if not isinstance(entry, dict):
-            raise InputError(f"{here}: must be a table")
-        if set(entry) - CLOSURE_KEYS:
-            raise InputError(f"{here}: unknown keys {sorted(set(entry) - CLOSURE_KEYS)}")
+    for here, entry in table_entries(
+        document.get("closure", []), "closure", CLOSURE_KEYS, str(path)
+    ):
         frames = entry.get("frames")
         if (
             not isinstance(frames, list)

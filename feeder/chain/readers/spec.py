@@ -3,6 +3,7 @@ limits every side-file is read within (:func:`read_side_text`, :func:`check_dept
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -109,6 +110,26 @@ def check_depth(value: object, path: Path, level: int = 1) -> None:
     if isinstance(value, list):
         for child in value:
             check_depth(child, path, level + 1)
+
+
+def table_entries(
+    entries: object, section: str, keys: set[str], where: str
+) -> Iterator[tuple[str, dict]]:
+    """The tables of an array of tables ``[[section]]`` of a side-file, each with where it was
+    read (``where [[section]] #k``, for the messages), checked to be tables with only ``keys``.
+
+    Raises:
+        InputError: Not a list of tables, an unknown key (named).
+    """
+    if not isinstance(entries, list):
+        raise InputError(f"{where}: {section} must be [[{section}]] tables, got {entries!r}")
+    for i, entry in enumerate(entries):
+        here = f"{where} [[{section}]] #{i + 1}"
+        if not isinstance(entry, dict):
+            raise InputError(f"{here}: must be a table")
+        if set(entry) - keys:
+            raise InputError(f"{here}: unknown keys {sorted(set(entry) - keys)}")
+        yield here, entry
 
 
 def too_deep(path: Path, where: str = "") -> str:
