@@ -135,3 +135,7 @@ def test_a_determinate_four_bar_has_nothing_indeterminate(tmp_path):
     check = check_mechanism(tmp_path / "closures.toml", model)
     assert "self-stresses of the closures: none" in check.text
     assert "statically indeterminate under" not in check.text
+    simulation = simulate_mechanism(tmp_path / "closures.toml", 0.01, model=model, samples=3)
+    assert "statically indeterminate under" not in simulation.summary()
+    paths = write_simulation_outputs(simulation, tmp_path / "out", figures=False)
+    assert INDETERMINATE not in {path.name for path in paths}
