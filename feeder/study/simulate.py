@@ -195,6 +195,8 @@ def simulate_mechanism(
         raise InputError(f"the duration must be > 0 s, got {duration!r}")
     if not isinstance(samples, int) or samples < 2:
         raise InputError(f"samples must be a whole number ≥ 2, got {samples!r}")
+    if rates is not None and not isinstance(rates, Mapping):
+        raise InputError(f"rates must map joint names to rates [rad/s, m/s], got {rates!r}")
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     check_sample_count("samples", samples, chain.model.nv)
     elements = spec.forces + (read_force_file(Path(forces)) if forces is not None else ())
@@ -206,7 +208,7 @@ def simulate_mechanism(
             "(double precision): a longer duration or fewer samples"
         )
     start = initial_rates(
-        chain, assembled, {name: x for name, x, _ in spec.rates} | dict(rates or {})
+        chain, assembled, {name: x for name, x, _ in spec.rates} | {**(rates or {})}
     )
     if start.projected():
         warnings.warn("; ".join(x.strip() for x in start.lines()), FeederWarning, stacklevel=2)

@@ -42,6 +42,8 @@ def test_bad_settings_are_refused():
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, samples=1)
     with pytest.raises(InputError, match="method must be one of"):
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, method="Euler")
+    with pytest.raises(InputError, match="rates must map joint names"):
+        simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, rates=[("crank_joint", 1.0)])
     with pytest.raises(InputError, match="duration 5e-324 s is too short for 1001 distinct"):
         simulate_mechanism(FOUR_BAR / "closures.toml", 5e-324)  # once "t must be increasing"
 

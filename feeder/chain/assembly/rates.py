@@ -44,7 +44,7 @@ from ..model.closure import ClosedChain
 from .rank import rank_tolerance
 
 HONOURED = 1e-9
-"""Largest change of a given rate, relative to the largest given (at least 1 rad/s, or L m/s),
+"""Largest change of a given rate, relative to the largest given (at least 1 rad/s or m/s),
 that counts as round-off: the given rates are then used as they are. The null space is computed
 to ~1e-15; a measured state rounded to 9 digits changes by ~1e-9."""
 
@@ -107,7 +107,7 @@ class InitialRates:
         if self.fixed < self.freedoms:
             lines.append(
                 f"  they fix {self.fixed} of the mechanism's {self.freedoms} freedoms: the others "
-                "start at minimum norm (at rest where they can)"
+                "start at minimum norm (the least motion that meets them)"
             )
         return lines
 
