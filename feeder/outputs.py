@@ -122,8 +122,6 @@ def write_analysis_outputs(
     columns are statically indeterminate), its figures
     (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
     manifest; returns the paths, the table first."""
-    from .viz.analysis import analysis_figures
-
     record = {
         "actuated": list(analysis.spec.actuated),
         "independent": list(analysis.spec.independent),
@@ -133,12 +131,18 @@ def write_analysis_outputs(
             "assumed": analysis.spec.gravity is None,
         },
     }
+
+    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
+        from .viz.analysis import analysis_figures
+
+        return analysis_figures(analysis)
+
     return _write_mechanism(
         directory,
         command,
         analysis,
         ("loads.csv", analysis.loads),
-        (lambda: analysis_figures(analysis)) if figures else None,
+        draw if figures else None,
         lambda: analysis_view(analysis, "prescribed motion"),
         record,
     )
@@ -156,8 +160,6 @@ def write_simulation_outputs(
     ``assembled_pose.csv``, ``indeterminate.txt`` (when some columns are statically
     indeterminate), its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
     ``report.html`` if ``figures``, and the manifest; returns the paths, the table first."""
-    from .viz.analysis import simulation_figures
-
     record = {
         "force_elements": [element.name for element in simulation.elements],
         "integrator": {
@@ -173,12 +175,18 @@ def write_simulation_outputs(
         "initial_rates": {"given": simulation.start.given, "used": simulation.start.used},
     }
     duration = simulation.run.t[-1] - simulation.run.t[0]
+
+    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
+        from .viz.analysis import simulation_figures
+
+        return simulation_figures(simulation)
+
     return _write_mechanism(
         directory,
         command,
         simulation,
         ("states.csv", simulation.run.loads),
-        (lambda: simulation_figures(simulation)) if figures else None,
+        draw if figures else None,
         lambda: simulation_view(simulation, f"forward run over {duration:g} s"),
         record,
     )
