@@ -22,8 +22,8 @@ and what a change of K moves (docs/ENGINE.md, "Indeterminate loads").
 
 :func:`indeterminacy` is the one computation every report uses: ``feeder analyze --check`` at the
 assembled pose, and the inverse dynamics along a motion (:attr:`ChainLoads.indeterminacy`: the
-union over a subsample), which the summaries and the tables' sidecar list of ``feeder analyze``
-and ``feeder simulate`` print.
+union over a subsample, computed when first asked), which the summaries and the tables' sidecar
+list (``indeterminate.txt``) of ``feeder analyze`` and ``feeder simulate`` print.
 """
 
 from __future__ import annotations
