@@ -36,6 +36,7 @@ from feeder.chain import (
     read_spec,
     track,
 )
+from feeder.chain.dynamics.indeterminacy import indeterminacy
 from feeder.chain.dynamics.inverse import check_motion
 from feeder.chain.dynamics.loads_solve import solve_loads
 from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
@@ -178,7 +179,7 @@ def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
     n = q.shape[0]
     tau = np.zeros((n, chain.model.nv))
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
-    loads, _, _ = solve_loads(dyn, motion, rows)
+    loads, _ = solve_loads(dyn, motion, rows)
     tau[:, dyn.columns] = loads
 
     def loads_only() -> None:
@@ -187,9 +188,10 @@ def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
 
     def everything() -> None:
         _, _, _, motion, rows = check_motion(dyn, q, v, a)
-        _, lam, _ = solve_loads(dyn, motion, rows)
+        _, lam = solve_loads(dyn, motion, rows)
         _, terms = closure_wrenches(chain, rows, lam)
         joint_reactions(dyn.chain, motion, terms)
+        indeterminacy(dyn.chain, q)  # what the self-stresses leave undetermined
 
     call = bare_call(chain, q, v, tau)
     per_loads = best_time(loads_only) / n

@@ -11,13 +11,14 @@ wrote).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .chain.dynamics.inverse import ChainLoads
 from .chain.model.closure import ClosedChain
 from .device.feeder import Feeder
 from .device.parameter_file import parameters_sha256
@@ -29,6 +30,7 @@ from .study.analyze import Analysis
 from .study.columns import kinematic_columns
 from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
+from .study.mechanism_table import indeterminate_columns
 from .study.simulate import Simulation
 from .study.view import MechanismView, analysis_view, simulation_view
 from .viz.report import (
@@ -41,6 +43,11 @@ from .viz.report import (
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+
+INDETERMINATE = "indeterminate.txt"
+"""The sidecar of a mechanism's table that lists its statically indeterminate columns
+(:func:`~feeder.study.mechanism_table.indeterminate_columns`), one a line after a comment."""
 
 
 def run_record(feeder: Feeder, cycle: CycleKinematics, command: str | None) -> dict[str, object]:
@@ -104,15 +111,17 @@ def write_kinematics_outputs(
 
 
 def write_analysis_outputs(
-    analysis: Analysis, directory: str | Path | OutputFolder, command: str | None = None
+    analysis: Analysis,
+    directory: str | Path | OutputFolder,
+    command: str | None = None,
+    figures: bool = True,
 ) -> list[Path]:
     """Write a mechanism's analysis (``feeder analyze``): ``loads.csv``
     (:meth:`~feeder.study.analyze.Analysis.columns`), ``summary.txt`` (the mobility report, the
-    assembled pose and the peaks), ``assembled_pose.csv``, its figures
-    (:func:`~feeder.viz.analysis.analysis_figures`) and the manifest;
-    returns the paths, the table first."""
-    from .viz.analysis import analysis_figures
-
+    assembled pose and the peaks), ``assembled_pose.csv``, ``indeterminate.txt`` (when some
+    columns are statically indeterminate), its figures
+    (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
+    manifest; returns the paths, the table first."""
     record = {
         "actuated": list(analysis.spec.actuated),
         "independent": list(analysis.spec.independent),
@@ -122,27 +131,35 @@ def write_analysis_outputs(
             "assumed": analysis.spec.gravity is None,
         },
     }
+
+    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
+        from .viz.analysis import analysis_figures
+
+        return analysis_figures(analysis)
+
     return _write_mechanism(
         directory,
         command,
         analysis,
-        "loads.csv",
-        analysis_figures(analysis),
-        analysis_view(analysis, "prescribed motion"),
+        ("loads.csv", analysis.loads),
+        draw if figures else None,
+        lambda: analysis_view(analysis, "prescribed motion"),
         record,
     )
 
 
 def write_simulation_outputs(
-    simulation: Simulation, directory: str | Path | OutputFolder, command: str | None = None
+    simulation: Simulation,
+    directory: str | Path | OutputFolder,
+    command: str | None = None,
+    figures: bool = True,
 ) -> list[Path]:
     """Write a mechanism's forward run (``feeder simulate``): ``states.csv``
     (:meth:`~feeder.study.simulate.Simulation.columns`), ``summary.txt`` (the mobility report,
     the assembled pose, the run's statistics, drift and energy balance, the peaks),
-    ``assembled_pose.csv``, its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
-    the manifest; returns the paths, the table first."""
-    from .viz.analysis import simulation_figures
-
+    ``assembled_pose.csv``, ``indeterminate.txt`` (when some columns are statically
+    indeterminate), its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
+    ``report.html`` if ``figures``, and the manifest; returns the paths, the table first."""
     record = {
         "force_elements": [element.name for element in simulation.elements],
         "integrator": {
@@ -155,15 +172,22 @@ def write_simulation_outputs(
             "value": simulation.chain.model.gravity.linear.tolist(),
             "assumed": simulation.spec.gravity is None,
         },
+        "initial_rates": {"given": simulation.start.given, "used": simulation.start.used},
     }
     duration = simulation.run.t[-1] - simulation.run.t[0]
+
+    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
+        from .viz.analysis import simulation_figures
+
+        return simulation_figures(simulation)
+
     return _write_mechanism(
         directory,
         command,
         simulation,
-        "states.csv",
-        simulation_figures(simulation),
-        simulation_view(simulation, f"forward run over {duration:g} s"),
+        ("states.csv", simulation.run.loads),
+        draw if figures else None,
+        lambda: simulation_view(simulation, f"forward run over {duration:g} s"),
         record,
     )
 
@@ -172,32 +196,42 @@ def _write_mechanism(
     directory: str | Path | OutputFolder,
     command: str | None,
     result: Analysis | Simulation,
-    table: str,
-    figures: Mapping[str, Figure],
-    view: MechanismView,
+    table: tuple[str, ChainLoads],
+    figures: Callable[[], Mapping[str, Figure]] | None,
+    view: Callable[[], MechanismView],
     record: dict,
 ) -> list[Path]:
-    """The outputs of a user mechanism's study: its table (``result.columns()``), summary,
-    assembled pose, figures and report page (``report.html``: the summary, the 3-D view of
+    """The outputs of a user mechanism's study: its table (``table``: its name and the loads it
+    holds; ``result.columns()``), summary, assembled pose, the sidecar list of its statically
+    indeterminate columns (:data:`INDETERMINATE`, when there are some), and unless ``figures`` is
+    None the figures it draws and the report page (``report.html``: the summary, the 3-D view of
     ``view`` and the figures), with the manifest's model and closures before ``record``."""
-    from .viz.report_page import report_page
-    from .viz.viewer import mechanism_html
-
     command = command or "Python API (feeder.outputs)"
     summary = result.summary()
-    pngs = {name: png_bytes(fig) for name, fig in figures.items()}
-    title = f"{Path(result.spec.model).name}: {view.source}"
+    name, loads = table
     outputs: dict[str, Writer] = {
-        table: lambda path: write_csv(path, result.columns()),
+        name: lambda path: write_csv(path, result.columns()),
         "summary.txt": lambda path: write_text(path, summary + "\n"),
         "assembled_pose.csv": lambda path: write_text(
             path, _pose_csv(result.chain, result.assembled)
         ),
-        "report.html": lambda path: write_text(
-            path, report_page(title, command, summary, mechanism_html(view), pngs)
-        ),
     }
-    outputs |= {name: partial(write_png, png=png) for name, png in pngs.items()}
+    indeterminate = indeterminate_columns(loads.indeterminacy)
+    if indeterminate:
+        outputs[INDETERMINATE] = lambda path: write_text(
+            path, _indeterminate_text(name, loads, indeterminate)
+        )
+    if figures is not None:
+        from .viz.report_page import report_page
+        from .viz.viewer import mechanism_html
+
+        pngs = {png: png_bytes(fig) for png, fig in figures().items()}
+        shown = view()
+        title = f"{Path(result.spec.model).name}: {shown.source}"
+        outputs["report.html"] = lambda path: write_text(
+            path, report_page(title, command, summary, mechanism_html(shown), pngs)
+        )
+        outputs |= {png: partial(write_png, png=data) for png, data in pngs.items()}
     record = {
         "command": command,
         "model": str(result.spec.model),
@@ -205,6 +239,17 @@ def _write_mechanism(
         **record,
     }
     return _write(directory, outputs, record)
+
+
+def _indeterminate_text(table: str, loads: ChainLoads, columns: list[str]) -> str:
+    """The sidecar :data:`INDETERMINATE`: a comment saying what the columns are, then one
+    column name of ``table`` a line."""
+    rows = ", ".join(loads.indeterminacy.rows)
+    return (
+        f"# Columns of {table} that a rigid model does not determine: the self-stresses of the\n"
+        f"# closures (rows {rows}) change them without changing any other load.\n"
+        f"# Their values: {loads.convention}.\n" + "".join(f"{column}\n" for column in columns)
+    )
 
 
 def _pose_csv(chain: ClosedChain, assembled: np.ndarray) -> str:

@@ -944,3 +944,65 @@ def test_analyze_says_an_assumed_gravity_in_the_manifest_and_warns_it_does_no_wo
     manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
     assert manifest["gravity"] == {"value": [0.0, 0.0, -9.81], "assumed": True}
     assert "(assumed: the mechanism file gives no gravity" in (out / "summary.txt").read_text()
+
+
+@pytest.mark.parametrize("command", ["simulate", "analyze"])
+def test_no_figures_writes_the_table_summary_and_manifest_only(tmp_path, capsys, command):
+    """``--no-figures`` as on ``feeder cycle``: no PNG, no report.html; the table, the summary,
+    the pose, the indeterminate columns and the manifest, which lists exactly those."""
+    import json
+
+    out = tmp_path / "out"
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    if command == "simulate":
+        extra = ["--duration", "0.02", "--samples", "5", "--rate", "crank_joint=2"]
+    else:
+        extra = ["--motion", str(EXAMPLE / "motion.csv")]
+    assert main([command, *arguments, *extra, "--out", str(out), "--no-figures"]) == 0
+    table = "states.csv" if command == "simulate" else "loads.csv"
+    names = {table, "summary.txt", "assembled_pose.csv", "indeterminate.txt", "feeder-run.json"}
+    assert {path.name for path in out.iterdir()} == names
+    manifest = json.loads((out / "feeder-run.json").read_text(encoding="utf-8"))
+    assert set(manifest["files"]) == names - {"feeder-run.json"}
+    assert "and 0 figures" in capsys.readouterr().out
+    if command == "simulate":
+        assert manifest["initial_rates"]["given"] == {"crank_joint": 2.0}
+        assert read_csv(out / table)["v_crank_joint"][0] == pytest.approx(2.0, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "rates, message",
+    [
+        (["--rate", "crank_joint"], "expected JOINT=VALUE"),
+        (["--rate", "crank_joint=fast"], "must be a finite number"),
+        (["--rate", "crank_joint=inf"], "must be a finite number"),
+        (["--rate", "crank=1"], "did you mean 'crank_joint'"),
+        (["--rate", "crank_joint=1", "--rate", "crank_joint=2"], "given twice"),
+    ],
+)
+def test_simulate_bad_rates_exit_with_one_line(tmp_path, capsys, rates, message):
+    """A malformed --rate is argparse's error (usage and one line), a joint the model lacks or
+    one given twice the command's one line; either exits with status 2 and writes nothing."""
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    extra = ["--duration", "0.02", "--out", str(tmp_path / "x"), *rates]
+    try:
+        code = main(["simulate", *arguments, *extra])
+    except SystemExit as exc:  # argparse's refusal
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "x").exists()
+
+
+def test_analyze_of_a_passive_mechanism_asks_for_actuated_joints(tmp_path, capsys):
+    text = (EXAMPLE / "closures.toml").read_text(encoding="utf-8")
+    (tmp_path / "closures.toml").write_text(
+        text.replace('actuated = ["crank_joint"]', "actuated = []"), encoding="utf-8"
+    )
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(tmp_path / "closures.toml")]
+    extra = ["--motion", str(EXAMPLE / "motion.csv"), "--out", str(tmp_path / "x")]
+    assert main(["analyze", *arguments, *extra]) == 2
+    err = capsys.readouterr().err
+    assert "the motion's loads need actuated joints" in err and "feeder simulate" in err
+    assert not (tmp_path / "x").exists()

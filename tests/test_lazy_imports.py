@@ -74,3 +74,17 @@ def test_every_public_name_resolves_to_its_module_object():
 def test_unknown_name_is_an_attribute_error():
     with pytest.raises(AttributeError, match="no_such_name"):
         feeder.no_such_name  # noqa: B018
+
+
+def test_a_run_without_figures_loads_no_plotting(tmp_path):
+    """``feeder simulate --no-figures`` writes its table and summary without matplotlib (~0.5 s
+    of its start-up); the same run with figures loads it."""
+    four_bar = REPO / "examples" / "four_bar"
+    run = (
+        "from feeder.cli import main\nmain(['simulate', {model!r}, '--closures', {toml!r}, "
+        "'--duration', '0.01', '--samples', '3', '--out', {out!r}{extra}])"
+    )
+    files = {"model": str(four_bar / "four_bar.urdf"), "toml": str(four_bar / "closures.toml")}
+    bare = run.format(**files, out=str(tmp_path / "bare"), extra=", '--no-figures'")
+    assert "matplotlib" not in _modules_after(bare)
+    assert "matplotlib" in _modules_after(run.format(**files, out=str(tmp_path / "all"), extra=""))

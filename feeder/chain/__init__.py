@@ -27,7 +27,8 @@ subpackages follow the data:
 
 The names below are the workflow for any mechanism: read it (:func:`read_spec`,
 :func:`load_mechanism`, or :func:`load_closed_chain` for a URDF and closures given in code), its
-closures and base motion, assemble and track it (:class:`Partition`, :func:`track`), count its
+closures and base motion, assemble and track it (:class:`Partition`, :func:`track`), start it
+with given joint rates (:func:`initial_rates`: closed, projected when they contradict), count its
 freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
 :func:`inverse_dynamics`, :func:`simulate` and its default :data:`BAUMGARTE_RATE`,
 :func:`hybrid_run`, the force elements). Two public groupings hold the rest:
@@ -44,6 +45,7 @@ Tolerances and limits live next to where they are checked (``MAX_GAIN`` in
 """
 
 from .assembly.partition import Partition
+from .assembly.rates import initial_rates
 from .assembly.tracking import track
 from .dynamics.forward import BAUMGARTE_RATE, simulate
 from .dynamics.hybrid import hybrid_run
@@ -78,6 +80,7 @@ __all__ = [
     "Terrain",
     "frame_motion",
     "hybrid_run",
+    "initial_rates",
     "inverse_dynamics",
     "load_closed_chain",
     "load_mechanism",

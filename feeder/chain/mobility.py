@@ -5,8 +5,11 @@ the admissible choices of independent joints, and the distance to a singular pos
   (3 per point, 6 per weld, 5 per revolute cut). It assumes the constraints independent.
 * The actual mobility: the tree's degrees of freedom minus the rank of the closure Jacobian. The
   difference is the number of redundant rows (a planar loop has 3 per point closure of a spatial
-  count that only 2 are needed for, 5 per revolute cut of which 2 act in its plane); the forces
-  along them are statically indeterminate in a rigid model.
+  count that only 2 are needed for, 5 per revolute cut of which 2 act in its plane): as many
+  self-stresses, closure forces that balance each other, and the forces of every row they
+  involve are statically indeterminate in a rigid model
+  (:func:`~feeder.chain.assembly.rank.self_stresses`, the computation the inverse dynamics share:
+  :mod:`feeder.chain.dynamics.indeterminacy`).
 * An independent-joint choice is admissible when the remaining (dependent) columns of the
   Jacobian determine the dependent velocities and let the chosen ones move freely
   (:class:`~feeder.chain.assembly.partition.Partition`'s rank test). Up to :data:`MAX_CHOICES`
@@ -37,9 +40,15 @@ from ..exceptions import SingularPoseError
 from .assembly.check import idle_motions
 from .assembly.newton import RANK_TOLERANCE
 from .assembly.partition import Partition
-from .assembly.rank import moved_joints
+from .assembly.rank import indeterminate_mask, moved_joints, self_stresses
 from .kinematics.pose import ChainPose
 from .model.closure import ClosedChain
+
+NO_CLOSURE = (
+    "an open tree, no closure: no dependent joint to gain speed, no singular pose of a loop"
+)
+"""What the reports say of the velocity gain of a mechanism without closures (its gain, 0 by
+definition, would read as a distance to a singular pose)."""
 
 MAX_CHOICES = 20_000
 """Largest number of independent-joint combinations :func:`mobility` enumerates."""
@@ -58,10 +67,11 @@ class MobilityReport:
         kutzbach: Grübler–Kutzbach mobility, dof − constraints.
         rank: Rank of the closure Jacobian.
         mobility: Actual degrees of freedom, dof − rank.
-        redundant_rows: One choice of closure rows that can be dropped without changing the
-            constraints (later rows repeating earlier ones). Every row that takes part in a
-            redundancy has a statically indeterminate force
-            (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.indeterminate` lists them all).
+        self_stresses: Number of independent self-stresses, constraints − rank (module
+            docstring).
+        indeterminate_rows: The closure rows they involve, whose forces are statically
+            indeterminate (:func:`~feeder.chain.assembly.rank.indeterminate_mask`; the
+            reactions they change: :mod:`feeder.chain.dynamics.indeterminacy`).
         admissible: Independent-joint choices (tuples of ``mobility`` names) that work here.
         complete: Whether ``admissible`` lists every choice (False: one found by column-pivoted
             QR, the enumeration being too long).
@@ -82,7 +92,8 @@ class MobilityReport:
     kutzbach: int
     rank: int
     mobility: int
-    redundant_rows: tuple[str, ...]
+    self_stresses: int
+    indeterminate_rows: tuple[str, ...]
     admissible: tuple[tuple[str, ...], ...]
     complete: bool
     choices: int
@@ -102,13 +113,16 @@ class MobilityReport:
             f"closure Jacobian rank: {self.rank}; actual mobility {self.dof} − {self.rank} = "
             f"{self.mobility}",
         ]
-        if self.redundant_rows:
+        if self.self_stresses:
             lines.append(
-                f"redundant closure rows ({len(self.redundant_rows)}, their forces are statically "
-                f"indeterminate): {', '.join(self.redundant_rows)}"
+                f"self-stresses of the closures: {self.self_stresses}; statically indeterminate "
+                f"closure rows ({len(self.indeterminate_rows)}, the rows they involve): "
+                f"{', '.join(self.indeterminate_rows)}"
             )
         else:
-            lines.append("redundant closure rows: none")
+            lines.append(
+                "self-stresses of the closures: none; statically indeterminate rows: none"
+            )
         shown = ", ".join("[" + ", ".join(choice) + "]" for choice in self.admissible[:12])
         more = f" and {len(self.admissible) - 12} more" if len(self.admissible) > 12 else ""
         if self.complete:
@@ -122,11 +136,16 @@ class MobilityReport:
         if self.independent is not None:
             if self.determined is None:
                 count = len(self.idle or ())
+                gain = (
+                    f"velocity gain {self.gain:.3g} ({self.gain_definition}; → ∞ at a singular "
+                    "pose)"
+                    if self.constraints
+                    else f"no velocity gain: {NO_CLOSURE}"
+                )
                 lines.append(
                     f"with independent {list(self.independent)}: determined "
                     + (f"up to {count} idle motion(s)" if count else "(no idle motion)")
-                    + f"; velocity gain {self.gain:.3g} ({self.gain_definition}; → ∞ at a "
-                    "singular pose)"
+                    + f"; {gain}"
                 )
             else:
                 lines.append(f"with independent {list(self.independent)}: {self.determined}")
@@ -162,14 +181,9 @@ def mobility(
     scale = float(singular[0]) if singular.size and singular[0] > 0.0 else 1.0
     tolerance = RANK_TOLERANCE * scale
     rank = int(np.sum(singular > tolerance))
-    labels = chain.row_labels()
-    redundant, kept = [], np.zeros((0, model.nv))
-    for label, row in zip(labels, jac, strict=True):
-        trial = np.vstack([kept, row])
-        if np.linalg.matrix_rank(trial, tol=tolerance) > kept.shape[0]:
-            kept = trial
-        else:
-            redundant.append(label)
+    stresses = self_stresses(jac)
+    flags = indeterminate_mask(stresses)
+    rows = tuple(label for label, flag in zip(chain.row_labels(), flags, strict=True) if flag)
     dof = model.nv
     free = dof - rank
     choices = math.comb(len(joints), free)
@@ -209,7 +223,8 @@ def mobility(
         kutzbach=dof - chain.nc,
         rank=rank,
         mobility=free,
-        redundant_rows=tuple(redundant),
+        self_stresses=stresses.shape[0],
+        indeterminate_rows=rows,
         admissible=tuple(admissible),
         complete=choices <= MAX_CHOICES,
         choices=choices,

@@ -16,6 +16,7 @@
 """
 
 from .assembly.check import PoseCheck
+from .assembly.rates import InitialRates
 from .assembly.trajectory import Trajectory
 from .dynamics.forward_run import ForwardRun
 from .dynamics.hybrid import HybridRun
@@ -34,6 +35,7 @@ __all__ = [
     "ForwardRun",
     "FrameMotion",
     "HybridRun",
+    "InitialRates",
     "JointWrench",
     "MobilityReport",
     "MountWrench",

@@ -11,8 +11,9 @@ Commands:
     errata      the table of the paper's errata measured on the reference cycle (Markdown)
     sweep       peak loads over elevations × parameter variants × devices, resumable
     analyze     any closed-chain mechanism: mobility report, or its loads and every reaction
-    simulate    any closed-chain mechanism run forward from rest under gravity and its force
-                elements: states, loads, reactions, drift and energy balance
+    simulate    any closed-chain mechanism run forward from rest or given joint rates under
+                gravity and its force elements: states, loads, reactions, drift and energy
+                balance
     design      designing the geometry: ``design sensitivities``, the derivative and elasticity
                 of every peak load with respect to every length and mass, at one elevation and
                 as the envelope over elevations; ``design optimize``, the free geometry that

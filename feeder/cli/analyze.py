@@ -10,6 +10,7 @@ from .options import (
     Once,
     add_command,
     command_line,
+    figures_switch,
     mechanism_options,
     path_argument,
     switch,
@@ -39,6 +40,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         help="output folder for loads.csv, summary.txt and the figures, required unless "
         "--check (default: none)",
     )
+    figures_switch(analyze)
     switch(
         analyze,
         "--check",
@@ -71,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     folder = OutputFolder(args.out)
     analysis = analyze(args.closures, args.motion, args.model, args.pose)
     with folder:
-        paths = write_analysis_outputs(analysis, folder, command_line(args))
+        paths = write_analysis_outputs(analysis, folder, command_line(args), figures=args.figures)
     print(analysis.summary())
     print(wrote(paths, folder.path))
     return 0

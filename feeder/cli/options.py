@@ -63,6 +63,21 @@ def path_argument(text: str) -> Path:
         raise argparse.ArgumentTypeError(str(exc)) from exc
 
 
+def rate_argument(text: str) -> tuple[str, float]:
+    """``JOINT=VALUE``: a joint's name and its rate [rad/s, m/s], a finite number
+    (``feeder simulate --rate``)."""
+    name, sign, value = text.partition("=")
+    if not sign or not name.strip():
+        raise argparse.ArgumentTypeError(f"expected JOINT=VALUE (rad/s or m/s), got {text!r}")
+    try:
+        return name.strip(), check_number(f"the rate of {name.strip()!r}", float(value))
+    except (ValueError, InputError):
+        raise argparse.ArgumentTypeError(
+            f"the rate of {name.strip()!r} must be a finite number [rad/s or m/s], got "
+            f"{value.strip()!r}"
+        ) from None
+
+
 def params_of(args: argparse.Namespace) -> FeederParameters:
     """The parameter set of ``--params FILE`` (read and checked) or of ``--device NAME``."""
     if args.params is not None:
@@ -104,6 +119,18 @@ def switch(sub: argparse.ArgumentParser, flag: str, dest: str, help: str) -> Non
     it on (default off)."""
     on = not flag.startswith("--no-")
     sub.add_argument(flag, dest=dest, action=Once, nargs=0, const=on, default=not on, help=help)
+
+
+def figures_switch(sub: argparse.ArgumentParser) -> None:
+    """``--no-figures`` of a mechanism's study (``analyze``, ``simulate``): its table, summary,
+    assembled pose and manifest only, no PNG and no report.html."""
+    switch(
+        sub,
+        "--no-figures",
+        "figures",
+        "write the table, summary.txt, assembled_pose.csv and the manifest only, no figures and "
+        "no report.html, for batch use (default: every figure and report.html)",
+    )
 
 
 def device_options(sub: argparse.ArgumentParser, default: str) -> None:

@@ -1,16 +1,20 @@
-"""``feeder simulate``: a user's closed-chain mechanism run forward from rest: states.csv,
-summary, figures, report.html."""
+"""``feeder simulate``: a user's closed-chain mechanism run forward from its assembled pose, at
+rest or at given joint rates (``--rate JOINT=VALUE``): states.csv, summary, figures,
+report.html."""
 
 from __future__ import annotations
 
 import argparse
 
+from ..exceptions import InputError
 from .options import (
     Once,
     add_command,
     command_line,
+    figures_switch,
     mechanism_options,
     path_argument,
+    rate_argument,
     wrote,
 )
 
@@ -25,7 +29,8 @@ def add(commands: argparse._SubParsersAction) -> None:
         commands,
         "simulate",
         run,
-        "any closed-chain mechanism run forward from rest: states, loads, reactions, energy",
+        "any closed-chain mechanism run forward from rest or given joint rates: states, loads, "
+        "reactions, energy",
     )
     mechanism_options(simulate)
     simulate.add_argument(
@@ -87,13 +92,30 @@ def add(commands: argparse._SubParsersAction) -> None:
         default=ATOL,
         help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
     )
+    simulate.add_argument(
+        "--rate",
+        dest="rates",
+        action="append",
+        type=rate_argument,
+        default=[],
+        metavar="JOINT=VALUE",
+        help="initial rate of a joint [rad/s revolute, m/s prismatic], repeatable, over the "
+        "mechanism file's rates entry of that joint: rates of the independent joints set the "
+        "others through the closure; rates of more joints are projected onto it and the summary "
+        "says how much they changed (default: the file's rates, or at rest)",
+    )
+    figures_switch(simulate)
 
 
 def run(args: argparse.Namespace) -> int:
-    """A user's closed-chain mechanism run forward from rest: states.csv, summary, figures."""
+    """A user's closed-chain mechanism run forward: states.csv, summary, figures."""
     from ..outputs import OutputFolder, write_simulation_outputs
     from ..study.simulate import simulate_mechanism
 
+    rates = dict(args.rates)
+    if len(rates) < len(args.rates):
+        twice = next(name for name, _ in args.rates if [n for n, _ in args.rates].count(name) > 1)
+        raise InputError(f"--rate {twice}=… given twice: give each joint's rate once")
     folder = OutputFolder(args.out)
     simulation = simulate_mechanism(
         args.closures,
@@ -106,9 +128,12 @@ def run(args: argparse.Namespace) -> int:
         rtol=args.rtol,
         atol=args.atol,
         progress=True,
+        rates=rates,
     )
     with folder:
-        paths = write_simulation_outputs(simulation, folder, command_line(args))
+        paths = write_simulation_outputs(
+            simulation, folder, command_line(args), figures=args.figures
+        )
     print(simulation.summary())
     print(wrote(paths, folder.path))
     return 0

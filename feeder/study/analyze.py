@@ -28,15 +28,24 @@ from ..chain.assembly.partition import Partition
 from ..chain.assembly.tracking import track
 from ..chain.dynamics.free_freedoms import free_freedoms
 from ..chain.dynamics.hybrid import HybridRun, hybrid_run
-from ..chain.dynamics.inverse import ChainDynamics, ChainLoads, inverse_dynamics
-from ..chain.mobility import MobilityReport, mobility
+from ..chain.dynamics.indeterminacy import indeterminacy
+from ..chain.dynamics.inverse import CONVENTION, ChainDynamics, ChainLoads, inverse_dynamics
+from ..chain.kinematics.frames import point_motion
+from ..chain.mobility import NO_CLOSURE, MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.readers.mechanism import load_mechanism, read_spec
 from ..chain.readers.motion_table import MotionTable, read_motion
 from ..chain.readers.pose import pose_from_values, read_pose
 from ..chain.readers.spec import MechanismSpec
-from ..exceptions import FeederWarning
-from .mechanism_table import joint_columns, load_columns, load_peaks, merge_columns, pose_lines
+from ..exceptions import FeederWarning, InputError
+from .mechanism_table import (
+    joint_columns,
+    load_columns,
+    load_peaks,
+    merge_columns,
+    point_columns,
+    pose_lines,
+)
 
 GRAVITY_ROUND_OFF = 1e-9
 """Largest generalized gravity force, as a fraction of Σ m g (reach of the body's centre of
@@ -82,12 +91,16 @@ class Analysis:
         """The loads table, each column (N,), SI units, world axes:
 
         ``t``; the coordinates, rates and accelerations of every joint (:func:`joint_columns`;
-        the accelerations include the idle motions', :attr:`ChainLoads.accelerations`);
-        ``velocity_gain``; the loads (:func:`load_columns`).
+        the accelerations include the idle motions', :attr:`ChainLoads.accelerations`); the
+        mechanism file's points (:func:`point_columns`); ``velocity_gain``; the loads
+        (:func:`load_columns`).
         """
+        a = self.loads.accelerations
+        points = point_motion(self.chain, self.spec.points, self.q, self.v, a)
         return merge_columns(
             {"t": self.motion.t},
-            joint_columns(self.chain.model, self.q, self.v, self.loads.accelerations),
+            joint_columns(self.chain.model, self.q, self.v, a),
+            point_columns(points),
             {"velocity_gain": self.gain},
             load_columns(self.loads),
         )
@@ -118,10 +131,13 @@ class Analysis:
                 + ", ".join(self.motion.differentiated)
             )
         k = int(np.argmax(self.gain))
-        lines.append(
-            f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, largest "
-            f"{self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
-        )
+        if self.chain.nc:
+            lines.append(
+                f"  velocity gain at the first sample (t = {t[0]:.4g} s) {self.gain[0]:.3g}, "
+                f"largest {self.gain[k]:.3g} at t = {t[k]:.4g} s ({self.report.gain_definition})"
+            )
+        else:
+            lines.append(f"  velocity gain: none, {NO_CLOSURE}")
         peaks = load_peaks(self.chain.model, t, self.loads, self.spec.forces)
         return "\n".join(lines + peaks)
 
@@ -231,10 +247,14 @@ def check_mechanism(
 ) -> MechanismCheck:
     """The mobility report of a mechanism (``feeder analyze --check``) at its assembled pose:
     the closed pose nearest to the reference (the model's zero pose, or the pose file), where
-    ``feeder analyze`` starts and measures its own report."""
+    ``feeder analyze`` starts and measures its own report; then the reaction components its
+    self-stresses leave indeterminate there
+    (:func:`~feeder.chain.dynamics.indeterminacy.indeterminacy`, as the summaries say them)."""
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     report = mobility(chain, assembled, spec.independent)
     lines = mount_lines(report, chain.model, reference, assembled)
+    stresses = indeterminacy(chain, assembled[None]).lines(CONVENTION, rows=False)
+    lines += ["  " + line for line in stresses]
     free = ()
     if report.determined is not None:
         dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
@@ -269,6 +289,12 @@ def analyze(
             cannot produce (each with its own message).
     """
     spec, chain, partition, reference, assembled = mount_mechanism(spec_path, model, pose)
+    if not spec.actuated:
+        raise InputError(
+            f"{spec_path}: the motion's loads need actuated joints, and [mechanism] actuated is "
+            "empty: name the joints that drive it (a passive mechanism runs forward with "
+            "feeder simulate)"
+        )
     table = read_motion(motion_path, spec.independent)
     dyn = ChainDynamics(chain, spec.actuated, spec.stiffness, spec.forces, spec.base)
     report = mobility(chain, assembled, spec.independent)

@@ -13,9 +13,11 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.dynamics.elements import force_unit
+from ..chain.dynamics.indeterminacy import Indeterminacy
 from ..chain.dynamics.inverse import ChainLoads
 from ..chain.dynamics.reactions import MountWrench
 from ..chain.kinematics.coordinates import coordinates, pose_values
+from ..chain.kinematics.frames import PointMotion
 from ..chain.kinematics.joints import kind_of
 from ..chain.kinematics.tree import reach
 from ..chain.model.forces import ForceElement
@@ -65,6 +67,24 @@ def load_columns(loads: ChainLoads) -> dict[str, np.ndarray]:
         parts.append(_vector_columns(column_stem(name), wrench.force, wrench.moment, True))
     parts += [{f"{column_stem(name)}_force": values} for name, values in loads.elements.items()]
     return merge_columns(*parts, mount_columns(loads.mount))
+
+
+def indeterminate_columns(indeterminacy: Indeterminacy) -> list[str]:
+    """The columns of :func:`load_columns` that a rigid model does not determine (their values
+    follow the stiffness-weighted convention, :mod:`~feeder.chain.dynamics.indeterminacy`): the
+    cuts' and joints' wrench components the self-stresses change, and the magnitudes
+    ``<joint>_force``, ``<joint>_moment`` of a joint with such a component; empty when everything
+    is determined (the table's sidecar ``indeterminate.txt`` lists them)."""
+    names = []
+    for entries, magnitudes in ((indeterminacy.closures, False), (indeterminacy.joints, True)):
+        for name, components in entries.items():
+            stem = column_stem(name)
+            for what in ("force", "moment"):
+                changed = [c for c in components if c.startswith(what)]
+                if changed and magnitudes:
+                    names.append(f"{stem}_{what}")
+                names += [f"{stem}_{c}" for c in changed]
+    return names
 
 
 def _vector_columns(
@@ -167,13 +187,7 @@ def load_peaks(
     units = element_units(model, elements)
     for name, values in loads.elements.items():
         lines.append(f"  peak force of {name}: {peak(values, units[name])}")
-    if loads.indeterminate:
-        lines.append(
-            "  statically indeterminate closure rows: "
-            + ", ".join(loads.indeterminate)
-            + f" ({loads.convention})"
-        )
-    return lines
+    return lines + ["  " + line for line in loads.indeterminacy.lines(loads.convention)]
 
 
 def load_scale(model: pin.Model, loads: ChainLoads, elements: Sequence[ForceElement]) -> float:
@@ -204,6 +218,30 @@ def column_stem(name: str) -> str:
     that ``numpy.genfromtxt(names=True)``, pandas' attribute access and spreadsheets keep as it
     is."""
     return re.sub(r"[^A-Za-z0-9_]+", "_", name)
+
+
+def point_columns(motions: Mapping[str, PointMotion]) -> dict[str, np.ndarray]:
+    """The mechanism file's points as table columns (N,), world axes (the base's on a moving
+    base), each point's name as :func:`column_stem` writes it: ``point_<p>_x|y|z`` its position
+    [m], ``point_<p>_velocity_x|y|z`` [m/s] and ``point_<p>_acceleration_x|y|z`` [m/s²]
+    (:func:`~feeder.chain.kinematics.frames.point_motion`).
+
+    Raises:
+        InputError: Two points whose names :func:`column_stem` writes alike (named).
+    """
+    parts = []
+    for name, motion in motions.items():
+        stem = f"point_{column_stem(name)}"
+        cols = {}
+        for what, vector in (
+            ("", motion.position),
+            ("_velocity", motion.velocity),
+            ("_acceleration", motion.acceleration),
+        ):
+            for k, axis in enumerate("xyz"):
+                cols[f"{stem}{what}_{axis}"] = vector[:, k]
+        parts.append(cols)
+    return merge_columns(*parts)
 
 
 def joint_columns(

@@ -1,33 +1,45 @@
-"""A forward run of a user's closed-chain mechanism (``feeder simulate``): released at rest from
-its assembled pose under gravity and its force elements, run with error control.
+"""A forward run of a user's closed-chain mechanism (``feeder simulate``): started from its
+assembled pose, at rest or at the initial rates given, under gravity and its force elements, run
+with error control.
 
 Data flow: side-file and model (:mod:`feeder.chain.readers`, with the side-file's force elements
 and those of an optional ``--forces`` file) → :class:`~feeder.chain.ClosedChain` → the closed
 pose nearest to the reference pose (the side-file's ``pose``, a pose file, or the model's zero)
-→ mobility report there → :func:`~feeder.chain.simulate` → the table
-(:meth:`Simulation.columns`) and its summary.
+→ the initial rates there (the side-file's ``rates`` and ``--rate``, closed or projected onto the
+closure: :func:`~feeder.chain.initial_rates`) → mobility report there →
+:func:`~feeder.chain.simulate` → the table (:meth:`Simulation.columns`) and its summary.
 """
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..chain.assembly.rates import InitialRates, initial_rates
 from ..chain.dynamics.budget import check_sample_count
 from ..chain.dynamics.forward import ATOL, RTOL, simulate
 from ..chain.dynamics.forward_run import ForwardRun
 from ..chain.dynamics.inverse import ChainDynamics
+from ..chain.kinematics.frames import point_motion
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.model.forces import ForceElement
 from ..chain.readers.forces import read_force_file
 from ..chain.readers.spec import MechanismSpec
-from ..exceptions import InputError
+from ..exceptions import FeederWarning, InputError
 from ..validation import check_number
 from .analyze import gravity_text, mount_lines, mount_mechanism, warn_if_gravity_idle
-from .mechanism_table import joint_columns, load_columns, load_peaks
+from .mechanism_table import (
+    joint_columns,
+    load_columns,
+    load_peaks,
+    merge_columns,
+    point_columns,
+)
 
 SAMPLES = 1001
 """Default number of output samples over the run (both ends included)."""
@@ -45,8 +57,9 @@ class Simulation:
         run: The run (states, accelerations, loads, drift, energy and work).
         report: Mobility at the assembled pose, where the run starts.
         reference: The pose the mechanism was mounted from (nq,).
-        assembled: The closed pose nearest to it, where the run starts at rest (nq,).
+        assembled: The closed pose nearest to it, where the run starts (nq,).
         method, rtol, atol: The integrator and its tolerances.
+        start: The initial rates: given, used (closed) and how they changed.
     """
 
     spec: MechanismSpec
@@ -59,11 +72,14 @@ class Simulation:
     method: str
     rtol: float
     atol: float
+    start: InitialRates
 
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
         coordinates, rates and accelerations
-        (:func:`~feeder.study.mechanism_table.joint_columns`); the loads
+        (:func:`~feeder.study.mechanism_table.joint_columns`); the mechanism file's points'
+        positions, velocities and accelerations
+        (:func:`~feeder.study.mechanism_table.point_columns`); the loads
         (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — zero
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
@@ -71,9 +87,13 @@ class Simulation:
         forces since t = 0 [J]) and ``energy_balance`` (energy − energy(0) − work [J], zero for
         an exact run)."""
         run = self.run
-        cols: dict[str, np.ndarray] = {"t": run.t}
-        cols |= joint_columns(self.chain.model, run.q, run.v, run.a)
-        cols |= load_columns(run.loads)
+        points = point_motion(self.chain, self.spec.points, run.q, run.v, run.a)
+        cols = merge_columns(
+            {"t": run.t},
+            joint_columns(self.chain.model, run.q, run.v, run.a),
+            point_columns(points),
+            load_columns(run.loads),
+        )
         cols["drift"] = run.residual
         cols["energy"] = run.energy
         cols["work"] = run.work
@@ -86,8 +106,10 @@ class Simulation:
         run = self.run
         t = run.t
         lines = mount_lines(self.report, self.chain.model, self.reference, self.assembled)
+        lines += self.start.lines()
+        origin = "at the initial rates above" if self.start.given else "from rest"
         lines.append(
-            f"forward run: {t[-1] - t[0]:.4g} s from rest, {t.size} output samples; "
+            f"forward run: {t[-1] - t[0]:.4g} s {origin}, {t.size} output samples; "
             f"{self.method} at rtol {self.rtol:g}, atol {self.atol:g}: {run.steps} steps, "
             f"{run.evaluations} right-hand sides, {run.projections} projections onto the "
             "constraints"
@@ -143,8 +165,10 @@ def simulate_mechanism(
     rtol: float = RTOL,
     atol: float = ATOL,
     progress: bool = False,
+    rates: Mapping[str, float] | None = None,
 ) -> Simulation:
-    """Run the mechanism forward from rest at its assembled pose.
+    """Run the mechanism forward from its assembled pose, at rest or at the initial rates of the
+    side-file's ``rates`` and ``rates``.
 
     Args:
         spec_path: The mechanism file (TOML with closures and force elements, or YAML).
@@ -157,6 +181,10 @@ def simulate_mechanism(
             :func:`~feeder.chain.dynamics.budget.max_samples` for the mechanism).
         method, rtol, atol: The integrator (:func:`~feeder.chain.simulate`).
         progress: Show the run's progress line on a terminal (:func:`~feeder.chain.simulate`).
+        rates: Joint name → initial rate [rad/s, m/s] (``--rate``), over the side-file's entry of
+            that joint; rates of the independent joints are closed by the closure, rates of
+            more joints projected onto it (:func:`~feeder.chain.initial_rates`, a
+            :class:`~feeder.exceptions.FeederWarning` when that changes them beyond round-off).
 
     Raises:
         FeederError: Bad files or settings, an unreachable pose, an integration that fails
@@ -167,6 +195,8 @@ def simulate_mechanism(
         raise InputError(f"the duration must be > 0 s, got {duration!r}")
     if not isinstance(samples, int) or samples < 2:
         raise InputError(f"samples must be a whole number ≥ 2, got {samples!r}")
+    if rates is not None and not isinstance(rates, Mapping):
+        raise InputError(f"rates must map joint names to rates [rad/s, m/s], got {rates!r}")
     spec, chain, _, reference, assembled = mount_mechanism(spec_path, model, pose)
     check_sample_count("samples", samples, chain.model.nv)
     elements = spec.forces + (read_force_file(Path(forces)) if forces is not None else ())
@@ -177,10 +207,26 @@ def simulate_mechanism(
             f"the duration {duration!r} s is too short for {samples} distinct sample times "
             "(double precision): a longer duration or fewer samples"
         )
-    zero = np.zeros(chain.model.nv)
-    run = simulate(dyn, t, assembled, zero, method=method, rtol=rtol, atol=atol, progress=progress)
+    start = initial_rates(
+        chain, assembled, {name: x for name, x, _ in spec.rates} | {**(rates or {})}
+    )
+    if start.projected():
+        warnings.warn("; ".join(x.strip() for x in start.lines()), FeederWarning, stacklevel=2)
+    run = simulate(
+        dyn, t, assembled, start.v, method=method, rtol=rtol, atol=atol, progress=progress
+    )
     warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
     return Simulation(
-        spec, elements, chain, run, report, reference, assembled, method, float(rtol), float(atol)
+        spec,
+        elements,
+        chain,
+        run,
+        report,
+        reference,
+        assembled,
+        method,
+        float(rtol),
+        float(atol),
+        start,
     )

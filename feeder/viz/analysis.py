@@ -147,7 +147,8 @@ def _unit(analysis: Analysis, joint: str) -> str:
 
 
 def loads_figure(analysis: Analysis) -> Figure:
-    """The actuated joints' generalized forces and the velocity gain against time."""
+    """The actuated joints' generalized forces and the velocity gain against time (no gain for
+    an open tree: without a closure there is no singular pose to be near)."""
     units = {name: _unit(analysis, name) for name in analysis.loads.actuators}
     shared = ", ".join(sorted(set(units.values())))
     loads = Panel(
@@ -164,7 +165,7 @@ def loads_figure(analysis: Analysis) -> Figure:
         log=True,
         reference=1.0,
     )
-    return stacked_figure(analysis.motion.t, [loads, gain])
+    return stacked_figure(analysis.motion.t, [loads, gain] if analysis.chain.nc else [loads])
 
 
 def reactions_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:
@@ -234,7 +235,8 @@ def motion_figure(simulation: Simulation) -> Figure:
         run.t,
         [
             Panel(
-                "Joint coordinates (forward run from rest)",
+                "Joint coordinates (forward run from "
+                + ("its initial rates)" if simulation.start.given else "rest)"),
                 "joint value [rad or m]",
                 "rad or m",
                 tuple(values),

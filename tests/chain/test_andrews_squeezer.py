@@ -432,7 +432,7 @@ def test_the_runs_first_sample_has_the_published_accelerations_and_forces(run, f
         rtol=0.0,
         atol=KKT * np.abs(multipliers).max(),
     )
-    assert set(run.loads.indeterminate) == {
+    assert set(run.loads.indeterminacy.rows) == {
         "F_body2-F_body3:fz", "F_body2-F_body4:fz", "F_body2-F_body6:fz"
     }  # fmt: skip
 

@@ -130,7 +130,7 @@ def test_four_bar_static_torque_is_the_virtual_work_of_gravity(theta2, kind):
     scale = G * (m2 + m3 + m4) * (A + B)
     assert abs(loads.actuators["crank_joint"][0] - expected) <= RELATIVE * scale
     expected_indeterminate = {"revolute": {"fz", "m1", "m2"}, "point": {"fz"}}[kind]
-    assert {label.split(":")[1] for label in loads.indeterminate} == expected_indeterminate
+    assert {label.split(":")[1] for label in loads.indeterminacy.rows} == expected_indeterminate
 
 
 @pytest.mark.parametrize("theta", ANGLES)

@@ -36,7 +36,7 @@ def test_planar_four_bar_mobility(four_bar):
     report = mobility(four_bar, q, ["crank_joint"])
     assert (report.dof, report.constraints, report.kutzbach) == (3, 5, -2)  # spatial count
     assert (report.rank, report.mobility) == (2, 1)  # a planar loop: 2 independent rows
-    assert {row.split(":")[1] for row in report.redundant_rows} == {"fz", "m1", "m2"}
+    assert {row.split(":")[1] for row in report.indeterminate_rows} == {"fz", "m1", "m2"}
     assert report.admissible == (("crank_joint",), ("coupler_joint",), ("rocker_joint",))
     assert 0.0 < report.gain < WELL_CONDITIONED
     assert "actual mobility 3 − 2 = 1" in report.text()

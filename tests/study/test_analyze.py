@@ -30,16 +30,23 @@ def analysis(request):
 
 def test_check_reports_one_degree_of_freedom(analysis):
     check = check_mechanism(REPO / "examples" / analysis.spec.model.stem / "closures.toml")
-    assert "actual mobility 3 − 2 = 1" in check.text and "redundant closure rows (3" in check.text
+    assert "actual mobility 3 − 2 = 1" in check.text
+    assert (
+        "self-stresses of the closures: 3; statically indeterminate closure rows (3" in check.text
+    )
     assert check.drives
 
 
 def test_check_and_analyze_report_the_same_pose_under_its_name(analysis):
-    """Both measure the mobility at the assembled pose and say so; the analysis names the first
-    sample where it gives that sample's gain (the crank-rocker's is not the assembled pose's)."""
+    """Both measure the mobility at the assembled pose and say so, and what is indeterminate
+    (the summary along the motion, its rows too); the analysis names the first sample where it
+    gives that sample's gain (the crank-rocker's is not the assembled pose's)."""
     check = check_mechanism(REPO / "examples" / analysis.spec.model.stem / "closures.toml")
     summary = analysis.summary()
-    assert summary.startswith(check.text + "\n")
+    lines = check.text.splitlines()
+    block = lines.index(next(line for line in lines if line.startswith("  statically")))
+    assert summary.startswith("\n".join(lines[:block]) + "\n")
+    assert all(line in summary.splitlines() for line in lines[block:])
     assert check.text.startswith("mobility at the assembled pose (the closed pose nearest")
     gains = f"velocity gain at the first sample (t = 0 s) {analysis.gain[0]:.3g}, largest"
     assert gains in summary
@@ -325,3 +332,23 @@ def test_a_load_at_round_off_is_printed_as_zero_without_a_time(tmp_path):
     assert "0 N·m to round-off" in drive and "at t =" not in drive
     reactions = [line for line in lines if "peak reaction force" in line]
     assert len(reactions) == 3 and all(" N at t = " in line for line in reactions)
+
+
+def test_the_mechanism_file_s_points_are_columns_of_the_loads_table(tmp_path):
+    """A ``[[point]]`` at the rocker's tip: its columns are the tip frame's position and velocity
+    (feeder.chain.frame_motion, the named frame's own computation) along the analysed motion."""
+    from feeder.chain import frame_motion
+
+    folder = REPO / "examples" / "four_bar"
+    text = (folder / "closures.toml").read_text(encoding="utf-8")
+    path = tmp_path / "closures.toml"
+    path.write_text(text + '\n[[point]]\nname = "P1"\nframe = "rocker_tip"\n', encoding="utf-8")
+    analysis = analyze(path, folder / "motion.csv", model=folder / "four_bar.urdf")
+    columns = analysis.columns()
+    tip = frame_motion(analysis.chain, ["rocker_tip"], analysis.q, analysis.v)["rocker_tip"]
+    for k, axis in enumerate("xyz"):
+        np.testing.assert_allclose(columns[f"point_P1_{axis}"], tip.position[:, k], atol=1e-15)
+        np.testing.assert_allclose(
+            columns[f"point_P1_velocity_{axis}"], tip.velocity[:, k], atol=1e-15
+        )
+    assert "point_P1_acceleration_x" in columns

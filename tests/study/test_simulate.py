@@ -42,6 +42,8 @@ def test_bad_settings_are_refused():
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, samples=1)
     with pytest.raises(InputError, match="method must be one of"):
         simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, method="Euler")
+    with pytest.raises(InputError, match="rates must map joint names"):
+        simulate_mechanism(FOUR_BAR / "closures.toml", 1.0, rates=[("crank_joint", 1.0)])
     with pytest.raises(InputError, match="duration 5e-324 s is too short for 1001 distinct"):
         simulate_mechanism(FOUR_BAR / "closures.toml", 5e-324)  # once "t must be increasing"
 
@@ -135,3 +137,108 @@ def test_the_examples_are_not_found_stiff(name):
     with warnings.catch_warnings():
         warnings.simplefilter("error", FeederWarning)
         simulate_mechanism(REPO / "examples" / name, duration, samples=3)
+
+
+PENDULUM_URDF = """<?xml version="1.0"?>
+<robot name="pendulum">
+  <link name="ground"/>
+  <link name="rod">
+    <inertial><origin xyz="0.5 0 0" rpy="0 0 0"/><mass value="2.0"/>
+      <inertia ixx="1e-4" ixy="0" ixz="0" iyy="0.1666666666666667" iyz="0"
+               izz="0.1666666666666667"/></inertial>
+  </link>
+  <joint name="hinge" type="continuous"><origin xyz="0 0 0" rpy="0 0 0"/>
+    <parent link="ground"/><child link="rod"/><axis xyz="0 0 1"/></joint>
+  <link name="tip"/>
+  <joint name="tip_joint" type="fixed"><origin xyz="1 0 0" rpy="0 0 0"/>
+    <parent link="rod"/><child link="tip"/></joint>
+</robot>
+"""
+"""A compound pendulum: a 1 m rod of 2 kg (I = m L²/12 about its centre, m L²/3 = 2/3 kg·m²
+about the hinge) hung at one end, horizontal at q = 0, swinging in the x–y plane."""
+
+HINGE_INERTIA, MASS, CENTRE, G = 2.0 / 3.0, 2.0, 0.5, 9.81
+
+
+@pytest.fixture
+def pendulum(tmp_path):
+    """The pendulum's mechanism file: nothing actuated, started at 1.5 rad/s."""
+    (tmp_path / "pendulum.urdf").write_text(PENDULUM_URDF)
+    path = tmp_path / "pendulum.toml"
+    path.write_text(
+        '[mechanism]\nurdf = "pendulum.urdf"\nactuated = []\nindependent = ["hinge"]\n'
+        "gravity = [0.0, -9.81, 0.0]\nrates = {hinge = 1.5}\n\n"
+        '[[point]]\nname = "tip"\nframe = "tip"\n\n'
+        '[[point]]\nname = "middle"\nbody = "rod"\noffset = [0.5, 0.0, 0.0]\n'
+    )
+    return path
+
+
+def test_a_passive_pendulum_keeps_the_energy_of_its_initial_rate(pendulum):
+    """No actuated joint: it runs from its file's rate, its energy ½ I ω² + m g y_G (closed form,
+    from the table's angle and rate) stays ½ I ω₀² to the integrator's tolerance, and the
+    summary says there is no closure instead of a velocity gain of 0."""
+    simulation = simulate_mechanism(pendulum, 1.0, samples=101)
+    cols = simulation.columns()
+    energy = 0.5 * HINGE_INERTIA * cols["v_hinge"] ** 2 + MASS * G * CENTRE * np.sin(
+        cols["q_hinge"]
+    )
+    start = 0.5 * HINGE_INERTIA * 1.5**2
+    assert cols["v_hinge"][0] == 1.5 and simulation.run.kinetic[0] == pytest.approx(start)
+    # DOP853 at rtol 1e-8 over a swing of ~10 J: ~2e-7 J measured
+    np.testing.assert_allclose(energy, start, rtol=0.0, atol=1e-6)
+    assert np.ptp(cols["q_hinge"]) > 1.0  # it swings
+    summary = simulation.summary()
+    assert "no velocity gain: an open tree, no closure" in summary
+    assert "velocity gain 0" not in summary and "actuated joints" not in summary
+    assert "used as given (an open tree: no closure to meet)" in summary
+    assert "forward run: 1 s at the initial rates above" in summary
+
+
+def test_a_rate_given_in_the_call_overrides_the_file_s(pendulum):
+    simulation = simulate_mechanism(pendulum, 0.01, samples=3, rates={"hinge": -0.5})
+    assert simulation.start.given == {"hinge": -0.5}
+    assert simulation.run.kinetic[0] == pytest.approx(0.5 * HINGE_INERTIA * 0.25)
+
+
+def test_rates_that_contradict_the_closure_are_warned_and_summarised():
+    with pytest.warns(FeederWarning, match="contradict the closure: projected"):
+        simulation = simulate_mechanism(
+            FOUR_BAR / "closures.toml", 0.01, samples=3,
+            rates={"crank_joint": 3.0, "rocker_joint": 1.0},
+        )  # fmt: skip
+    start = simulation.start
+    np.testing.assert_allclose(simulation.run.v[0], start.v, rtol=0.0, atol=1e-12)
+    assert "they contradict the closure: projected onto it" in simulation.summary()
+
+
+def test_a_joint_given_a_rate_must_be_the_model_s(pendulum):
+    text = pendulum.read_text().replace("rates = {hinge", "rates = {hing")
+    pendulum.write_text(text)
+    with pytest.raises(InputError, match=r"rates: no joint 'hing' .*did you mean 'hinge'\?"):
+        simulate_mechanism(pendulum, 0.01, samples=3)
+
+
+def test_the_pendulum_s_points_move_as_by_hand(pendulum):
+    """The tip (a frame) and the middle of the rod (its body at an offset) at radius r from the
+    hinge: r (cos θ, sin θ), r ω (−sin θ, cos θ) and r (−ω² cos θ − α sin θ, −ω² sin θ +
+    α cos θ), with α = −m g c cos θ / I (the pendulum's equation, by hand) and θ, ω from the
+    run's table."""
+    cols = simulate_mechanism(pendulum, 1.0, samples=101).columns()
+    theta, omega = cols["q_hinge"], cols["v_hinge"]
+    alpha = -MASS * G * CENTRE * np.cos(theta) / HINGE_INERTIA
+    c, s = np.cos(theta), np.sin(theta)
+    for name, r in (("tip", 1.0), ("middle", 0.5)):
+        expected = {
+            "": (r * c, r * s),
+            "_velocity": (-r * omega * s, r * omega * c),
+            "_acceleration": (
+                r * (-(omega**2) * c - alpha * s),
+                r * (-(omega**2) * s + alpha * c),
+            ),
+        }
+        for what, (x, y) in expected.items():
+            # the table's θ, ω to the integrator's tolerance; α the closed form's to round-off
+            np.testing.assert_allclose(cols[f"point_{name}{what}_x"], x, rtol=0.0, atol=1e-9)
+            np.testing.assert_allclose(cols[f"point_{name}{what}_y"], y, rtol=0.0, atol=1e-9)
+            assert np.abs(cols[f"point_{name}{what}_z"]).max() == 0.0

@@ -1,7 +1,9 @@
 """The linear algebra of the rank tests: the motions left with the independent joints locked
 (:func:`locked_motions`; idle motions among them move no point), truncated pseudo-inverses that
 give idle motions no share, the velocity gain (:func:`velocity_gain`: dimensionless, lengths'
-speeds in units of the mechanism's reach), and the joints a motion moves (for the refusals).
+speeds in units of the mechanism's reach), the joints a motion moves (for the refusals), and the
+self-stresses of the closures (:func:`self_stresses`: the closure forces that a rigid model
+leaves undetermined, :func:`indeterminate_mask` the rows they involve).
 """
 
 from __future__ import annotations
@@ -86,3 +88,33 @@ def moved_joints(model: pin.Model, motion: np.ndarray) -> tuple[str, ...]:
     return tuple(
         name for name, share in sorted(shares.items(), key=lambda x: -x[1]) if share > 1e-6
     )
+
+
+SELF_STRESS_TOLERANCE = 1e-6
+"""A closure row takes part in the self-stresses when the part of its unit vector in their span
+(:func:`self_stresses`) exceeds this. Round-off of an SVD basis is ~1e-15 (ε times the
+Jacobian's condition number, ~10 for the examples); but a row that takes no part at a symmetric
+pose takes a share of the order of the distance to it, and an assembled pose sits up to ~1e-8
+rad from where it was aimed (Bricard's linkage mounted at its symmetric pose: shares of 6e-9 in
+two rows of its cut). A share of a millionth carries a millionth of the indeterminate force."""
+
+
+def self_stresses(jac: np.ndarray) -> np.ndarray:
+    """An orthonormal basis (k, nc) of the self-stresses of the closure Jacobian ``jac``
+    (nc, nv): the closure forces λ with Jᵀ λ = 0, which balance each other on every body and do
+    no work (k = nc − rank J, singular values at or below :func:`rank_tolerance` counting as
+    zero). A rigid model cannot tell how much of them the closures carry: the forces of every row
+    they involve (:func:`indeterminate_mask`) are statically indeterminate."""
+    if jac.shape[0] == 0:
+        return np.zeros((0, 0))
+    u, s, _ = np.linalg.svd(jac, full_matrices=True)
+    rank = int(np.sum(s > rank_tolerance(jac)))
+    return u[:, rank:].T.copy()
+
+
+def indeterminate_mask(basis: np.ndarray) -> np.ndarray:
+    """Which closure rows (nc,) bool the self-stresses ``basis`` (k, nc) (:func:`self_stresses`,
+    orthonormal) involve: the part of the row's unit vector in their span (the norm of the row's
+    column of B), above :data:`SELF_STRESS_TOLERANCE` (a property of the span, not of
+    the basis chosen)."""
+    return np.linalg.norm(basis, axis=0) > SELF_STRESS_TOLERANCE

@@ -113,7 +113,8 @@ def simulate(
         dyn: The chain's dynamics: its force elements act, its actuated joints receive
             ``actuation``'s forces (none: they are free).
         t: Increasing output times [s], (N,), N ≥ 2; the run starts at t[0].
-        q0, v0: Initial state (nq,), (nv,), closed (e.g. Partition.mount / velocity).
+        q0, v0: Initial state (nq,), (nv,), closed (e.g. Partition.mount; v0 from given joint
+            rates: :func:`~feeder.chain.assembly.rates.initial_rates`).
         actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), or None.
         method: One of :data:`METHODS`.
         rtol, atol: The integrator's tolerances (> 0; rtol ≥ :data:`SMALLEST_RTOL`).
@@ -157,7 +158,10 @@ def simulate(
         )
     opening = float(np.abs(chain.jacobian(q) @ v).max(initial=0.0))
     if opening > START_TOLERANCE * max(1.0, float(np.abs(v).max())):
-        raise InputError(f"v0 opens the loops at {opening:.3e} per second: use Partition.velocity")
+        raise InputError(
+            f"v0 opens the loops at {opening:.3e} per second: close it with "
+            "feeder.chain.initial_rates (or Partition.velocity)"
+        )
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
     equations = ForwardEquations(dyn, actuation, rate)
     y0 = np.concatenate([q, v, [0.0]])

@@ -18,8 +18,8 @@ actuator loads must be determined (otherwise the actuation itself is singular:
 produce the motion: :class:`InputError`). Closure rows that repeat others (a planar loop) leave a
 null space of statically indeterminate forces: the answer given is the one of minimum
 ‖K^(−1/2) λ‖, K the optional per-row stiffness (default 1: minimum norm, SI units) — the forces a
-set of elastic supports of stiffness K would share — and those rows are listed in
-:attr:`ChainLoads.indeterminate`.
+set of elastic supports of stiffness K would share — and those rows, and the reaction components
+they change, are listed in :attr:`ChainLoads.indeterminacy` (:mod:`.indeterminacy`).
 
 The reaction wrench of every joint of the tree is the wrench its parent exerts on its child,
 world axes, moment about the joint's origin: the rate of momentum of the child's subtree less
@@ -57,6 +57,7 @@ from ..model.closure import ClosedChain
 from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
+from .indeterminacy import Indeterminacy, indeterminacy
 from .loads_solve import row_scale, solve_loads
 from .newton_euler import held_wrench
 from .reactions import (
@@ -88,9 +89,7 @@ class ChainLoads:
         closures: Closure label → :class:`ClosureWrench`.
         joints: Joint name → :class:`JointWrench` (every joint of the tree but a free-flyer,
             which transmits no wrench).
-        indeterminate: Labels of the closure rows whose forces are statically indeterminate
-            (reported with the convention :data:`CONVENTION`).
-        convention: How indeterminate forces were chosen.
+        convention: How indeterminate forces were chosen (:attr:`indeterminacy` says which).
         accelerations: q̈ (N, nv), the accelerations the loads belong to: the prescribed ones
             plus the idle motions' (:mod:`~feeder.chain.dynamics.idle`; equal to the prescribed
             ones when there is none).
@@ -102,13 +101,13 @@ class ChainLoads:
             id) as the Newton–Euler pass took it: absolute, in the base's axes, idle included.
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
+        chain: The closed chain. q: The motion's configurations (N, nq).
     """
 
     actuators: dict[str, np.ndarray]
     closure_forces: np.ndarray
     closures: dict[str, ClosureWrench]
     joints: dict[str, JointWrench]
-    indeterminate: tuple[str, ...]
     convention: str
     accelerations: np.ndarray
     idle_motions: int
@@ -117,6 +116,16 @@ class ChainLoads:
     motion: TreeMotion
     gravity: np.ndarray
     base: BaseState | None = None
+    chain: ClosedChain | None = None
+    q: np.ndarray | None = None
+
+    @cached_property
+    def indeterminacy(self) -> Indeterminacy:
+        """The closure rows and the cuts' and joints' wrench components that a rigid model does
+        not determine along the motion (:func:`~.indeterminacy.indeterminacy`; their values
+        follow the convention :data:`CONVENTION`), computed when first asked (a few ms, which
+        the device's many cycles need not spend)."""
+        return indeterminacy(self.chain, self.q)
 
     def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
         """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
@@ -313,7 +322,7 @@ def inverse_dynamics(
         motion = tree_motion(dyn.chain.model, q, v, a)
         if base is not None:
             motion = on_base(motion, base)
-    tau, lam, indeterminate = solve_loads(dyn, motion, rows, terms)
+    tau, lam = solve_loads(dyn, motion, rows, terms)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints, mount = joint_reactions(
         dyn.chain, motion, closure_terms + terms, None if base is None else base.rotation
@@ -323,7 +332,6 @@ def inverse_dynamics(
         closure_forces=lam,
         closures=closures,
         joints=joints,
-        indeterminate=indeterminate,
         convention=CONVENTION,
         accelerations=a,
         idle_motions=count,
@@ -332,6 +340,8 @@ def inverse_dynamics(
         motion=motion,
         gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
+        chain=dyn.chain,
+        q=q,
     )
 
 

@@ -10,7 +10,8 @@ must be determined (otherwise the actuation itself is singular: :class:`Singular
 the equations consistent (otherwise the actuated joints cannot produce the motion:
 :class:`InputError`). Closure rows that repeat others (a planar loop) leave a null space of
 statically indeterminate forces: the answer is the one of minimum ‖K^(−1/2) λ‖ (K the per-row
-stiffness, the closure columns scaled by √K), and those rows are reported.
+stiffness, the closure columns scaled by √K); which rows and reactions those are is
+:mod:`.indeterminacy`'s.
 
 Three ways answer, cheapest first (:func:`_solve`): the inverse of a square system, the normal
 equations of a well-conditioned one, and the singular value decomposition where the rank drops
@@ -100,9 +101,9 @@ def solve_loads(
     motion: TreeMotion,
     rows: ClosureKinematics,
     external: list[tuple[int, np.ndarray]] = (),
-) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+) -> tuple[np.ndarray, np.ndarray]:
     """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring), and the labels of the indeterminate closure rows."""
+    motion (module docstring)."""
     model = dyn.chain.model
     force, moment = joint_wrenches(model, motion, external)
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
@@ -110,8 +111,8 @@ def solve_loads(
     system = load_equations(dyn, rows.jacobian)
     # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
     terms = np.abs(np.concatenate(force[1:] + moment[1:], axis=1)).max(axis=1, initial=0.0)
-    solution, indeterminate = _solve(system, tree, n_act, dyn.chain.row_labels(), terms)
-    return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale, indeterminate
+    solution = _solve(system, tree, n_act, terms)
+    return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale
 
 
 def load_equations(dyn: LoadUnknowns, jacobian: np.ndarray) -> np.ndarray:
@@ -145,13 +146,11 @@ def load_gain(dyn: LoadUnknowns, q: np.ndarray, rank: int) -> float:
     return float(s[0] / s[rank - 1]) if s[rank - 1] > RANK_TOLERANCE * s[0] else math.inf
 
 
-def _solve(
-    system: np.ndarray, rhs: np.ndarray, n_act: int, labels: list[str], terms: np.ndarray
-) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Minimum-norm solutions of system[k] x = rhs[k] (n, nv, nx), after the checks of the module
-    docstring; returns x (n, nx) and the labels of indeterminate closure rows. ``terms`` (n,):
-    the largest term each sample's right-hand side is summed from (its round-off's scale, for the
-    consistency check where the sum cancels: a mechanism at rest in equilibrium).
+def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -> np.ndarray:
+    """Minimum-norm solutions x (n, nx) of system[k] x = rhs[k] (n, nv, nx), after the checks of
+    the module docstring. ``terms`` (n,): the largest term each sample's right-hand side is summed
+    from (its round-off's scale, for the consistency check where the sum cancels: a mechanism at
+    rest in equilibrium).
 
     Where a sample's system has full row rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
@@ -159,7 +158,7 @@ def _solve(
     space of the equations), go through the singular value decomposition."""
     n = system.shape[0]
     if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
-        return np.zeros((n, 0)), ()
+        return np.zeros((n, 0))
     fast, inverse = _shortcut(system)
     solution = np.empty((n, system.shape[2]))
     if np.any(fast):
@@ -171,12 +170,9 @@ def _solve(
     structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
     indices = np.flatnonzero(detailed)
-    exact, null = _solve_svd(
-        system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed]
-    )
+    exact = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed])
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
-    indeterminate = tuple(label for label, flag in zip(labels, null[n_act:], strict=True) if flag)
-    return solution, indeterminate
+    return solution
 
 
 def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -215,11 +211,11 @@ def _solve_svd(
     expected: int,
     samples: np.ndarray,
     terms: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> np.ndarray:
     """The singular-value path of :func:`_solve` on some samples (their indices in the motion:
     ``samples``, for the messages): the checks (singular actuation, consistency, determined
-    actuator loads), the minimum-norm solutions and which unknowns a null-space direction
-    involves (nx,) bool. ``expected``: the rank the actuators and the closure rows can give."""
+    actuator loads) and the minimum-norm solutions. ``expected``: the rank the actuators and the
+    closure rows can give."""
     u, s, vt = np.linalg.svd(system, full_matrices=True)
     scale = np.maximum(s[:, :1], 1e-300)
     rank_mask = s > RANK_TOLERANCE * scale  # (n, min(nv, nx))
@@ -259,14 +255,11 @@ def _solve_svd(
             f"the actuated joints cannot produce the motion: the equations of motion leave a "
             f"residual of {misfit[worst]:.3e} (choose other actuated joints)"
         )
-    null = np.zeros(system.shape[2], dtype=bool)
     for r in np.unique(rank):  # samples of equal rank share the null-space dimension
-        basis = vt[rank == r, r:, :]  # (samples, dim, nx)
-        if basis.size and np.abs(basis[:, :, :n_act]).max() > NULL_SPACE:
+        basis = vt[rank == r, r:, :n_act]  # (samples, dim, n_act)
+        if basis.size and np.abs(basis).max() > NULL_SPACE:
             raise SingularPoseError(
                 "the actuator loads are not determined: the actuated joints and the closures "
                 "can balance each other without load (a singular or redundant actuation)"
             )
-        if basis.size:
-            null |= np.abs(basis).max(axis=(0, 1)) > NULL_SPACE
-    return solution, null
+    return solution

@@ -1,6 +1,6 @@
-"""The motion of named frames at every sample at once: where a payload, a tool or a cut frame is
-and how fast it moves, from the tree's batched forward recursions (:mod:`.tree`, no per-sample
-Pinocchio call)."""
+"""The motion of named frames and of points fixed on bodies at every sample at once: where a
+payload, a tool, a cut frame or a mechanism file's ``[[point]]`` is and how fast it moves, from
+the tree's batched forward recursions (:mod:`.tree`, no per-sample Pinocchio call)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import numpy as np
 from ...exceptions import InputError
 from ...validation import check_samples
 from ..model.closure import ClosedChain
-from .tree import frame_placements, frame_velocity, tree_motion
+from ..model.points import Point
+from .tree import frame_acceleration, frame_placements, frame_velocity, tree_motion
 
 
 @dataclass(frozen=True)
@@ -61,4 +62,40 @@ def frame_motion(
         velocity = frame_velocity(model, motion, frame, position)
         omega = motion.omega[model.frames[frame].parentJoint]
         out[name] = FrameMotion(rotation, position, velocity, omega)
+    return out
+
+
+@dataclass(frozen=True)
+class PointMotion:
+    """A point's motion at N samples, world axes (the base's on a moving base).
+
+    Attributes:
+        position: [m], (N, 3). velocity: [m/s], (N, 3). acceleration: [m/s²], (N, 3).
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+
+def point_motion(
+    chain: ClosedChain, points: Sequence[Point], q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> dict[str, PointMotion]:
+    """The motion of each point (:class:`~feeder.chain.model.points.Point`: its frame's origin
+    plus its offset turned with the frame) along the motion q (N, nq), v, a (N, nv) (trusted:
+    a checked motion), point name → :class:`PointMotion`: p = o_f + R_f d,
+    v = v_j + ω_j × (p − o_j), a = a_j + α_j × (p − o_j) + ω_j × (ω_j × (p − o_j)), j the joint
+    that moves the frame's body."""
+    model = chain.model
+    motion = tree_motion(model, q, v, a)
+    out = {}
+    for point in points:
+        frame = chain.frame_id(point.frame)
+        rotation, origin = frame_placements(model, motion, frame)
+        position = origin + rotation @ np.asarray(point.offset, dtype=float)
+        out[point.name] = PointMotion(
+            position,
+            frame_velocity(model, motion, frame, position),
+            frame_acceleration(model, motion, frame, position),
+        )
     return out

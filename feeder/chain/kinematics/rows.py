@@ -11,7 +11,7 @@ import pinocchio as pin
 
 from ..model.closure import ClosedChain
 from ..model.cuts import CutFrames
-from .tree import TreeMotion, cross, frame_placements, point_jacobian
+from .tree import TreeMotion, frame_acceleration, frame_placements, point_jacobian
 
 
 @dataclass(frozen=True)
@@ -37,14 +37,6 @@ class ClosureKinematics:
     hinge_alignment: dict[str, np.ndarray]
 
 
-def _frame_acceleration(model, motion: TreeMotion, frame: int, point: np.ndarray) -> np.ndarray:
-    """Classical acceleration (N, 3) of a frame's origin at ``point`` (N, 3)."""
-    j = model.frames[frame].parentJoint
-    r = point - motion.origin[j]
-    w = motion.omega[j]
-    return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
-
-
 def cut_frames(
     model: pin.Model, motion: TreeMotion, a: int, b: int, jacobians: bool, rates: bool
 ) -> CutFrames:
@@ -62,8 +54,8 @@ def cut_frames(
         ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
         frames.omega_a, frames.omega_b = motion.omega[ja], motion.omega[jb]
         frames.alpha_a, frames.alpha_b = motion.alpha[ja], motion.alpha[jb]
-        frames.acceleration_a = _frame_acceleration(model, motion, a, p_a)
-        frames.acceleration_b = _frame_acceleration(model, motion, b, p_b)
+        frames.acceleration_a = frame_acceleration(model, motion, a, p_a)
+        frames.acceleration_b = frame_acceleration(model, motion, b, p_b)
     return frames
 
 

@@ -198,6 +198,17 @@ def frame_velocity(
     return motion.velocity[j] + cross(motion.omega[j], origin - motion.origin[j])
 
 
+def frame_acceleration(
+    model: pin.Model, motion: TreeMotion, frame: int, point: np.ndarray
+) -> np.ndarray:
+    """World (classical) acceleration (N, 3) of a point fixed on a frame's body, at the world
+    position ``point`` (N, 3): a_j + α_j × r + ω_j × (ω_j × r), r = point − o_j."""
+    j = model.frames[frame].parentJoint
+    r = point - motion.origin[j]
+    w = motion.omega[j]
+    return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
+
+
 def reach(model: pin.Model, q: np.ndarray) -> float:
     """The mechanism's size [m] along the configurations q (N, nq): the largest distance of a
     frame's origin (joints, links, cut frames) from the world origin, at least

@@ -14,6 +14,7 @@ here is rank-revealing, so redundancy is harmless; :mod:`feeder.chain.mobility` 
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -184,13 +185,14 @@ class ClosedChain:
         """Pinocchio id of the frame ``name``.
 
         Raises:
-            InputError: No frame of that name in the model (the message lists the frames).
+            InputError: No frame of that name in the model (the message names the nearest one,
+                or lists the frames).
         """
         if not isinstance(name, str) or not self.model.existFrame(name):
-            raise InputError(
-                f"no frame {name!r} in model {self.model.name!r}; "
-                f"frames: {[f.name for f in self.model.frames]}"
-            )
+            names = [f.name for f in self.model.frames]
+            near = difflib.get_close_matches(str(name), names, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else f"frames: {names}"
+            raise InputError(f"no frame {name!r} in model {self.model.name!r}; {hint}")
         return self.model.getFrameId(name)
 
     @property
@@ -327,10 +329,13 @@ class ClosedChain:
         """Index range of ``joint`` in the velocity vector.
 
         Raises:
-            InputError: No joint of that name (the message lists the joints).
+            InputError: No joint of that name (the message names the nearest one, or lists the
+                joints).
         """
         if not isinstance(joint, str) or not self.model.existJointName(joint):
             names = list(self.model.names)[1:]
-            raise InputError(f"no joint {joint!r} in model {self.model.name!r}; joints: {names}")
+            near = difflib.get_close_matches(str(joint), names, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else f"joints: {names}"
+            raise InputError(f"no joint {joint!r} in model {self.model.name!r}; {hint}")
         j = self.model.joints[self.model.getJointId(joint)]
         return slice(j.idx_v, j.idx_v + j.nv)

@@ -12,6 +12,7 @@ import pinocchio as pin
 from ...exceptions import InputError
 from ...validation import check_path
 from ..model.closure import ClosedChain
+from ..model.points import check_points
 from .extended_urdf import read_extended_urdf
 from .joint_types import replace_joints
 from .mjcf import read_mjcf
@@ -54,8 +55,9 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
     Raises:
         UrdfError: Missing or malformed model file, or one Pinocchio cannot read.
         InertiaError: A non-physical body.
-        ClosureFrameError, InputError: Bad closures; an actuated or independent joint that is
-            not a one-coordinate joint of the model; ``spec`` not a :class:`MechanismSpec`.
+        ClosureFrameError, InputError: Bad closures; an actuated or independent joint, or one
+            given a rate, that is not a one-coordinate joint of the model; a point on a frame
+            or body the model lacks; ``spec`` not a :class:`MechanismSpec`.
     """
     if not isinstance(spec, MechanismSpec):
         raise InputError(f"spec must be a MechanismSpec (from read_spec(path)), got {spec!r}")
@@ -75,6 +77,12 @@ def load_mechanism(spec: MechanismSpec) -> ClosedChain:
     if spec.gravity is not None:
         model.gravity = pin.Motion(spec.gravity, np.zeros(3))
     chain = ClosedChain(model, closures)
+    for name, _, where in spec.rates:
+        try:
+            chain.coordinate_columns([name], "rated")
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+    check_points(chain, spec.points, "the mechanism file's")
     for role, names in (("actuated", spec.actuated), ("independent", spec.independent)):
         try:
             chain.coordinate_columns(names, role)

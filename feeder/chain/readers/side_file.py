@@ -6,10 +6,14 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     [mechanism]
     urdf = "four_bar.urdf"          # the model, relative to this file (or "mjcf" / "sdf")
     actuated = ["crank_joint"]      # joints whose generalized forces are the unknown loads
+                                    # (may be empty for a forward run: a passive mechanism)
     independent = ["crank_joint"]   # joints whose motion the motion table prescribes
     gravity = [0.0, -9.81, 0.0]     # [m/s²] world frame (optional: the model's, −z for URDF;
                                     # the summary and the manifest say when it was assumed)
     pose = {crank_joint = 0.7}      # optional: the reference pose [rad, m] that picks the branch
+    rates = {crank_joint = 2.0}     # optional: the initial rates [rad/s, m/s] of a forward run
+                                    # (any joints: projected onto the closure,
+                                    # :mod:`feeder.chain.assembly.rates`); default at rest
     joint_types = {ankle = "UJOINT_ZY"}   # optional: URDF joints replaced by a joint URDF cannot
                                     # write (ball, universal; :mod:`.joint_types`)
 
@@ -21,6 +25,10 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
 
     [base]                          # optional: the base moves (feeder.chain.readers.base_motion)
     roll_deg = 15.0                 # e.g. a side slope
+
+    [[point]]                       # optional: points whose motion the tables report
+    name = "P1"                     # (feeder.chain.readers.points)
+    frame = "rocker_tip"
 
     [[force]]                       # optional: force elements (feeder.chain.readers.forces)
     type = "spring"
@@ -35,13 +43,21 @@ import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_path
+from ...validation import check_finite, check_number, check_path
 from ..model.closure import Closure, repeated_cut
 from ..model.cuts import KINDS
 from .base_motion import read_base
 from .forces import read_forces
 from .joint_types import joint_model
-from .spec import MechanismSpec, check_depth, format_of, read_side_text, too_deep
+from .points import read_points
+from .spec import (
+    MechanismSpec,
+    check_depth,
+    format_of,
+    read_side_text,
+    table_entries,
+    too_deep,
+)
 
 MODEL_KEYS = ("urdf", "mjcf", "sdf")
 """Keys of ``[mechanism]`` that name the model file, one of them."""
@@ -50,17 +66,17 @@ CLOSURE_KEYS = {"frames", "type", "axis", "axis_b", "name", "stiffness"}
 """Keys a ``[[closure]]`` table may have."""
 
 
-def _names(table: dict, key: str, where: str) -> tuple[str, ...]:
+def _names(table: dict, key: str, where: str, empty: bool = False) -> tuple[str, ...]:
+    """The joint names of ``key``: a list of distinct names, non-empty unless ``empty``."""
     value = table.get(key)
     if (
         not isinstance(value, list)
-        or not value
+        or not (value or empty)
         or not all(isinstance(x, str) and x for x in value)
         or len(set(value)) != len(value)
     ):
-        raise InputError(
-            f"{where}: '{key}' must be a non-empty list of distinct joint names, got {value!r}"
-        )
+        kind = "a list" if empty else "a non-empty list"
+        raise InputError(f"{where}: '{key}' must be {kind} of distinct joint names, got {value!r}")
     return tuple(value)
 
 
@@ -95,6 +111,18 @@ def _joint_types(table: object, model_format: str, where: str) -> dict[str, str]
     return dict(table)
 
 
+def _rates(table: object, where: str) -> tuple[tuple[str, float, str], ...]:
+    """``rates = {joint = value, …}``: (joint, rate [rad/s, m/s], where it was read), each a
+    finite number (the joints are checked against the model by
+    :func:`~feeder.chain.readers.mechanism.load_mechanism`)."""
+    if not isinstance(table, dict):
+        raise InputError(f"{where}: rates must be a table {{joint = rate, …}}, got {table!r}")
+    return tuple(
+        (name, check_number(f"{where} rates.{name} [rad/s or m/s]", value), f"{where} rates")
+        for name, value in table.items()
+    )
+
+
 def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     """Read and check a TOML closure side-file (module docstring).
 
@@ -117,17 +145,17 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     except RecursionError:  # tomllib parses nested arrays and tables by recursion
         raise InputError(too_deep(path)) from None
     check_depth(document, path)
-    unknown = set(document) - {"mechanism", "closure", "force", "base"}
+    unknown = set(document) - {"mechanism", "closure", "force", "base", "point"}
     if unknown:
         raise InputError(
             f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]], "
-            "[[force]], [base])"
+            "[[force]], [base], [[point]])"
         )
     mechanism = document.get("mechanism")
     if not isinstance(mechanism, dict):
         raise InputError(f"{path}: a [mechanism] table is required")
     where = f"{path} [mechanism]"
-    known = {"actuated", "independent", "gravity", "pose", "joint_types", *MODEL_KEYS}
+    known = {"actuated", "independent", "gravity", "pose", "rates", "joint_types", *MODEL_KEYS}
     if set(mechanism) - known:
         raise InputError(f"{where}: unknown keys {sorted(set(mechanism) - known)}")
     if model is not None:
@@ -148,14 +176,12 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     pose = mechanism.get("pose", {})
     if not isinstance(pose, dict):
         raise InputError(f"{where}: pose must be a table {{joint = value, …}}, got {pose!r}")
+    rates = _rates(mechanism.get("rates", {}), where)
     joint_types = _joint_types(mechanism.get("joint_types", {}), model_format, where)
     closures, stiffness = [], {}
-    for i, entry in enumerate(document.get("closure", [])):
-        here = f"{path} [[closure]] #{i + 1}"
-        if not isinstance(entry, dict):
-            raise InputError(f"{here}: must be a table")
-        if set(entry) - CLOSURE_KEYS:
-            raise InputError(f"{here}: unknown keys {sorted(set(entry) - CLOSURE_KEYS)}")
+    for here, entry in table_entries(
+        document.get("closure", []), "closure", CLOSURE_KEYS, str(path)
+    ):
         frames = entry.get("frames")
         if (
             not isinstance(frames, list)
@@ -193,12 +219,14 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         model=model_path,
         model_format=model_format,
         closures=tuple(closures),
-        actuated=_names(mechanism, "actuated", where),
+        actuated=_names(mechanism, "actuated", where, empty=True),
         independent=_names(mechanism, "independent", where),
         gravity=gravity,
         stiffness=stiffness,
         joint_types=joint_types,
         forces=read_forces(document.get("force", []), path.parent, str(path)),
         pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
+        rates=rates,
+        points=read_points(document.get("point", []), str(path)),
         base=read_base(document["base"], path.parent, str(path)) if "base" in document else None,
     )

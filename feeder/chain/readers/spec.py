@@ -3,6 +3,7 @@ limits every side-file is read within (:func:`read_side_text`, :func:`check_dept
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from ...exceptions import InputError
 from ..model.base import BaseMotion
 from ..model.closure import Closure
 from ..model.forces import ForceElement
+from ..model.points import Point
 
 SIDE_FILE_MAX_BYTES = 100_000
 """Largest side-file read [bytes]. The shipped ones take 0.1–4 kB (the largest,
@@ -44,6 +46,11 @@ class MechanismSpec:
         pose: The reference pose the file gives: (joint, value [rad, m], where it was read)
             (:func:`~feeder.chain.readers.pose.pose_from_values`); empty: the model's zero.
         base: The base's motion (``[base]``), or None: the base stands still, level.
+        rates: The initial joint rates of a forward run the file gives: (joint, rate [rad/s,
+            m/s], where it was read) (:mod:`~feeder.chain.assembly.rates`; TOML only: an
+            Extended-URDF YAML gives none); empty: at rest.
+        points: The points whose motion the tables report (``[[point]]``,
+            :mod:`~feeder.chain.readers.points`; TOML only).
     """
 
     model: Path
@@ -57,6 +64,8 @@ class MechanismSpec:
     forces: tuple[ForceElement, ...] = ()
     pose: tuple[tuple[str, float, str], ...] = ()
     base: BaseMotion | None = None
+    rates: tuple[tuple[str, float, str], ...] = ()
+    points: tuple[Point, ...] = ()
 
 
 def format_of(path: Path) -> str:
@@ -101,6 +110,26 @@ def check_depth(value: object, path: Path, level: int = 1) -> None:
     if isinstance(value, list):
         for child in value:
             check_depth(child, path, level + 1)
+
+
+def table_entries(
+    entries: object, section: str, keys: set[str], where: str
+) -> Iterator[tuple[str, dict]]:
+    """The tables of an array of tables ``[[section]]`` of a side-file, each with where it was
+    read (``where [[section]] #k``, for the messages), checked to be tables with only ``keys``.
+
+    Raises:
+        InputError: Not a list of tables, an unknown key (named).
+    """
+    if not isinstance(entries, list):
+        raise InputError(f"{where}: {section} must be [[{section}]] tables, got {entries!r}")
+    for i, entry in enumerate(entries):
+        here = f"{where} [[{section}]] #{i + 1}"
+        if not isinstance(entry, dict):
+            raise InputError(f"{here}: must be a table")
+        if set(entry) - keys:
+            raise InputError(f"{here}: unknown keys {sorted(set(entry) - keys)}")
+        yield here, entry
 
 
 def too_deep(path: Path, where: str = "") -> str:

@@ -314,7 +314,7 @@ def test_moving_base_loads_match_mujoco(case, feeder, samples, bracketed):
     _check("mount moment (hinges)", hinges, ref.base[:, 3:])
     # The closure forces in the base's axes, the determined (in-plane) rows.
     labels = bracketed.row_labels()
-    rows = [i for i, label in enumerate(labels) if label not in loads.indeterminate]
+    rows = [i for i, label in enumerate(labels) if label not in loads.indeterminacy.rows]
     assert len(rows) == 2
     moving = np.einsum("nji,nj->ni", ref.rotation, ref.closure)
     _check("closure forces", loads.closure_forces[:, rows], moving[:, rows])

@@ -192,7 +192,7 @@ def test_a_weld_cut_needs_the_same_torque_as_a_pin_cut(four_bar):
     np.testing.assert_allclose(
         loads.actuators["crank_joint"], torque, rtol=0, atol=RELATIVE * scale
     )
-    assert {label.split(":")[1] for label in loads.indeterminate} == {"fz", "mx", "my"}
+    assert {label.split(":")[1] for label in loads.indeterminacy.rows} == {"fz", "mx", "my"}
 
 
 def test_stiffness_splits_an_indeterminate_force(tmp_path):
@@ -218,7 +218,7 @@ def test_stiffness_splits_an_indeterminate_force(tmp_path):
     loads = inverse_dynamics(ChainDynamics(chain, ["crank_joint"], stiffness), q, v, a)
     stiff, soft = loads.closures["stiff"].force, loads.closures["soft"].force
     np.testing.assert_allclose(stiff, 3.0 * soft, rtol=0, atol=SHARE * np.abs(stiff).max())
-    assert {label.split(":")[0] for label in loads.indeterminate} == {"stiff", "soft"}
+    assert {label.split(":")[0] for label in loads.indeterminacy.rows} == {"stiff", "soft"}
 
 
 def test_a_held_part_that_is_its_whole_body_carries_the_joint_reaction():

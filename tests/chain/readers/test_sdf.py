@@ -334,14 +334,16 @@ def test_cassie_mobility(left_leg):
     → ball at the hip pitch link) is spatial: its ball joint is a rank-3 point closure. The foot
     loop (tarsus → foot crank → plantar rod → ball on the foot ← foot joint) has parallel axes
     (every link there has roll π/2 about the world x, so its z is −y whatever its pitch): it is
-    planar, and its point closure has rank 2, one redundant row. So the rank is 5 of 6 rows,
+    planar, and its point closure has rank 2: one self-stress, the force along the loop's normal,
+    which has a share in each of its three rows (written in the cut frame's axes, not the
+    loop's). So the rank is 5 of 6 rows,
     and the 11 joints have 6 degrees of freedom: the 5 motors and one spring, since with both
     springs held the spatial Achilles loop (knee, tarsus, Achilles hinge and a ball: 6 joint
     freedoms for 6 rigid-loop constraints) could not move."""
     report = mobility(left_leg, np.zeros(left_leg.model.nq), [*LEFT_MOTORS, HEEL_SPRING])
     assert (report.dof, report.constraints, report.rank, report.mobility) == (11, 6, 5, 6)
-    assert len(report.redundant_rows) == 1
-    assert report.redundant_rows[0].startswith("left-plantar-foot-joint:")
+    assert report.self_stresses == 1
+    assert {row.split(":")[0] for row in report.indeterminate_rows} == {"left-plantar-foot-joint"}
     assert (*LEFT_MOTORS, HEEL_SPRING) in report.admissible
     with pytest.raises(SingularPoseError, match="does not determine the 6 dependent"):
         Partition(left_leg, list(LEFT_MOTORS)).assemble(np.zeros(left_leg.model.nq))

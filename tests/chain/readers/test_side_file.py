@@ -87,7 +87,11 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
     [
         ("not toml [", "not a readable TOML"),
         ('[mechanism]\nactuated = ["a"]\nindependent = ["a"]\n', "name the model"),
-        (MECHANISM.replace('["a"]', '"a"', 1), "'actuated' must be a non-empty list"),
+        (MECHANISM.replace('["a"]', '"a"', 1), "'actuated' must be a list of distinct"),
+        (MECHANISM + "rates = 3\n", r"rates must be a table \{joint = rate"),
+        (MECHANISM + 'rates = {a = "fast"}\n', r"rates\.a \[rad/s or m/s\] must be"),
+        (MECHANISM + "rates = {a = nan}\n", r"rates\.a \[rad/s or m/s\]"),
+        (MECHANISM + "rates = {a = true}\n", "truth value"),
         (MECHANISM + "speed = 3\n", "unknown keys"),
         (MECHANISM + "gravity = [0, 1]\n", "3 numbers"),
         (MECHANISM + '[[closure]]\nframes = ["a"]\n', "two frame names"),
@@ -107,6 +111,10 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
         "syntax",
         "no-model",
         "actuated",
+        "rates-table",
+        "rates-text",
+        "rates-nan",
+        "rates-bool",
         "unknown-key",
         "gravity",
         "frames",
@@ -120,8 +128,22 @@ MECHANISM = '[mechanism]\nurdf = "x.urdf"\nactuated = ["a"]\nindependent = ["a"]
 def test_side_file_errors_name_the_key(tmp_path, text, message):
     path = tmp_path / "closures.toml"
     path.write_text(text)
-    with pytest.raises(InputError, match=message):
+    with pytest.raises(InputError, match=message) as info:
         read_spec(path)
+    assert "\n" not in str(info.value)
+
+
+def test_rates_are_read_and_actuated_may_be_empty(tmp_path):
+    """A passive mechanism (no actuated joint) with initial rates: each rate a number, where it
+    was read kept for the messages."""
+    path = tmp_path / "closures.toml"
+    path.write_text(
+        MECHANISM.replace('actuated = ["a"]', "actuated = []") + "rates = {a = 1.5, b = -2}\n"
+    )
+    spec = read_spec(path)
+    assert spec.actuated == ()
+    assert [(name, value) for name, value, _ in spec.rates] == [("a", 1.5), ("b", -2.0)]
+    assert spec.rates[0][2].endswith("[mechanism] rates")
 
 
 @pytest.mark.parametrize("depth", [SIDE_FILE_MAX_DEPTH - 2, 5000])

@@ -1,0 +1,135 @@
+"""Statically indeterminate loads: which closure rows, and which components of the cuts' wrenches
+and of the joints' reactions, a rigid model does not determine.
+
+A closed chain whose closure Jacobian J (nc × nv) has rank r < nc has k = nc − r *self-stresses*:
+closure forces λ_s with Jᵀ λ_s = 0 (:func:`~feeder.chain.assembly.rank.self_stresses`). Added to
+any solution of the loads' equations they change no generalized force and no drive load, so the
+equations of a rigid model cannot tell how much of them the cuts carry. What they change is
+indeterminate:
+
+* the closure rows they involve (:func:`~feeder.chain.assembly.rank.indeterminate_mask`: the
+  part of the row's unit vector in their span is not zero beyond round-off);
+* the components (world axes) of each cut's wrench and of each joint's reaction that the
+  self-stresses alone change: the wrenches they transmit, from the backward Newton–Euler pass of
+  :mod:`.newton_euler` at rest, without gravity, with a self-stress as the only load — a component
+  above :data:`CHANGE_TOLERANCE` of the largest such wrench (forces in N, moments over the
+  mechanism's reach) is listed.
+
+The values the tables give for them are one choice: the closure forces of minimum ‖K^(−1/2) λ‖
+(:data:`~feeder.chain.dynamics.inverse.CONVENTION`, K the per-row ``stiffness`` of the
+mechanism file, default 1) — what elastic supports of those relative stiffnesses would share,
+and what a change of K moves (docs/ENGINE.md, "Indeterminate loads").
+
+:func:`indeterminacy` is the one computation every report uses: ``feeder analyze --check`` at the
+assembled pose, and the inverse dynamics along a motion (:attr:`ChainLoads.indeterminacy`: the
+union over a subsample, computed when first asked), which the summaries and the tables' sidecar
+list (``indeterminate.txt``) of ``feeder analyze`` and ``feeder simulate`` print.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pinocchio as pin
+
+from ..assembly.rank import indeterminate_mask, self_stresses
+from ..kinematics.rows import closure_kinematics
+from ..kinematics.tree import reach, tree_motion
+from ..model.closure import ClosedChain
+from .reactions import closure_wrenches, joint_reactions
+
+COMPONENTS = ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")
+"""The wrench components a cut's or joint's entry of :class:`Indeterminacy` names (world axes;
+the tables' column suffixes)."""
+
+CHANGE_TOLERANCE = 1e-6
+"""A wrench component changes under a self-stress when it exceeds this share of the largest
+component any self-stress gives (moments divided by the mechanism's reach): the backward pass
+adds products of unit-size terms, its round-off is ~1e-15 of that scale; a component is as
+small as the rows' shares are at a pose near a symmetric one, which
+:data:`~feeder.chain.assembly.rank.SELF_STRESS_TOLERANCE` (the same value) ignores."""
+
+SUBSAMPLE = 32
+"""Samples of a motion on which the self-stresses are computed (their structure changes only at
+isolated singular poses)."""
+
+
+@dataclass(frozen=True)
+class Indeterminacy:
+    """What a rigid model leaves undetermined (module docstring).
+
+    Attributes:
+        self_stresses: The number of independent self-stresses (the most over the samples).
+        rows: Labels of the closure rows they involve (:meth:`ClosedChain.row_labels`).
+        closures: Closure label → the components of its wrench they change (:data:`COMPONENTS`).
+        joints: Joint name → the components of its reaction they change.
+    """
+
+    self_stresses: int
+    rows: tuple[str, ...]
+    closures: dict[str, tuple[str, ...]]
+    joints: dict[str, tuple[str, ...]]
+
+    def lines(self, convention: str, rows: bool = True) -> list[str]:
+        """The summary lines: the rows (if ``rows``; the mobility report lists them at one
+        pose), the cuts' and joints' wrench components, and how their values were chosen
+        (``convention``); none when everything is determined."""
+        if not self.self_stresses:
+            return []
+
+        def named(entries: dict[str, tuple[str, ...]]) -> str:
+            return "; ".join(f"{name} ({', '.join(parts)})" for name, parts in entries.items())
+
+        lines = [
+            f"statically indeterminate under the {self.self_stresses} self-stress(es) of the "
+            "closures (a rigid model does not determine them):"
+        ]
+        if rows:
+            lines.append(f"  closure rows {', '.join(self.rows)}")
+        if self.joints:
+            lines.append(f"  joint reactions' components {named(self.joints)}")
+        if self.closures:
+            lines.append(f"  cuts' wrench components {named(self.closures)}")
+        lines.append(f"  the values given: {convention}")
+        return lines
+
+
+def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
+    """The indeterminate rows and wrench components (module docstring) at the closed poses q
+    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them."""
+    model = chain.model
+    q = q[:: max(1, q.shape[0] // SUBSAMPLE)]
+    rows = closure_kinematics(chain, tree_motion(model, q))
+    bases = [self_stresses(jacobian) for jacobian in rows.jacobian]
+    count = max((basis.shape[0] for basis in bases), default=0)
+    if count == 0:
+        return Indeterminacy(0, (), {}, {})
+    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)
+    labels = chain.row_labels()
+    index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
+    lam = np.vstack(bases)  # one sample per self-stress, at its pose
+    still = replace(tree_motion(model, q[index]), gravity=np.zeros((index.size, 3)))
+    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still), lam)
+    joints, _ = joint_reactions(chain, still, terms)
+    size = reach(model, pin.neutral(model)[None])
+    stacked = {
+        name: np.hstack([wrench.force, wrench.moment / size])
+        for name, wrench in (*wrenches.items(), *joints.items())
+    }
+    scale = max(float(np.abs(x).max()) for x in stacked.values())
+
+    def changed(names) -> dict[str, tuple[str, ...]]:
+        out = {}
+        for name in names:
+            moved = np.abs(stacked[name]).max(axis=0) > CHANGE_TOLERANCE * scale
+            if moved.any():
+                out[name] = tuple(c for c, flag in zip(COMPONENTS, moved, strict=True) if flag)
+        return out
+
+    return Indeterminacy(
+        self_stresses=count,
+        rows=tuple(label for label, flag in zip(labels, mask, strict=True) if flag),
+        closures=changed(wrenches),
+        joints=changed(joints),
+    )
