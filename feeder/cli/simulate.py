@@ -19,6 +19,7 @@ def add(commands: argparse._SubParsersAction) -> None:
     """The ``simulate`` sub-parser."""
     from ..chain.dynamics.budget import MAX_STEPS, SAMPLE_BYTES, SAMPLE_MEMORY
     from ..chain.dynamics.forward import ATOL, METHODS, RTOL
+    from ..chain.dynamics.singular import MODES
     from ..study.simulate import SAMPLES
 
     simulate = add_command(
@@ -87,6 +88,15 @@ def add(commands: argparse._SubParsersAction) -> None:
         default=ATOL,
         help=f"absolute tolerance of each step, rad, m and J (default: {ATOL:g})",
     )
+    simulate.add_argument(
+        "--singular",
+        action=Once,
+        choices=MODES,
+        default="pass",
+        help="at a singular position (the closure Jacobian loses rank: a parallelogram lying "
+        "flat): pass through it, listing it in the summary and flagging the samples whose loads "
+        "are indeterminate there, or stop there naming the time (default: pass)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -106,6 +116,7 @@ def run(args: argparse.Namespace) -> int:
         rtol=args.rtol,
         atol=args.atol,
         progress=True,
+        singular=args.singular,
     )
     with folder:
         paths = write_simulation_outputs(simulation, folder, command_line(args))

@@ -47,6 +47,8 @@ class Simulation:
         reference: The pose the mechanism was mounted from (nq,).
         assembled: The closed pose nearest to it, where the run starts at rest (nq,).
         method, rtol, atol: The integrator and its tolerances.
+        singular: What the run did at singular positions: ``"pass"`` or ``"stop"``
+            (:func:`~feeder.chain.simulate`).
     """
 
     spec: MechanismSpec
@@ -59,6 +61,7 @@ class Simulation:
     method: str
     rtol: float
     atol: float
+    singular: str = "stop"
 
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
@@ -68,8 +71,10 @@ class Simulation:
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
         ``energy`` (kinetic, gravitational and elastic [J]), ``work`` (of the non-conservative
-        forces since t = 0 [J]) and ``energy_balance`` (energy − energy(0) − work [J], zero for
-        an exact run)."""
+        forces since t = 0 [J]), ``energy_balance`` (energy − energy(0) − work [J], zero for
+        an exact run) and ``loads_indeterminate`` (1 where the sample is so near a singular
+        position that its loads are unbounded or indeterminate: they read 0 there, not a
+        value; 0 elsewhere)."""
         run = self.run
         cols: dict[str, np.ndarray] = {"t": run.t}
         cols |= joint_columns(self.chain.model, run.q, run.v, run.a)
@@ -78,6 +83,7 @@ class Simulation:
         cols["energy"] = run.energy
         cols["work"] = run.work
         cols["energy_balance"] = run.balance()
+        cols["loads_indeterminate"] = run.indeterminate.astype(float)
         return cols
 
     def summary(self) -> str:
@@ -98,6 +104,7 @@ class Simulation:
             + f"; {gravity_text(self.spec, self.chain)}"
         )  # fmt: skip
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
+        lines += self.singular_lines()
         lines.append(self.energy_line())
         if run.loads.actuators:
             worst = max(float(np.abs(x).max()) for x in run.loads.actuators.values())
@@ -107,6 +114,24 @@ class Simulation:
             )
         peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=False)
         return "\n".join(lines + peaks)
+
+    def singular_lines(self) -> list[str]:
+        """The singular positions the run passed (closure rank before → at → after, the time to
+        its bracket) and the samples whose loads are indeterminate, as lines of the summary."""
+        run = self.run
+        if self.singular == "stop":
+            return ["  singular positions: the run stops at one (--singular stop); it met none"]
+        lines = [f"  singular positions passed: {len(run.singular)}"]
+        lines += [f"    {singular.text()}" for singular in run.singular]
+        count = int(run.indeterminate.sum())
+        if count:
+            times = run.t[run.indeterminate]
+            lines.append(
+                f"  loads unbounded or indeterminate at {count} samples near them (column "
+                f"loads_indeterminate = 1, their loads read 0), from t = {times[0]:.6g} s to "
+                f"{times[-1]:.6g} s"
+            )
+        return lines
 
     def energy_line(self) -> str:
         """The run's energy balance, as a line of the summary: relative to the largest energy
@@ -143,6 +168,7 @@ def simulate_mechanism(
     rtol: float = RTOL,
     atol: float = ATOL,
     progress: bool = False,
+    singular: str | None = None,
 ) -> Simulation:
     """Run the mechanism forward from rest at its assembled pose.
 
@@ -157,6 +183,8 @@ def simulate_mechanism(
             :func:`~feeder.chain.dynamics.budget.max_samples` for the mechanism).
         method, rtol, atol: The integrator (:func:`~feeder.chain.simulate`).
         progress: Show the run's progress line on a terminal (:func:`~feeder.chain.simulate`).
+        singular: ``"pass"`` through singular positions or ``"stop"`` there (default: pass,
+            the run being undriven; :func:`~feeder.chain.simulate`).
 
     Raises:
         FeederError: Bad files or settings, an unreachable pose, an integration that fails
@@ -178,9 +206,14 @@ def simulate_mechanism(
             "(double precision): a longer duration or fewer samples"
         )
     zero = np.zeros(chain.model.nv)
-    run = simulate(dyn, t, assembled, zero, method=method, rtol=rtol, atol=atol, progress=progress)
+    singular = "pass" if singular is None else singular
+    run = simulate(
+        dyn, t, assembled, zero, method=method, rtol=rtol, atol=atol, progress=progress,
+        singular=singular,
+    )  # fmt: skip
     warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
     return Simulation(
-        spec, elements, chain, run, report, reference, assembled, method, float(rtol), float(atol)
-    )
+        spec, elements, chain, run, report, reference, assembled, method, float(rtol), float(atol),
+        singular,
+    )  # fmt: skip
