@@ -10,12 +10,25 @@ or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time w
 Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
 constraints (:func:`~feeder.chain.dynamics.projection.project`) whenever an accepted step
 leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
-integrator then restarts from the projected state). Singular poses: after every accepted step
-the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.loads_solve.load_gain`) is
-checked against :data:`~.loads_solve.MAX_FORCE_GAIN`, the most the inverse dynamics of the samples
-accept: a run that passes it (a toggle, a dead centre ahead, where the closure forces grow
-without bound and the steps shrink) stops there with an :class:`IntegrationError` naming the
-time, rather than crawl through the pose and have its samples refused after the whole run.
+integrator then restarts from the projected state).
+
+Singular poses, two choices (``singular``). ``"stop"`` (the default of a driven run): after every
+accepted step the condition number of the equations of the loads ([Sᵀ Jᵀ],
+:func:`~.loads_solve.load_gain`) is checked against :data:`~.loads_solve.MAX_FORCE_GAIN`, the most
+the inverse dynamics of the samples accept: a run that passes it (a toggle, a dead centre ahead,
+where the closure forces grow without bound and the steps shrink) stops there with an
+:class:`IntegrationError` naming the time, rather than crawl through the pose and have its
+samples refused after the whole run. ``"pass"`` (the default of an undriven run): the run goes
+through the singular positions of the closure on the branch its motion carries
+(:mod:`~feeder.chain.dynamics.singular`): the closure's rank margin is watched on the dense
+output and each rank drop listed with its time; next to the pose every step is projected back
+onto the constraints (a velocity off the branch is invisible to the drift test there and grows
+like the inverse of the margin), and the last stretch, where the constrained equations are too
+ill-conditioned to be trusted, is crossed by the motion's Taylor expansion from the equations
+just before it (an index reduction onto the motion itself: no regularisation of the collapsing
+directions is needed, and the expansion's error is measured by the projection at its end). The
+samples whose loads are indeterminate there are flagged and given zero loads; the others are
+solved as usual.
 The work of the non-conservative forces (drives, dampers, pushes, pressures, loads) is
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
@@ -48,10 +61,10 @@ from .budget import (
 )
 from .forward_equations import Actuation, ForwardEquations, IntegrationError
 from .forward_run import ForwardRun
-from .inverse import ChainDynamics, ChainLoads, check_dynamics, inverse_dynamics
+from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
-from .singular import MODES, RankWatch, SingularPass, coast, spread
+from .singular import MODES, RankWatch, coast, determinate_loads
 from .stiffness import StiffnessTest, step_advice, stiff_warning
 
 BAUMGARTE_RATE = 20.0
@@ -340,12 +353,12 @@ def _results(equations, t, states, steps, projections, progress: bool, watch) ->
     indeterminate = np.zeros(t.size, dtype=bool)
     try:
         if watch is not None and watch.passes:
-            loads, indeterminate = _determinate_loads(dyn, t, q, v, a, watch.passes)
+            loads, indeterminate = determinate_loads(dyn, t, q, v, a, watch.passes)
         else:
             loads = inverse_dynamics(dyn, q, v, a, t=t)
     except SingularPoseError as exc:
         if watch is not None:  # a singular pose of the loads alone: flag every such sample
-            loads, indeterminate = _determinate_loads(dyn, t, q, v, a, None)
+            loads, indeterminate = determinate_loads(dyn, t, q, v, a, None)
         elif exc.sample is None:
             raise IntegrationError(f"the run's loads cannot be computed: {exc}") from exc
         else:
@@ -377,41 +390,3 @@ def _results(equations, t, states, steps, projections, progress: bool, watch) ->
         singular=() if watch is None else tuple(watch.passes),
         indeterminate=indeterminate,
     )
-
-
-def _determinate_loads(
-    dyn: ChainDynamics, t, q, v, a, passes: list[SingularPass] | None
-) -> tuple[ChainLoads, np.ndarray]:
-    """The loads of a run that passes singular positions: the samples near them whose loads'
-    equations have a condition number above :data:`~.loads_solve.MAX_FORCE_GAIN` (or a lower
-    rank) are flagged (bool (N,)) and given zero loads; the others are solved as usual.
-    ``passes``: the closure's singular instants, around which the samples are tested outwards
-    until one passes; None: test every sample (a singular pose of the loads' equations alone,
-    where the actuated joints lose their hold and the closure keeps its rank)."""
-    rank = load_rank(dyn, q[0])
-    flagged = np.zeros(t.size, dtype=bool)
-    if passes is None:
-        flagged[:] = [load_gain(dyn, x, rank) > MAX_FORCE_GAIN for x in q]
-    for singular in passes or ():
-        start = int(np.searchsorted(t, singular.time))
-        for k in range(start, t.size):
-            if load_gain(dyn, q[k], rank) <= MAX_FORCE_GAIN:
-                break
-            flagged[k] = True
-        for k in range(start - 1, -1, -1):
-            if load_gain(dyn, q[k], rank) <= MAX_FORCE_GAIN:
-                break
-            flagged[k] = True
-    keep = ~flagged
-    if not keep.any():
-        raise IntegrationError(
-            "the run's loads cannot be computed at any sample: every one is at or near a "
-            "singular pose"
-        )
-    try:
-        loads = inverse_dynamics(dyn, q[keep], v[keep], a[keep], t=t[keep])
-    except (SingularPoseError, InputError) as exc:
-        if passes is None:
-            raise IntegrationError(f"the run's loads cannot be computed: {exc}") from exc
-        return _determinate_loads(dyn, t, q, v, a, None)
-    return spread(loads, keep), flagged

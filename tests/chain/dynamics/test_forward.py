@@ -332,7 +332,9 @@ def test_samples_refused_after_the_run_are_named_by_their_time(delta, monkeypatc
     dyn, q0 = delta
     monkeypatch.setattr(forward, "load_gain", lambda *args: 1.0)
     with pytest.raises(IntegrationError, match=r"loads cannot be computed at t = 0\.045 s"):
-        simulate(dyn, np.linspace(0.0, 0.045, 10), q0, np.zeros(dyn.chain.model.nv), singular="stop")
+        simulate(
+            dyn, np.linspace(0.0, 0.045, 10), q0, np.zeros(dyn.chain.model.nv), singular="stop"
+        )
 
 
 def test_a_spring_between_two_ground_frames_changes_nothing(tmp_path):
