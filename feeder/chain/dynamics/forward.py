@@ -190,6 +190,8 @@ def simulate(
         states, steps, projections = _integrate(
             equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line, watch
         )
+    if watch is not None:
+        watch.finish()
     return _results(equations, t, states, steps, projections, progress, watch)
 
 
@@ -289,6 +291,8 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
                 states[k] = path(t[k])
                 k += 1
             projections += 1
+            if k == t.size:  # the coast reached the run's end
+                break
             solver = start(path.t_max, y, min(solver.step_size, t[-1] - path.t_max))
             continue
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))

@@ -169,8 +169,14 @@ class RankWatch:
             self._check(*self._points[-3:])
         self._points = self._points[-2:]
 
+    def finish(self) -> None:
+        """At the run's end: a margin still falling in the last step may reach its minimum
+        there (a run that ends on or just past a singular position); search the last step."""
+        if len(self._points) == 2 and self._points[1][1] < self._points[0][1]:
+            self._check(self._points[0], self._points[1], self._points[1])
+
     def _check(self, left, middle, right) -> None:
-        if not (middle[1] < left[1] and middle[1] <= right[1]):
+        if not (middle[1] <= right[1] and (middle[1] < left[1] or middle is right)):
             return
         found = scipy.optimize.minimize_scalar(
             self.margin, bounds=(left[0], right[0]), method="bounded",

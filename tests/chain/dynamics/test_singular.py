@@ -11,7 +11,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain import ChainDynamics, simulate
+from feeder.chain import ChainDynamics, Partition, simulate
 from feeder.chain.dynamics.forward_equations import IntegrationError
 from feeder.chain.dynamics.projection import project
 from feeder.exceptions import InputError
@@ -118,3 +118,18 @@ def test_the_projection_next_to_a_flat_pose_keeps_its_branch():
     # the rates stay those of the parallelogram (all rockers together)
     rates = [y[model.nq + j.idx_v] for j in rockers]
     assert np.ptp(rates) <= 1e-9 * 5.0
+
+
+@pytest.mark.parametrize("after", [1e-3, 5e-5])
+def test_a_run_that_ends_just_past_a_flat_pose_lists_it(after):
+    """The N-four-bar (N = 2) run to a little after its first flat pose (from the reference's
+    1-DOF equation): the pass is listed at its time though no step follows it (its last step
+    may be the coast across it, cut at the run's end)."""
+    from ..test_iftomm import _four_bar_reference
+
+    spec, chain, _, _, q0 = mount_mechanism(FOUR_BAR, None, None)
+    v0 = Partition(chain, spec.independent).velocity(q0, np.array([-1.0]))
+    flat = float(_four_bar_reference(2, np.linspace(0.0, 1.0, 11))[2][0])
+    t = np.linspace(0.0, flat + after, 11)
+    run = simulate(ChainDynamics(chain, spec.actuated), t, q0, v0, rtol=1e-10, atol=1e-12)
+    assert [round(p.time, 6) for p in run.singular] == [round(flat, 6)]
