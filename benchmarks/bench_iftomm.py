@@ -34,7 +34,7 @@ from feeder.study.simulate import simulate_mechanism
 
 FOLDER = Path(__file__).resolve().parents[1] / "examples" / "iftomm"
 G, RATE, RTOL, ATOL = 9.81, 20.0, 1e-10, 1e-12
-LEAN_EVALUATIONS = 200_000
+LEAN_EVALUATIONS = 50_000
 """Right-hand sides after which the lean script is given up (it crawls at a flat pose)."""
 
 
