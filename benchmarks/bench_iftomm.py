@@ -95,6 +95,8 @@ def lean(chain, q0, v0, t):
             a = pin.constraintDynamics(model, data, q, v, zero, models, datas, settings)
         else:
             a = pin.aba(model, data, q, v, zero)
+        if nq == nv:
+            return np.concatenate([v, a])
         rate = pin.integrate(model, q, v * 1e-8)  # q̇ on the unit circles: (q(ε) − q)/ε
         return np.concatenate([(rate - q) / 1e-8, a])
 
