@@ -81,11 +81,12 @@ def _four_bar_run(n: int, duration: float, rtol: float):
     return run, run.q[:, joint.idx_q : joint.idx_q + 2], run.v[:, joint.idx_v]
 
 
-@pytest.mark.parametrize(("n", "duration", "passes"), [(2, 20.0, 20), (40, 3.0, 3)])
+@pytest.mark.parametrize(("n", "duration", "passes"), [(2, 20.0, 20), (40, 1.3, 2)])
 def test_a02_the_n_four_bar_passes_every_flat_pose_on_its_parallelogram(n, duration, passes):
     """B0 = L (cos θ, sin θ) and its velocity against the 1-DOF reference, through every pass of
-    the flat pose (N = 2 over the benchmark's 20 s: 20 passes; N = 40 over 3 s, 3 passes, to
-    keep the test short: the benchmark runs its 20 s), the passes listed at the reference's
+    the flat pose (N = 2 over the benchmark's 20 s: 20 passes; N = 40 over 1.3 s, 2 passes, to
+    keep the test short — 54 s measured on the shared two-core machine under load; the
+    benchmark runs longer), the passes listed at the reference's
     times with the closure's rank 2N → N → 2N."""
     run, crank, rate = _four_bar_run(n, duration, 1e-10)
     theta, theta_rate, flats = _four_bar_reference(n, run.t)
