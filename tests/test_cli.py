@@ -792,11 +792,13 @@ def test_a_cad_export_without_its_meshes_is_run_and_drawn(tmp_path, capsys):
 
 
 def test_simulate_into_a_dead_centre_names_the_time_to_stop_before(tmp_path, capsys):
-    """The released delta reaches a dead centre at t ≈ 0.050 s: ``--duration 0.05`` stops where
-    its loads can no longer be computed (t = 0.0429 s) and says to end the run before it — once
-    an error without a time, after the whole run — and the duration it names runs."""
+    """The released delta reaches a dead centre at t ≈ 0.050 s: with ``--singular stop``,
+    ``--duration 0.05`` stops where its loads can no longer be computed (t = 0.0429 s) and says
+    to end the run before it — once an error without a time, after the whole run — and the
+    duration it names runs."""
     cad = REPO / "examples" / "cad" / "robot_delta"
-    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml")]
+    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml"), "--singular",
+                 "stop"]  # fmt: skip
     out = ["--out", str(tmp_path / "delta")]
     assert main(["simulate", *arguments, "--duration", "0.05", "--samples", "5", *out]) == 2
     err = capsys.readouterr().err
@@ -805,6 +807,27 @@ def test_simulate_into_a_dead_centre_names_the_time_to_stop_before(tmp_path, cap
     assert not (tmp_path / "delta").exists()
     assert main(["simulate", *arguments, "--duration", before, "--samples", "5", *out]) == 0
     assert read_csv(tmp_path / "delta" / "states.csv")["t"][-1] == float(before)
+
+
+def test_simulate_passes_a_dead_centre_by_default_flagging_its_loads(tmp_path, capsys):
+    """By default the undriven delta passes its dead centre (the closure's rank drops from 9 to
+    8 at t ≈ 0.050 s, where the two links of its third rod line up): the summary lists the
+    instant with the ranks, and the samples whose loads are indeterminate there are flagged in
+    states.csv (their loads 0), the others solved."""
+    cad = REPO / "examples" / "cad" / "robot_delta"
+    arguments = [str(cad / "robot.urdf"), "--closures", str(cad / "robot.yaml")]
+    out = tmp_path / "delta"
+    assert main(["simulate", *arguments, "--duration", "0.06", "--samples", "61",
+                 "--out", str(out)]) == 0  # fmt: skip
+    text = capsys.readouterr().out
+    assert "singular positions passed: 1" in text and "closure rank 9 → 8 → 9" in text
+    passed = float(text.split("singular positions passed: 1")[1].split("t = ")[1].split(" s")[0])
+    table = read_csv(out / "states.csv")
+    flagged = table["loads_indeterminate"] == 1.0
+    # the samples flagged are those around the instant, the others are not
+    assert flagged.any() and not flagged.all()
+    assert table["t"][flagged].min() <= passed <= table["t"][flagged].max()
+    assert np.all(np.isfinite(table["energy_balance"]))
 
 
 @pytest.mark.parametrize(

@@ -4,7 +4,9 @@
 * :class:`ChainLoads` — :func:`~feeder.chain.inverse_dynamics`: actuator loads, closure forces
   and wrenches (:class:`ClosureWrench`), every joint's reaction (:class:`JointWrench`) and the
   mount's (:class:`MountWrench`) (:mod:`feeder.chain.dynamics.inverse`, ``.reactions``);
-* :class:`ForwardRun` — :func:`~feeder.chain.simulate` (:mod:`feeder.chain.dynamics.forward_run`);
+* :class:`ForwardRun` — :func:`~feeder.chain.simulate` (:mod:`feeder.chain.dynamics.forward_run`),
+  with the singular positions it passed (:class:`SingularPass`,
+  :mod:`feeder.chain.dynamics.singular`);
 * :class:`HybridRun` — :func:`~feeder.chain.hybrid_run` (:mod:`feeder.chain.dynamics.hybrid`);
 * :class:`Trajectory` — :func:`~feeder.chain.track`, and :class:`PoseCheck` — a pose checked by
   a :class:`~feeder.chain.Partition` (:mod:`feeder.chain.assembly`);
@@ -22,6 +24,7 @@ from .dynamics.forward_run import ForwardRun
 from .dynamics.hybrid import HybridRun
 from .dynamics.inverse import ChainLoads
 from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+from .dynamics.singular import SingularPass
 from .kinematics.frames import FrameMotion
 from .kinematics.pose import ChainPose
 from .mobility import MobilityReport
@@ -40,5 +43,6 @@ __all__ = [
     "MobilityReport",
     "MountWrench",
     "PoseCheck",
+    "SingularPass",
     "Trajectory",
 ]

@@ -23,6 +23,7 @@ def add(commands: argparse._SubParsersAction) -> None:
     """The ``simulate`` sub-parser."""
     from ..chain.dynamics.budget import MAX_STEPS, SAMPLE_BYTES, SAMPLE_MEMORY
     from ..chain.dynamics.forward import ATOL, METHODS, RTOL
+    from ..chain.dynamics.singular import MODES
     from ..study.simulate import SAMPLES
 
     simulate = add_command(
@@ -104,6 +105,15 @@ def add(commands: argparse._SubParsersAction) -> None:
         "others through the closure; rates of more joints are projected onto it and the summary "
         "says how much they changed (default: the file's rates, or at rest)",
     )
+    simulate.add_argument(
+        "--singular",
+        action=Once,
+        choices=MODES,
+        default="pass",
+        help="at a singular position (the closure Jacobian loses rank: a parallelogram lying "
+        "flat): pass through it, listing it in the summary and flagging the samples whose loads "
+        "are indeterminate there, or stop there naming the time (default: pass)",
+    )
     figures_switch(simulate)
 
 
@@ -129,6 +139,7 @@ def run(args: argparse.Namespace) -> int:
         atol=args.atol,
         progress=True,
         rates=rates,
+        singular=args.singular,
     )
     with folder:
         paths = write_simulation_outputs(

@@ -60,6 +60,8 @@ class Simulation:
         assembled: The closed pose nearest to it, where the run starts (nq,).
         method, rtol, atol: The integrator and its tolerances.
         start: The initial rates: given, used (closed) and how they changed.
+        singular: What the run did at singular positions: ``"pass"`` or ``"stop"``
+            (:func:`~feeder.chain.simulate`).
     """
 
     spec: MechanismSpec
@@ -73,6 +75,7 @@ class Simulation:
     rtol: float
     atol: float
     start: InitialRates
+    singular: str = "stop"
 
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
@@ -84,8 +87,10 @@ class Simulation:
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
         ``energy`` (kinetic, gravitational and elastic [J]), ``work`` (of the non-conservative
-        forces since t = 0 [J]) and ``energy_balance`` (energy − energy(0) − work [J], zero for
-        an exact run)."""
+        forces since t = 0 [J]), ``energy_balance`` (energy − energy(0) − work [J], zero for
+        an exact run) and ``loads_indeterminate`` (1 where the sample is so near a singular
+        position that its loads are unbounded or indeterminate: they read 0 there, not a
+        value; 0 elsewhere)."""
         run = self.run
         points = point_motion(self.chain, self.spec.points, run.q, run.v, run.a)
         cols = merge_columns(
@@ -98,6 +103,7 @@ class Simulation:
         cols["energy"] = run.energy
         cols["work"] = run.work
         cols["energy_balance"] = run.balance()
+        cols["loads_indeterminate"] = run.indeterminate.astype(float)
         return cols
 
     def summary(self) -> str:
@@ -120,6 +126,7 @@ class Simulation:
             + f"; {gravity_text(self.spec, self.chain)}"
         )  # fmt: skip
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
+        lines += self.singular_lines()
         lines.append(self.energy_line())
         if run.loads.actuators:
             worst = max(float(np.abs(x).max()) for x in run.loads.actuators.values())
@@ -129,6 +136,24 @@ class Simulation:
             )
         peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=False)
         return "\n".join(lines + peaks)
+
+    def singular_lines(self) -> list[str]:
+        """The singular positions the run passed (closure rank before → at → after, the time to
+        its bracket) and the samples whose loads are indeterminate, as lines of the summary."""
+        run = self.run
+        if self.singular == "stop":
+            return ["  singular positions: the run stops at one (--singular stop); it met none"]
+        lines = [f"  singular positions passed: {len(run.singular)}"]
+        lines += [f"    {singular.text()}" for singular in run.singular]
+        count = int(run.indeterminate.sum())
+        if count:
+            times = run.t[run.indeterminate]
+            lines.append(
+                f"  loads unbounded or indeterminate at {count} samples near them (column "
+                f"loads_indeterminate = 1, their loads read 0), from t = {times[0]:.6g} s to "
+                f"{times[-1]:.6g} s"
+            )
+        return lines
 
     def energy_line(self) -> str:
         """The run's energy balance, as a line of the summary: relative to the largest energy
@@ -166,6 +191,7 @@ def simulate_mechanism(
     atol: float = ATOL,
     progress: bool = False,
     rates: Mapping[str, float] | None = None,
+    singular: str | None = None,
 ) -> Simulation:
     """Run the mechanism forward from its assembled pose, at rest or at the initial rates of the
     side-file's ``rates`` and ``rates``.
@@ -185,6 +211,8 @@ def simulate_mechanism(
             that joint; rates of the independent joints are closed by the closure, rates of
             more joints projected onto it (:func:`~feeder.chain.initial_rates`, a
             :class:`~feeder.exceptions.FeederWarning` when that changes them beyond round-off).
+        singular: ``"pass"`` through singular positions or ``"stop"`` there (default: pass,
+            the run being undriven; :func:`~feeder.chain.simulate`).
 
     Raises:
         FeederError: Bad files or settings, an unreachable pose, an integration that fails
@@ -207,13 +235,22 @@ def simulate_mechanism(
             f"the duration {duration!r} s is too short for {samples} distinct sample times "
             "(double precision): a longer duration or fewer samples"
         )
+    singular = "pass" if singular is None else singular
     start = initial_rates(
         chain, assembled, {name: x for name, x, _ in spec.rates} | {**(rates or {})}
     )
     if start.projected():
         warnings.warn("; ".join(x.strip() for x in start.lines()), FeederWarning, stacklevel=2)
     run = simulate(
-        dyn, t, assembled, start.v, method=method, rtol=rtol, atol=atol, progress=progress
+        dyn,
+        t,
+        assembled,
+        start.v,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        progress=progress,
+        singular=singular,
     )
     warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
@@ -229,4 +266,5 @@ def simulate_mechanism(
         float(rtol),
         float(atol),
         start,
+        singular,
     )

@@ -43,13 +43,15 @@ MOUNT_ITERATIONS = 400
 and its last iterations only walk along the closed set towards the reference)."""
 
 
-def damped_step(jac: np.ndarray, residual: np.ndarray) -> np.ndarray:
+def damped_step(
+    jac: np.ndarray, residual: np.ndarray, tolerance: float = RANK_TOLERANCE
+) -> np.ndarray:
     """The damped minimum-norm step −Σ σ/(σ² + μ) v uᵀ r over the singular triplets of ``jac``
-    above :data:`RANK_TOLERANCE`, μ = ‖r‖² (module docstring)."""
+    above ``tolerance`` (a fraction of the largest), μ = ‖r‖² (module docstring)."""
     if jac.size == 0:
         return np.zeros(jac.shape[1])
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    keep = s > RANK_TOLERANCE * max(float(s[0]), 1e-300)
+    keep = s > tolerance * max(float(s[0]), 1e-300)
     damping = float(residual @ residual)
     gain = np.where(keep, s / (s**2 + damping), 0.0)
     return -vt.T @ (gain * (u.T @ residual))
@@ -60,9 +62,11 @@ def newton(
     q: np.ndarray,
     columns: np.ndarray,
     max_iterations: int = MAX_ITERATIONS,
+    tolerance: float = RANK_TOLERANCE,
 ) -> tuple[np.ndarray, float]:
     """Damped Newton on the closure residual over the velocity ``columns`` (the others held),
-    from ``q``; returns (q, ‖r‖)."""
+    from ``q``, its steps over the singular values above ``tolerance`` of the largest
+    (:func:`damped_step`); returns (q, ‖r‖)."""
     model = chain.model
     residual = chain.residual(q)
     norm = float(np.linalg.norm(residual))
@@ -70,7 +74,7 @@ def newton(
         if norm <= POSITION_TOLERANCE:
             break
         step = np.zeros(model.nv)
-        step[columns] = damped_step(chain.residual_jacobian(q)[:, columns], residual)
+        step[columns] = damped_step(chain.residual_jacobian(q)[:, columns], residual, tolerance)
         trial, trial_residual, trial_norm = _backtrack(chain, q, step, norm)
         if trial_norm >= norm:
             break

@@ -10,12 +10,25 @@ or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time w
 Drift control: Baumgarte always, and a projection of (q, q̇) back onto the position and velocity
 constraints (:func:`~feeder.chain.dynamics.projection.project`) whenever an accepted step
 leaves the loops open, or a quaternion off unit length, by more than ``drift_tolerance`` (the
-integrator then restarts from the projected state). Singular poses: after every accepted step
-the condition number of the equations of the loads ([Sᵀ Jᵀ], :func:`~.loads_solve.load_gain`) is
-checked against :data:`~.loads_solve.MAX_FORCE_GAIN`, the most the inverse dynamics of the samples
-accept: a run that passes it (a toggle, a dead centre ahead, where the closure forces grow
-without bound and the steps shrink) stops there with an :class:`IntegrationError` naming the
-time, rather than crawl through the pose and have its samples refused after the whole run.
+integrator then restarts from the projected state).
+
+Singular poses, two choices (``singular``). ``"stop"`` (the default of a driven run): after every
+accepted step the condition number of the equations of the loads ([Sᵀ Jᵀ],
+:func:`~.loads_solve.load_gain`) is checked against :data:`~.loads_solve.MAX_FORCE_GAIN`, the most
+the inverse dynamics of the samples accept: a run that passes it (a toggle, a dead centre ahead,
+where the closure forces grow without bound and the steps shrink) stops there with an
+:class:`IntegrationError` naming the time, rather than crawl through the pose and have its
+samples refused after the whole run. ``"pass"`` (the default of an undriven run): the run goes
+through the singular positions of the closure on the branch its motion carries
+(:mod:`~feeder.chain.dynamics.singular`): the closure's rank margin is watched on the dense
+output and each rank drop listed with its time; next to the pose every step is projected back
+onto the constraints (a velocity off the branch is invisible to the drift test there and grows
+like the inverse of the margin), and the last stretch, where the constrained equations are too
+ill-conditioned to be trusted, is crossed by the motion's Taylor expansion from the equations
+just before it (an index reduction onto the motion itself: no regularisation of the collapsing
+directions is needed, and the expansion's error is measured by the projection at its end). The
+samples whose loads are indeterminate there are flagged and given zero loads; the others are
+solved as usual.
 The work of the non-conservative forces (drives, dampers, pushes, pressures, loads) is
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
@@ -51,6 +64,7 @@ from .forward_run import ForwardRun
 from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
+from .singular import MODES, RankWatch, coast, determinate_loads
 from .stiffness import StiffnessTest, step_advice, stiff_warning
 
 BAUMGARTE_RATE = 20.0
@@ -98,6 +112,7 @@ def simulate(
     drift_tolerance: float = DRIFT_TOLERANCE,
     max_step: float = np.inf,
     progress: bool = False,
+    singular: str | None = None,
 ) -> ForwardRun:
     """Run the closed chain forward from (q0, v0), results at the times ``t``.
 
@@ -124,6 +139,11 @@ def simulate(
         max_step: Longest step [s] (> 0).
         progress: Show a progress line with an estimate of the time left on a terminal (none
             when stderr is not one) for a run longer than a few seconds.
+        singular: At a singular position (:mod:`~feeder.chain.dynamics.singular`): ``"pass"``
+            through it (the run lists the instants, and flags the samples whose loads are
+            indeterminate there), or ``"stop"`` there (an :class:`IntegrationError` naming the
+            time; the module docstring). Default: pass for a passive run (no actuation, or no
+            actuated joint), stop for a driven one.
 
     Raises:
         InputError: Bad dynamics, times, state, actuation or settings, more output times than
@@ -148,6 +168,10 @@ def simulate(
         raise InputError(f"actuation must be a function u(t, q, v) or None, got {actuation!r}")
     if method not in METHODS:
         raise InputError(f"method must be one of {list(METHODS)}, got {method!r}")
+    if singular is None:
+        singular = "pass" if actuation is None or not dyn.columns else "stop"
+    if singular not in MODES:
+        raise InputError(f"singular must be one of {list(MODES)}, got {singular!r}")
     _check_settings(rtol, atol, rate, drift_tolerance, max_step)
     check_step_count(float(t[-1] - t[0]), max_step)
     gap = float(np.abs(chain.residual(q)).max(initial=0.0))
@@ -166,10 +190,13 @@ def simulate(
     equations = ForwardEquations(dyn, actuation, rate)
     y0 = np.concatenate([q, v, [0.0]])
     with Progress(float(t[0]), float(t[-1]), progress) as line:
+        watch = RankWatch(chain, q, chain.model.nq) if singular == "pass" else None
         states, steps, projections = _integrate(
-            equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line
+            equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line, watch
         )
-    return _results(equations, t, states, steps, projections, progress)
+    if watch is not None:
+        watch.finish()
+    return _results(equations, t, states, steps, projections, progress, watch)
 
 
 def _check_times(t: np.ndarray, nv: int) -> np.ndarray:
@@ -209,9 +236,11 @@ def _check_settings(
         raise InputError(f"max_step must be > 0 [s], got {max_step!r}")
 
 
-def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line):
+def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, line, watch):
     """The states (N, nq + nv + 1) at the times t, the accepted steps and the projections;
-    ``line``: the run's :class:`~feeder.chain.dynamics.budget.Progress`."""
+    ``line``: the run's :class:`~feeder.chain.dynamics.budget.Progress`; ``watch``: the
+    :class:`~feeder.chain.dynamics.singular.RankWatch` of a run that passes singular positions,
+    or None for one that stops at them."""
     chain = equations.dyn.chain
     nq = equations.model.nq
     solver_class = getattr(scipy.integrate, method)
@@ -227,7 +256,7 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
     k, steps, projections = 1, 0, 0
     stiffness = StiffnessTest(method)
     rank = load_rank(equations.dyn, y0[:nq])
-    if load_gain(equations.dyn, y0[:nq], rank) > MAX_FORCE_GAIN:
+    if watch is None and load_gain(equations.dyn, y0[:nq], rank) > MAX_FORCE_GAIN:
         raise _singular(equations, rank, t[0], t[0], lambda _: y0)
     solver = start(t[0], y0, None)
     while k < t.size:
@@ -246,22 +275,40 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
             warning = stiff_warning(equations.dyn, stiffness, solver)
             warnings.warn(warning, FeederWarning, stacklevel=3)
         line.update(solver.t, steps)
-        if load_gain(equations.dyn, solver.y[:nq], rank) > MAX_FORCE_GAIN:
-            raise _singular(equations, rank, solver.t_old, solver.t, solver.dense_output())
+        dense = solver.dense_output()
+        if watch is not None:
+            watch.step(solver.t_old, solver.t, dense)
+        elif load_gain(equations.dyn, solver.y[:nq], rank) > MAX_FORCE_GAIN:
+            raise _singular(equations, rank, solver.t_old, solver.t, dense)
         if t[k] <= solver.t:  # the step passed output times: its dense output gives them
-            dense = solver.dense_output()
             while k < t.size and t[k] <= solver.t:
                 states[k] = dense(t[k])
                 k += 1
         if k == t.size:
             break
         y = solver.y
+        tau = None if watch is None else watch.approach()
+        if tau is not None:  # a singular position ahead: cross it by the motion's expansion
+            path, y = coast(equations, solver.t, y, dense, tau, t[-1], project)
+            watch.step(path.t_min, path.t_max, path)
+            while k < t.size and t[k] <= path.t_max:
+                states[k] = path(t[k])
+                k += 1
+            projections += 1
+            if k == t.size:  # the coast reached the run's end
+                break
+            solver = start(path.t_max, y, min(solver.step_size, t[-1] - path.t_max))
+            continue
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
         unit = equations.rate is None or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
-        if residual > drift_tolerance or not unit:  # loops open, or quaternions off unit length
+        near = watch is not None and watch.near()  # near a singular position: every step
+        if residual > drift_tolerance or not unit or near:  # loops open, quaternions off unit
             y = project(equations.dyn.chain, y)
             projections += 1
-            solver = start(solver.t, y, min(solver.step_size, t[-1] - solver.t))
+            # near a singular position every step restarts: let its length grow as the
+            # integrator's own control would (at most ×2 here: rejected steps shrink it)
+            first = (2.0 if near else 1.0) * solver.step_size
+            solver = start(solver.t, y, min(first, t[-1] - solver.t))
     return states, steps, projections
 
 
@@ -294,9 +341,10 @@ def _singular(
     )
 
 
-def _results(equations, t, states, steps, projections, progress: bool) -> ForwardRun:
+def _results(equations, t, states, steps, projections, progress: bool, watch) -> ForwardRun:
     """The run's tables from the states at the output times (module docstring); ``progress``:
-    show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`)."""
+    show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`);
+    ``watch``: the singular instants passed (:func:`_integrate`)."""
     dyn, model = equations.dyn, equations.model
     chain = dyn.chain
     nq, nv = model.nq, model.nv
@@ -310,15 +358,22 @@ def _results(equations, t, states, steps, projections, progress: bool) -> Forwar
             a[k] = equations.accelerations(t[k], projected[k, :nq], projected[k, nq : nq + nv])[0]
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]
+    indeterminate = np.zeros(t.size, dtype=bool)
     try:
-        loads = inverse_dynamics(dyn, q, v, a, t=t)
+        if watch is not None and watch.passes:
+            loads, indeterminate = determinate_loads(dyn, t, q, v, a, watch.passes)
+        else:
+            loads = inverse_dynamics(dyn, q, v, a, t=t)
     except SingularPoseError as exc:
-        if exc.sample is None:
+        if watch is not None:  # a singular pose of the loads alone: flag every such sample
+            loads, indeterminate = determinate_loads(dyn, t, q, v, a, None)
+        elif exc.sample is None:
             raise IntegrationError(f"the run's loads cannot be computed: {exc}") from exc
-        raise IntegrationError(
-            f"the run's loads cannot be computed at t = {t[exc.sample]:.6g} s: {exc}; end the "
-            f"run before t = {t[exc.sample]:.6g} s"
-        ) from exc
+        else:
+            raise IntegrationError(
+                f"the run's loads cannot be computed at t = {t[exc.sample]:.6g} s: {exc}; end "
+                f"the run before t = {t[exc.sample]:.6g} s"
+            ) from exc
     except InputError as exc:
         raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
     data = equations.data
@@ -340,4 +395,6 @@ def _results(equations, t, states, steps, projections, progress: bool) -> Forwar
         steps=steps,
         evaluations=equations.count,
         projections=projections,
+        singular=() if watch is None else tuple(watch.passes),
+        indeterminate=indeterminate,
     )

@@ -31,7 +31,9 @@ from .inverse import ChainDynamics
 PROXIMAL = pin.ProximalSettings(1e-13, 1e-10, 100)
 """Pinocchio's proximal solver: absolute accuracy 1e-13 of the constraint accelerations,
 regularisation μ = 1e-10 (positive: the redundant rows of a planar loop), at most 100 iterations
-(1–3 are used)."""
+(1–3 are used). A run that passes a singular position keeps these settings: next to the pose,
+where no regularisation makes the equations both bounded and faithful to the branch, it does not
+evaluate them but crosses by the motion's expansion (:mod:`~feeder.chain.dynamics.singular`)."""
 
 Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 """u(t, q, q̇): the actuated joints' generalized forces [N or N·m] at time t [s], (n_actuated,)."""

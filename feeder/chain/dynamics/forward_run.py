@@ -13,6 +13,7 @@ from ...exceptions import InputError
 from ...validation import check_finite
 from ..kinematics.joints import angle_columns, angular_difference
 from .inverse import ChainLoads
+from .singular import SingularPass
 
 
 @dataclass(frozen=True)
@@ -31,6 +32,13 @@ class ForwardRun:
         work: Work of the non-conservative forces since t[0] [J], (N,).
         steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
         projections: Steps projected back onto the constraints.
+        singular: The singular positions the run passed (closure rank drops,
+            :class:`~feeder.chain.dynamics.singular.SingularPass`), in time order; empty for a
+            run that stops at them.
+        indeterminate: Samples whose loads are unbounded or indeterminate (bool (N,)): near a
+            singular position, where the loads' equations have a condition number above
+            :data:`~feeder.chain.dynamics.loads_solve.MAX_FORCE_GAIN`; their loads in
+            :attr:`loads` are zero, not values.
     """
 
     t: np.ndarray
@@ -45,6 +53,8 @@ class ForwardRun:
     steps: int
     evaluations: int
     projections: int
+    singular: tuple[SingularPass, ...] = ()
+    indeterminate: np.ndarray | None = None
 
     def drift(self) -> float:
         """Largest closure residual over the run before projection [m, rad]."""
