@@ -77,7 +77,7 @@ class Optimum:
         return math.nan if e is None else self.problem.objective_value(e)
 
 
-def _change(before: float, after: float) -> str:
+def change_percent(before: float, after: float) -> str:
     if before == 0.0 or not (math.isfinite(before) and math.isfinite(after)):
         return ""
     return repr(float(100.0 * (after - before) / abs(before)))
@@ -102,14 +102,14 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
     unit = opt.objective.unit
     rows = [list(COLUMNS)]
     value = (opt.value(before), opt.value(after))
-    rows.append(["objective", opt.objective.text, unit, *map(cell, value), _change(*value),
+    rows.append(["objective", opt.objective.text, unit, *map(cell, value), change_percent(*value),
                  "", "", "", "", "", " or ".join(opt.objective.quantities())])  # fmt: skip
     for k, v in enumerate(p.space.variables):
         end = math.nan if after is None else float(after.x[k])
         z = (end - v.lower) / (v.upper - v.lower)
         active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
         rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
-                     _change(before.x[k], end), cell(v.lower), cell(v.upper), active,
+                     change_percent(before.x[k], end), cell(v.lower), cell(v.upper), active,
                      "", "", v.parameter.meaning])  # fmt: skip
     factor = _multiplier_factor(opt)
     for k, c in enumerate(p.geometry):
@@ -129,11 +129,11 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
                      f"peak {q} ≤ {limit:g} {UNITS[q]}"])  # fmt: skip
     for name, (quantity, case, share) in binding(opt).items():
         peaks = [_case_peak(e, quantity, case) for e in (before, after)]
-        rows.append(["binding", name, UNITS[quantity], *map(cell, peaks), _change(*peaks),
+        rows.append(["binding", name, UNITS[quantity], *map(cell, peaks), change_percent(*peaks),
                      "", "", "1", cell(share), "-", "sets the objective"])  # fmt: skip
     for q in QUANTITIES:
         peaks = [signed_peak(e, q) for e in (before, after)]
-        rows.append(["peak", q, UNITS[q], *map(cell, peaks), _change(*peaks),
+        rows.append(["peak", q, UNITS[q], *map(cell, peaks), change_percent(*peaks),
                      "", "", "", "", "", ""])  # fmt: skip
     return rows
 
