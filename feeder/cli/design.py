@@ -107,7 +107,8 @@ def mechanism_arguments(sub: argparse.ArgumentParser, design: bool = True) -> No
         action=Once,
         type=path_argument,
         metavar="FILE",
-        help="the mechanism file (TOML, as feeder analyze takes it), required with MODEL",
+        help="the mechanism file (TOML, as feeder analyze takes it), required with MODEL "
+        "(default: none)",
     )
     if design:
         sub.add_argument(
@@ -116,7 +117,7 @@ def mechanism_arguments(sub: argparse.ArgumentParser, design: bool = True) -> No
             type=path_argument,
             metavar="FILE",
             help="the mechanism's design file (TOML: variables, objective, constraints), "
-            "required with MODEL (docs/REFERENCE.md)",
+            "required with MODEL (default: none; docs/REFERENCE.md)",
         )
     sub.add_argument(
         "--motion",
@@ -124,7 +125,7 @@ def mechanism_arguments(sub: argparse.ArgumentParser, design: bool = True) -> No
         type=path_argument,
         metavar="FILE",
         help="a motion table of the mechanism (as feeder analyze takes it), repeatable; the "
-        "peaks are over every table's samples; required with MODEL",
+        "peaks are over every table's samples; required with MODEL (default: none)",
     )
 
 
