@@ -124,6 +124,14 @@ class Run:
         """max |value| of ``name`` over each table's samples, (M,)."""
         return np.array([float(np.max(np.abs(s))) for s in self.series[name]])
 
+    def values(self, name: str) -> np.ndarray:
+        """|value| of ``name`` at every sample of every table, in order, (Σ N_m,)."""
+        return np.abs(np.concatenate(self.series[name]))
+
+    def labels(self) -> list[str]:
+        """``<table index>#<sample>`` of every sample of every table, in order."""
+        return [f"{m}#{k}" for m, t in enumerate(self.times) for k in range(t.size)]
+
     def signed_peak(self, name: str) -> tuple[float, int, float]:
         """The value of largest magnitude over every table, its table's index and time [s]."""
         best = (0.0, 0, float(self.times[0][0]))

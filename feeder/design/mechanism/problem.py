@@ -1,18 +1,22 @@
 """The optimisation of a mechanism's design in SLSQP's form (the epigraph form of
 :mod:`feeder.design.epigraph`, shared with the device), and the runs it makes.
 
-**Cases.** A case is a motion table: each objective term's quantity gives one epigraph
-constraint per table, t_j ≥ max |q| over the table's samples / R_j.
+**Cases.** A case is a sample of a motion table: each objective term's quantity gives one
+epigraph constraint per sample of every table, t_j ≥ |q(sample)| / R_j. The peak is the largest
+of these smooth functions of the variables, so the optimum that balances two samples (the
+classic minimax of a cylinder's force at the two ends of its travel) is a vertex of smooth
+constraints, which SLSQP meets to round-off; a constraint per table (its peak) would have a
+kink there.
 
-**Constraints** (≥ 0 where met, scaled; each per table):
+**Constraints** (≥ 0 where met, scaled; each per sample):
 
 * every sample assembles: a point whose motion does not is a failed evaluation (the search
   from there stops, as on the device);
-* ``stroke:<joint>:min|max@<table>``: (min of the coordinate − min allowed) / (max − min
-  allowed), (max allowed − max of the coordinate) / (the same);
-* ``max_velocity_gain@<table>``: 1 − (largest gain) / (the gain allowed), the distance to a
-  singular pose (where the gain → ∞);
-* ``limit:<peak>@<table>``: 1 − peak / limit.
+* ``stroke:<joint>:min|max``: (the coordinate − min allowed) / (max − min allowed), (max
+  allowed − the coordinate) / (the same);
+* ``max_velocity_gain``: 1 − gain / (the gain allowed), the distance to a singular pose
+  (where the gain → ∞);
+* ``limit:<peak>``: 1 − |value| / limit.
 
 **Derivatives.** Central differences of full runs, x ± h e_k for every variable (h from
 :func:`~feeder.design.differences.step`: ε^(1/3) · max(|p|, the unit's scale)), the 2n runs of
@@ -51,17 +55,17 @@ class MechanismEvaluation:
     failure: str
 
     def peaks(self, quantity: str) -> np.ndarray:
-        """max |quantity| over each motion table's samples [its unit], (M,)."""
+        """|quantity| at every sample of every motion table [its unit], (S,): the epigraph's
+        cases (module docstring)."""
         if self.failure:
             raise EvaluationFailed(self.failure)
-        return self.run.peaks(quantity)
+        return self.run.values(quantity)
 
-    def ranges(self, joint: str) -> tuple[np.ndarray, np.ndarray]:
-        """The joint's least and largest coordinate over each table [m or rad], (M,) each."""
+    def coordinate(self, joint: str) -> np.ndarray:
+        """The joint's coordinate at every sample of every table [m or rad], (S,)."""
         if self.failure:
             raise EvaluationFailed(self.failure)
-        series = self.run.coordinates[joint]
-        return np.array([s.min() for s in series]), np.array([s.max() for s in series])
+        return np.concatenate(self.run.coordinates[joint])
 
 
 class MechanismProblem(Epigraph):
@@ -125,11 +129,11 @@ class MechanismProblem(Epigraph):
         [unit], (M,), the margin that counts as 1 [unit], what holds)."""
         found = []
         for s in self.space.strokes:
-            low, high = e.ranges(s.joint)
+            q = e.coordinate(s.joint)
             unit, width = ("m" if self._prismatic(e, s.joint) else "rad"), s.high - s.low
-            found.append((f"stroke:{s.joint}:min", unit, low - s.low, width,
+            found.append((f"stroke:{s.joint}:min", unit, q - s.low, width,
                           f"{s.joint} ≥ {s.low:g} {unit}"))  # fmt: skip
-            found.append((f"stroke:{s.joint}:max", unit, s.high - high, width,
+            found.append((f"stroke:{s.joint}:max", unit, s.high - q, width,
                           f"{s.joint} ≤ {s.high:g} {unit}"))  # fmt: skip
         if self.space.max_gain is not None:
             gain = self.space.max_gain
@@ -150,16 +154,26 @@ class MechanismProblem(Epigraph):
         parts = [margin / scale for _, _, margin, scale, _ in self.margins(e)]
         return np.concatenate(parts) if parts else np.zeros(0)
 
+    def case_labels(self) -> list[str]:
+        """``<table>#<sample>`` of every case (sample), in order (from the model as given)."""
+        run = next(e.run for e in self._cache.values() if e.run is not None)
+        return [
+            f"{self.tables[int(m)]}#{k}" for m, _, k in (s.partition("#") for s in run.labels())
+        ]
+
     def constraint_names(self) -> list[str]:
-        """The name of each entry of :meth:`constraints`, in order."""
+        """The name of each entry of :meth:`constraints`, in order: ``stroke:<joint>:min|max``,
+        ``max_velocity_gain``, ``limit:<peak>``, ``peak:<term>:<peak>``, each
+        ``@<table>#<sample>``."""
+        cases = self.case_labels()
         names = []
         for s in self.space.strokes:
-            names += [f"stroke:{s.joint}:{end}@{t}" for end in ("min", "max") for t in self.tables]
+            names += [f"stroke:{s.joint}:{end}@{c}" for end in ("min", "max") for c in cases]
         if self.space.max_gain is not None:
-            names += [f"max_velocity_gain@{t}" for t in self.tables]
-        names += [f"limit:{q}@{t}" for q in self.space.limits for t in self.tables]
+            names += [f"max_velocity_gain@{c}" for c in cases]
+        names += [f"limit:{q}@{c}" for q in self.space.limits for c in cases]
         for term in self.objective.terms:
-            names += [f"peak:{term.name}:{q}@{t}" for q in term.quantities for t in self.tables]
+            names += [f"peak:{term.name}:{q}@{c}" for q in term.quantities for c in cases]
         return names
 
     def _all(self, e: MechanismEvaluation, t: np.ndarray) -> np.ndarray:
@@ -191,11 +205,9 @@ class MechanismProblem(Epigraph):
             width = (above[k] - below[k]) / (self.upper[k] - self.lower[k])
             values = [self._all(found[2 * k + i], t) for i in (0, 1)]
             jacobian[:, k] = (values[1] - values[0]) / width
-        first = rows - sum(len(term.quantities) for term in self.objective.terms) * len(
-            self.tables
-        )
+        count = len(found[0].peaks(self.objective.terms[0].quantities[0]))
+        first = rows - sum(len(term.quantities) for term in self.objective.terms) * count
         for j, term in enumerate(self.objective.terms):
-            count = len(term.quantities) * len(self.tables)
-            jacobian[first : first + count, n + j] = 1.0
-            first += count
+            jacobian[first : first + len(term.quantities) * count, n + j] = 1.0
+            first += len(term.quantities) * count
         return jacobian

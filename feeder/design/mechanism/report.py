@@ -5,18 +5,20 @@ and the summary, in the device's columns (:data:`feeder.design.report.COLUMNS`),
   and after (the written model, run as ``feeder analyze`` runs it);
 * ``variable``: each design variable [its unit], with its bounds; ``active`` is ``lower`` or
   ``upper`` where it ends on a bound;
-* ``constraint``: each constraint's least margin over the motion tables [its unit] (≥ 0: met;
+* ``constraint``: each constraint's least margin over the samples [its unit] (≥ 0: met;
   stroke ends, the velocity gain, the limits); ``active`` 1 where its multiplier is positive
   or its scaled margin is below 1e-6; ``multiplier``: the objective's fall per unit the
   constraint were relaxed [objective unit per constraint unit], from SLSQP's last QP;
-* ``binding``: each motion table whose peak sets the objective at the optimum, with its
-  multiplier (the shares of a term add up to its weight);
+* ``binding``: each sample (a table and a time) whose value sets the objective at the
+  optimum, with its multiplier (the shares of a term add up to its weight);
 * ``peak``: every peak, the value of largest magnitude over every table [its unit].
 """
 
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 from ..report import ACTIVE, COLUMNS, Optimum, change_percent
 from ..tables import cell, shown
@@ -64,16 +66,19 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
         rows.append(["constraint", name, c_unit, cell(_least(before, name, margins_before)),
                      cell(last), "", "", "", str(int(active)), cell(multiplier),
                      f"{unit or '-'} per {c_unit}", meaning])  # fmt: skip
+    cases = p.case_labels() if opt.multipliers else []
     for name, multiplier in opt.multipliers.items():
         if name.startswith("peak:") and multiplier > 0.0:
-            quantity, _, table = name.split(":", 2)[2].partition("@")
-            m = p.tables.index(table)
+            quantity, _, case = name.split(":", 2)[2].partition("@")
+            k = cases.index(case)
+            table, _, sample = case.partition("#")
+            time_s = float(np.concatenate(after.run.times)[k])
             peaks = [
-                math.nan if e is None else float(e.peaks(quantity)[m]) for e in (before, after)
+                math.nan if e is None else float(e.peaks(quantity)[k]) for e in (before, after)
             ]
-            rows.append(["binding", f"{quantity} in {table}", before.run.units[quantity],
-                         *map(cell, peaks), change_percent(*peaks), "", "", "1",
-                         cell(multiplier), "-", "sets the objective"])  # fmt: skip
+            rows.append(["binding", f"{quantity} in {table} at t = {time_s:g} s (sample {sample})",
+                         before.run.units[quantity], *map(cell, peaks), change_percent(*peaks),
+                         "", "", "1", cell(multiplier), "-", "sets the objective"])  # fmt: skip
     for q, q_unit in before.run.units.items():
         peaks = [math.nan if e is None else e.run.signed_peak(q)[0] for e in (before, after)]
         rows.append(["peak", q, q_unit, *map(cell, peaks), change_percent(*peaks),

@@ -29,7 +29,7 @@ from ..sensitivities import Sensitivity
 from ..tables import cell, flag_lines, shown, top_elasticities
 from .design_file import MechanismDesign
 from .evaluation import Mechanism
-from .problem import MechanismEvaluation, MechanismProblem
+from .problem import MechanismProblem
 
 
 @dataclass(frozen=True)
@@ -95,13 +95,6 @@ class MechanismSensitivities:
         return f"{self.name} mechanism"
 
 
-def _argmax(e: MechanismEvaluation, name: str) -> tuple[int, int]:
-    """(table, sample) of the largest |value| of ``name``."""
-    peaks = e.peaks(name)
-    m = int(np.argmax(peaks))
-    return m, int(np.argmax(np.abs(e.run.series[name][m])))
-
-
 def mechanism_sensitivities(
     design: MechanismDesign,
     mechanism: Mechanism,
@@ -148,9 +141,8 @@ def mechanism_sensitivities(
             else:
                 values = np.array([e.peaks(peak.name).max() for e in evaluated])
                 found_estimate = estimate(values, steps, factor)
-                places = {_argmax(e, peak.name) for e in evaluated}
-                tables = {m for m, _ in places}
-                moved = "table" if len(tables) > 1 else "time" if len(places) > 1 else ""
+                places = {int(np.argmax(e.peaks(peak.name))) for e in evaluated}
+                moved = "time" if len(places) > 1 else ""  # the sample, in a table or another
             h = float(steps[-1])
             entries[(peak.name, v.name)] = Sensitivity(
                 peak, v.parameter, float(x0[k]), h, found_estimate, reason, moved
