@@ -181,10 +181,7 @@ def run(args: argparse.Namespace) -> int:
         figure=args.figures,
         command=command_line(args),
     )
-    print(summary(result))
-    names = ", ".join(path.name for path in paths)
-    print(f"wrote {names} in {paths[0].parent}")
-    return 0
+    return _printed(summary(result) + "\n", paths)
 
 
 def run_mechanism(args: argparse.Namespace) -> int:
@@ -209,9 +206,7 @@ def run_mechanism(args: argparse.Namespace) -> int:
         figure=args.figures,
         command=command_line(args),
     )
-    print(summary(result))
-    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
-    return 0
+    return _printed(summary(result) + "\n", paths)
 
 
 def add_optimize(tasks: argparse._SubParsersAction) -> None:
@@ -300,7 +295,6 @@ def run_optimize(args: argparse.Namespace) -> int:
     """The optimum geometry; its parameter file, tables, figure, history and manifest."""
     from ..design.design_space import BUILT_IN
     from ..design.optimize import run_optimization
-    from ..design.report import INTERRUPTED
     from ..exceptions import InputError
     from ..motion.laws import CycleSpec
     from ..study.grid import elevation_range
@@ -321,8 +315,9 @@ def run_optimize(args: argparse.Namespace) -> int:
         durations = grid.spec.durations if grid is not None else CycleSpec.durations
         spec = CycleSpec(durations=durations, rate=args.rate)
     elevations = None if args.elevations is None else elevation_range(*args.elevations)
-    try:
-        optimum, paths = run_optimization(
+    return _optimized(
+        args,
+        lambda: run_optimization(
             params,
             args.out,
             objective=args.objective or "peak_pressure",
@@ -338,23 +333,17 @@ def run_optimize(args: argparse.Namespace) -> int:
             figure=args.figures,
             sensitivities=args.sensitivities,
             command=command_line(args),
-        )
-    except KeyboardInterrupt:
-        if _status(args.out) == INTERRUPTED:
-            print(f"feeder: {INTERRUPTED}: written in {args.out}", file=sys.stderr)
-        raise
-    print((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), end="")
-    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
-    return 0 if optimum.best is not None else 1
+        ),
+    )
 
 
 def run_mechanism_optimize(args: argparse.Namespace) -> int:
     """A mechanism's optimum (:func:`~feeder.design.mechanism.run_mechanism_optimization`)."""
     from ..design.mechanism.optimize import run_mechanism_optimization
-    from ..design.report import INTERRUPTED
 
-    try:
-        optimum, paths = run_mechanism_optimization(
+    return _optimized(
+        args,
+        lambda: run_mechanism_optimization(
             args.model,
             args.closures,
             args.design,
@@ -367,14 +356,30 @@ def run_mechanism_optimize(args: argparse.Namespace) -> int:
             progress=True,
             figure=args.figures,
             command=command_line(args),
-        )
+        ),
+    )
+
+
+def _optimized(args: argparse.Namespace, optimise) -> int:
+    """Run ``optimise()`` (the device's or a mechanism's optimisation: (optimum, paths)), print
+    its summary and the files written; on Ctrl-C say where the best point so far was written."""
+    from ..design.report import INTERRUPTED
+
+    try:
+        optimum, paths = optimise()
     except KeyboardInterrupt:
         if _status(args.out) == INTERRUPTED:
             print(f"feeder: {INTERRUPTED}: written in {args.out}", file=sys.stderr)
         raise
-    print((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), end="")
-    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    _printed((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), paths)
     return 0 if optimum.best is not None else 1
+
+
+def _printed(summary: str, paths) -> int:
+    """Print ``summary`` and the files written (``paths``); 0, the exit status."""
+    print(summary, end="")
+    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    return 0
 
 
 def _status(folder) -> str | None:

@@ -96,6 +96,20 @@ def _multiplier_factor(opt: Optimum) -> float:
     return 1.0 if opt.objective.weighted else opt.problem.references[0]
 
 
+def variable_rows(opt: Optimum) -> list[list[str]]:
+    """The ``variable`` rows of ``optimum.csv`` (the device's and a mechanism's): each variable
+    before and after [its unit], its bounds, and the bound it ends on."""
+    rows, before, after = [], opt.reference, opt.best
+    for k, v in enumerate(opt.problem.space.variables):
+        end = math.nan if after is None else float(after.x[k])
+        z = (end - v.lower) / (v.upper - v.lower)
+        active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
+        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
+                     change_percent(before.x[k], end), cell(v.lower), cell(v.upper), active,
+                     "", "", v.parameter.meaning])  # fmt: skip
+    return rows
+
+
 def optimum_rows(opt: Optimum) -> list[list[str]]:
     """``optimum.csv``: the header :data:`COLUMNS`, then its rows (module docstring)."""
     p, before, after = opt.problem, opt.reference, opt.best
@@ -104,13 +118,7 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
     value = (opt.value(before), opt.value(after))
     rows.append(["objective", opt.objective.text, unit, *map(cell, value), change_percent(*value),
                  "", "", "", "", "", " or ".join(opt.objective.quantities())])  # fmt: skip
-    for k, v in enumerate(p.space.variables):
-        end = math.nan if after is None else float(after.x[k])
-        z = (end - v.lower) / (v.upper - v.lower)
-        active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
-        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
-                     change_percent(before.x[k], end), cell(v.lower), cell(v.upper), active,
-                     "", "", v.parameter.meaning])  # fmt: skip
+    rows += variable_rows(opt)
     factor = _multiplier_factor(opt)
     for k, c in enumerate(p.geometry):
         margin = math.nan if after is None else float(after.margins[k])
@@ -163,6 +171,30 @@ def binding(opt: Optimum) -> dict[str, tuple[str, int, float]]:
     return found
 
 
+def result_lines(rows: list[list[str]]) -> list[str]:
+    """The summary's lines of the rows of ``optimum.csv`` (the device's and a mechanism's): the
+    variables before → after, the active constraints with their multipliers, the binding
+    cases."""
+    lines = ["Variables:"]
+    for row in (r for r in rows if r[0] == "variable"):
+        bound = f" (at its {row[8]} bound)" if row[8] else ""
+        end = f"{float(row[4]):.6g}" if row[4] else "–"
+        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
+    active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
+    lines.append(
+        "Active constraints (multiplier: the objective's fall per unit the constraint were "
+        "relaxed):"
+        if active
+        else "Active constraints: none"
+    )
+    for row in active:
+        multiplier = f"{float(row[9]):.4g} {row[10]}" if row[9] else "no multiplier"
+        lines.append(f"  {row[1]} ({row[11]}): margin {float(row[4]):.3g} {row[2]}, {multiplier}")
+    for row in (r for r in rows if r[0] == "binding"):
+        lines.append(f"  binding case: {row[1]}, multiplier {float(row[9]):.4g}")
+    return lines
+
+
 def summary(opt: Optimum, elevations: str) -> str:
     """The summary printed and written to ``summary.txt``."""
     p = opt.problem
@@ -183,23 +215,7 @@ def summary(opt: Optimum, elevations: str) -> str:
         ),
     ]
     rows = optimum_rows(opt)[1:]
-    lines.append("Variables:")
-    for row in (r for r in rows if r[0] == "variable"):
-        bound = f" (at its {row[8]} bound)" if row[8] else ""
-        end = f"{float(row[4]):.6g}" if row[4] else "–"
-        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
-    active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
-    lines.append(
-        "Active constraints (multiplier: the objective's fall per unit the constraint were "
-        "relaxed):"
-        if active
-        else "Active constraints: none"
-    )
-    for row in active:
-        multiplier = f"{float(row[9]):.4g} {row[10]}" if row[9] else "no multiplier"
-        lines.append(f"  {row[1]} ({row[11]}): margin {float(row[4]):.3g} {row[2]}, {multiplier}")
-    for row in (r for r in rows if r[0] == "binding"):
-        lines.append(f"  binding case: {row[1]}, multiplier {float(row[9]):.4g}")
+    lines += result_lines(rows)
     lines += [*opt.messages]
     lines.append(f"{len(p.space.variables)} variables, {p.cycles} cycles in {opt.seconds:.1f} s.")
     return "\n".join(lines)

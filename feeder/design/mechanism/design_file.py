@@ -42,6 +42,7 @@ from pathlib import Path
 
 from ...exceptions import InputError
 from ...validation import check_number
+from ..design_space import Variable, design_text, table_of
 from ..differentiable import DesignParameter
 from ..objectives import Objective, Term
 from .urdf_edit import COMPONENTS, Target, carrier, names, parse, value
@@ -54,34 +55,16 @@ ATTRIBUTES = (*COMPONENTS, "mass", "scale")
 
 
 @dataclass(frozen=True)
-class MechanismVariable:
-    """One design variable of a mechanism.
+class MechanismVariable(Variable):
+    """One design variable of a mechanism: the device's
+    :class:`~feeder.design.design_space.Variable` (its name, unit and meaning, bounds, start;
+    ``loads`` always True: every variable may move a load) and what it changes in the URDF.
 
     Attributes:
-        parameter: Its name (``cylinder_pivot.x``), unit and meaning.
         target: What it changes in the URDF.
-        lower, upper: Its bounds [unit], lower < upper.
-        start: Where the search starts [unit], within the bounds.
     """
 
-    parameter: DesignParameter
     target: Target
-    lower: float
-    upper: float
-    start: float
-
-    loads = True
-    """Every variable may move a load (the device's end stops are the variables that do not)."""
-
-    @property
-    def name(self) -> str:
-        """``joint.x``, ``link.mass``, …"""
-        return self.parameter.name
-
-    @property
-    def unit(self) -> str:
-        """``m``, ``rad``, ``kg`` or ``-``."""
-        return self.parameter.unit
 
 
 @dataclass(frozen=True)
@@ -128,13 +111,6 @@ class MechanismDesign:
 def _unknown(where: str, found, allowed) -> None:
     if unknown := sorted(set(found) - set(allowed)):
         raise InputError(f"{where}: unknown key {unknown[0]!r}; keys: {', '.join(allowed)}")
-
-
-def _table(where: str, data: dict, key: str) -> dict:
-    table = data.get(key, {})
-    if not isinstance(table, dict):
-        raise InputError(f"{where}: [{key}] must be a table, got {table!r}")
-    return table
 
 
 def _entries(where: str, table: dict) -> list[tuple[str, object]]:
@@ -203,9 +179,8 @@ def _variable(where: str, name: str, entry: object, root) -> MechanismVariable:
         "mass": f"mass of {target.name} (inertia scaled with it)",
         "scale": f"length scale of {target.name}",
     }[target.kind]
-    return MechanismVariable(
-        DesignParameter(name, target.unit, meaning), target, lower, upper, start
-    )
+    parameter = DesignParameter(name, target.unit, meaning)
+    return MechanismVariable(parameter, lower, upper, start, True, target)
 
 
 def _weight(where: str, name: str, value: object) -> float:
@@ -278,14 +253,14 @@ def mechanism_design(text: str, urdf: str, where: str, urdf_where: str) -> Mecha
         raise InputError(f"{where} is not a TOML design file: {exc}") from exc
     _unknown(where, data, KEYS)
     root = parse(urdf, urdf_where)
-    entries = _entries(where, _table(where, data, "variables"))
+    entries = _entries(where, table_of(where, data, "variables"))
     if not entries:
         raise InputError(f"{where}: [variables] is empty: name at least one variable")
     variables = tuple(_variable(where, name, entry, root) for name, entry in entries)
     if len({v.name for v in variables}) != len(variables):
         raise InputError(f"{where}: [variables] names a variable twice")
-    objective = _objective(where, _table(where, data, "objective"))
-    constraints = _table(where, data, "constraints")
+    objective = _objective(where, table_of(where, data, "objective"))
+    constraints = table_of(where, data, "constraints")
     _unknown(f"{where}: [constraints]", constraints, CONSTRAINT_KEYS)
     if constraints.get("assembly", True) is not True:
         raise InputError(f"{where}: [constraints] assembly is always required: remove the key")
@@ -296,11 +271,11 @@ def mechanism_design(text: str, urdf: str, where: str, urdf_where: str) -> Mecha
         if gain <= 0.0:
             raise InputError(f"{where}: [constraints] max_velocity_gain must be positive")
     limits = {}
-    for name, limit in _table(where, data, "limits").items():
+    for name, limit in table_of(where, data, "limits").items():
         limits[name] = check_number(f"{where}: [limits] {name}", limit)
         if limits[name] <= 0.0:
             raise InputError(f"{where}: [limits] {name} must be positive, got {limit!r}")
-    search = _table(where, data, "search")
+    search = table_of(where, data, "search")
     _unknown(f"{where}: [search]", search, SEARCH_KEYS)
     samples = _count(where, "samples", search.get("samples", 0), 0)
     starts = _count(where, "starts", search.get("starts", 1), 1)
@@ -331,11 +306,4 @@ def check_peaks(design: MechanismDesign, available: dict[str, str]) -> None:
 def read_mechanism_design(path: str | Path, urdf: str, urdf_where: str) -> MechanismDesign:
     """The design file ``path`` for the model ``urdf`` (its text), checked
     (:func:`mechanism_design`)."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InputError(f"cannot read the design file {path}: {exc.strerror or exc}") from exc
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{path} is not a TOML design file: {exc}") from exc
-    return mechanism_design(text, urdf, str(path), urdf_where)
+    return mechanism_design(design_text(path), urdf, str(path), urdf_where)

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ..report import ACTIVE, COLUMNS, Optimum, change_percent
+from ..report import ACTIVE, COLUMNS, Optimum, change_percent, result_lines, variable_rows
 from ..tables import cell, shown
 
 
@@ -49,13 +49,7 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
     rows.append(["objective", opt.objective.text, unit, *map(cell, value),
                  change_percent(*value), "", "", "", "", "",
                  " + ".join(t.name for t in opt.objective.terms)])  # fmt: skip
-    for k, v in enumerate(p.space.variables):
-        end = math.nan if after is None else float(after.x[k])
-        z = (end - v.lower) / (v.upper - v.lower)
-        active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
-        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
-                     change_percent(before.x[k], end), cell(v.lower), cell(v.upper), active,
-                     "", "", v.parameter.meaning])  # fmt: skip
+    rows += variable_rows(opt)
     margins_before = p.margins(before)
     margins_after = None if after is None else p.margins(after)
     for name, c_unit, _, scale, meaning in margins_before:
@@ -98,20 +92,8 @@ def summary(opt: Optimum, written: str) -> str:
         f"{', '.join(p.tables)}) of the {p.mechanism.model.stem} mechanism.",
         f"Objective: {shown(before, unit, '.6g')} ({p.given}) → {shown(after, unit, '.6g')}"
         + (change if math.isfinite(after) else ""),
-        "Variables:",
     ]
-    rows = optimum_rows(opt)[1:]
-    for row in (r for r in rows if r[0] == "variable"):
-        bound = f" (at its {row[8]} bound)" if row[8] else ""
-        end = f"{float(row[4]):.6g}" if row[4] else "–"
-        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
-    active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
-    lines.append("Active constraints:" if active else "Active constraints: none")
-    for row in active:
-        multiplier = f"{float(row[9]):.4g} {row[10]}" if row[9] else "no multiplier"
-        lines.append(f"  {row[1]} ({row[11]}): margin {float(row[4]):.3g} {row[2]}, {multiplier}")
-    for row in (r for r in rows if r[0] == "binding"):
-        lines.append(f"  binding: {row[1]}, multiplier {float(row[9]):.4g}")
+    lines += result_lines(optimum_rows(opt)[1:])
     lines += [*opt.messages]
     if written:
         lines.append(f"The optimum as a model: {written} (its peaks above are feeder analyze's).")

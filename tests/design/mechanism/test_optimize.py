@@ -10,7 +10,7 @@ import pytest
 from scipy.optimize import brentq
 
 from feeder.cli import main
-from feeder.design.mechanism import run_mechanism_optimization
+from feeder.design import run_mechanism_optimization
 
 from .lever import Lever
 
@@ -120,3 +120,19 @@ def test_the_written_optimum_gives_the_optimisers_peaks_in_feeder_analyze(tmp_pa
         history = [r for r in csv.DictReader(handle) if r["feasible"] == "1"]
     least = min(float(r["objective"]) for r in history)
     assert loads["tau_cylinder_slide"] == pytest.approx(least, rel=1e-12)
+
+
+def test_a_second_run_on_the_folder_resumes_from_the_last_iterate(tmp_path):
+    model, closures, motion, design = Lever().write(tmp_path, DESIGN)
+    out = tmp_path / "out"
+    first, _ = run_mechanism_optimization(
+        model, closures, design, [motion], out, workers=1, progress=False, figure=False
+    )
+    again, _ = run_mechanism_optimization(
+        model, closures, design, [motion], out, workers=1, progress=False, figure=False
+    )
+    with open(out / "history.csv", encoding="utf-8", newline="") as handle:
+        stages = [row["stage"] for row in csv.DictReader(handle)]
+    assert stages.count("reference") == 2 and "resumed" in stages
+    # from the last iterate SLSQP stays at the optimum (to its convergence, ftol 1e-9)
+    assert again.best.x[0] == pytest.approx(first.best.x[0], rel=1e-6)
