@@ -4,6 +4,8 @@ lever found to 1e-6, and the written optimum read back by ``feeder analyze``."""
 from __future__ import annotations
 
 import csv
+import json
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
@@ -11,6 +13,9 @@ from scipy.optimize import brentq
 
 from feeder.cli import main
 from feeder.design import run_mechanism_optimization
+from feeder.design.report import INTERRUPTED
+from feeder.design.search import Search
+from feeder.files import MANIFEST
 
 from .lever import Lever
 
@@ -136,3 +141,24 @@ def test_a_second_run_on_the_folder_resumes_from_the_last_iterate(tmp_path):
     assert stages.count("reference") == 2 and "resumed" in stages
     # from the last iterate SLSQP stays at the optimum (to its convergence, ftol 1e-9)
     assert again.best.x[0] == pytest.approx(first.best.x[0], rel=1e-6)
+
+
+def test_ctrl_c_writes_the_best_point_so_far_marked_as_such(tmp_path, monkeypatch):
+    def interrupted(self, start, stage="local"):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Search, "local", interrupted)  # Ctrl-C as SLSQP begins
+    model, closures, motion, design = Lever().write(tmp_path, DESIGN)
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_mechanism_optimization(
+            model, closures, design, [motion], out, workers=1, progress=False, figure=False
+        )
+    manifest = json.loads((out / MANIFEST).read_text(encoding="utf-8"))
+    assert manifest["status"] == INTERRUPTED
+    summary = (out / "summary.txt").read_text(encoding="utf-8")
+    assert summary.startswith(f"status: {INTERRUPTED}")
+    # the best so far is the model as given (the only point run), written as a model
+    written = ET.parse(out / "optimum.urdf").getroot()
+    pivot = written.find("joint[@name='cylinder_pivot']/origin").get("xyz")
+    assert [float(v) for v in pivot.split()] == [1.0, -0.3, 0.0]
