@@ -82,7 +82,7 @@ def sensitivity_figure(result: Sensitivities) -> Figure:
             label.set_fontsize(7.5)
         ax.set_title(f"{result.title}, {scope.title}", pad=6, fontsize=10)
     fig.suptitle(
-        "Elasticity of each peak load: % of the peak per % of the parameter "
+        "Elasticity of each peak load: % of the peak per % of the parameter\n"
         "(* not differentiable within the step; grey: unavailable or a zero peak)",
         fontsize=9,
         y=1.0 - 0.1 / height,
