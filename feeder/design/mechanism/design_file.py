@@ -103,10 +103,6 @@ class MechanismDesign:
     starts: int
     text: str
 
-    def peak_names(self) -> tuple[str, ...]:
-        """Every peak the objective and the limits name."""
-        return (*self.objective.quantities(), *self.limits)
-
 
 def _unknown(where: str, found, allowed) -> None:
     if unknown := sorted(set(found) - set(allowed)):

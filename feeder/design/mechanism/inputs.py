@@ -16,7 +16,7 @@ from ...chain.readers.urdf import read_urdf
 from ...exceptions import InputError
 from ...validation import check_path
 from .design_file import MechanismDesign, check_peaks, read_mechanism_design
-from .evaluation import Mechanism, PointCase, Run, run_point
+from .evaluation import Mechanism, PointCase, run_point
 
 
 @dataclass(frozen=True)
@@ -26,12 +26,10 @@ class MechanismInputs:
     Attributes:
         design: The design file.
         mechanism: The mechanism's files.
-        start: The run at the variables' starts (its peaks name what exists).
     """
 
     design: MechanismDesign
     mechanism: Mechanism
-    start: Run
 
 
 def check_inputs(
@@ -68,4 +66,4 @@ def check_inputs(
     if isinstance(run, str):
         raise InputError(f"the model as given (the variables' starts) fails: {run}")
     check_peaks(found, run.units)
-    return MechanismInputs(found, mechanism, run)
+    return MechanismInputs(found, mechanism)
