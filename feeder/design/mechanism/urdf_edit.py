@@ -6,7 +6,9 @@ scaled by s, its inertia tensor by s², its mass kept), edited in memory with El
 A frame (a link fixed to its parent, as the frames a closure or a force element names) is moved
 through the origin of the joint that carries it: ``body_pin.x`` is the x of the origin of the
 joint whose child is the link ``body_pin``. Every value is the model's own number before the
-edit: a mass of 3000 kg set to 2500 kg, an origin's x set to 1.4 m.
+edit: a mass of 3000 kg set to 2500 kg, an origin's x set to 1.4 m. The edits apply in the
+design file's order: a link's scale multiplies the origins of the joints it carries as they
+are then (after an origin variable listed before it, before one listed after).
 """
 
 from __future__ import annotations
