@@ -12,7 +12,6 @@ from ..design.differences import STEP_FACTOR
 from ..design.differentiable import SCALES
 from ..design.problem import DEFAULT_ELEVATIONS, DEFAULT_RATE
 from .options import (
-    RATE_HELP,
     Once,
     add_command,
     command_line,
@@ -24,6 +23,9 @@ from .options import (
     switch,
     typed,
 )
+
+DEVICE_RATE = 1000.0
+"""[Hz] The device's sample rate of ``design sensitivities`` without ``--rate``."""
 
 
 def _exponent(number: float) -> str:
@@ -55,6 +57,7 @@ def add(commands: argparse._SubParsersAction) -> None:
     )
     out_option(sensitivities)
     device_options(sensitivities, "projectile")
+    mechanism_arguments(sensitivities)
     sensitivities.add_argument(
         "--parameter",
         action="append",
@@ -72,7 +75,11 @@ def add(commands: argparse._SubParsersAction) -> None:
         "checked by halving)",
     )
     sensitivities.add_argument(
-        "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=RATE_HELP
+        "--rate",
+        action=Once,
+        type=float,
+        metavar="HZ",
+        help=f"the device's sample rate [Hz] (default: {DEVICE_RATE:g})",
     )
     parallel_options(sensitivities)
     switch(
@@ -84,8 +91,74 @@ def add(commands: argparse._SubParsersAction) -> None:
     add_optimize(tasks)
 
 
+def mechanism_arguments(sub: argparse.ArgumentParser, design: bool = True) -> None:
+    """MODEL, ``--closures``, ``--motion`` (repeatable) and, if ``design``, ``--design``: a
+    mechanism's design instead of the device's (:mod:`feeder.design.mechanism`)."""
+    sub.add_argument(
+        "model",
+        type=path_argument,
+        nargs="?",
+        metavar="MODEL",
+        help="a mechanism's URDF, whose design file's variables are studied (default: the "
+        "device); needs --closures, --design and --motion",
+    )
+    sub.add_argument(
+        "--closures",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="the mechanism file (TOML, as feeder analyze takes it), required with MODEL "
+        "(default: none)",
+    )
+    if design:
+        sub.add_argument(
+            "--design",
+            action=Once,
+            type=path_argument,
+            metavar="FILE",
+            help="the mechanism's design file (TOML: variables, objective, constraints), "
+            "required with MODEL (default: none; docs/REFERENCE.md)",
+        )
+    sub.add_argument(
+        "--motion",
+        action="append",
+        type=path_argument,
+        metavar="FILE",
+        help="a motion table of the mechanism (as feeder analyze takes it), repeatable; the "
+        "peaks are over every table's samples; required with MODEL (default: none)",
+    )
+
+
+DEVICE_ONLY = ("elevations", "elevation", "parameter", "rate", "device", "params", "grid",
+               "objective")  # fmt: skip
+"""Options of the device's design that a mechanism's refuses (its design file says)."""
+
+
+def _mechanism(args: argparse.Namespace) -> bool:
+    """Whether the command is for a mechanism (MODEL given), its options checked."""
+    from ..exceptions import InputError
+
+    mechanism = [args.closures, args.design, args.motion]
+    if args.model is None:
+        if any(value is not None for value in mechanism[::2]):
+            raise InputError("--closures and --motion are for a mechanism: give its MODEL too")
+        return False
+    given = [f"--{name}" for name in DEVICE_ONLY if getattr(args, name, None) is not None]
+    if given:
+        raise InputError(
+            f"{given[0]} is for the device's design; a mechanism's design file names its "
+            "variables, objective and constraints"
+        )
+    for option, value in zip(("--closures", "--design", "--motion"), mechanism, strict=True):
+        if value is None:
+            raise InputError(f"the design of a mechanism needs {option} FILE")
+    return True
+
+
 def run(args: argparse.Namespace) -> int:
     """Sensitivities of every peak; the tables, the summary, the figure and the manifest."""
+    if _mechanism(args):
+        return run_mechanism(args)
     from ..design.outputs import run_sensitivities
     from ..design.tables import summary
     from ..motion.laws import CycleSpec
@@ -100,7 +173,7 @@ def run(args: argparse.Namespace) -> int:
         elevations_deg=elevations,
         elevation_deg=args.elevation,
         parameters=args.parameter,
-        spec=CycleSpec(rate=args.rate),
+        spec=CycleSpec(rate=DEVICE_RATE if args.rate is None else args.rate),
         factor=STEP_FACTOR if args.step is None else args.step,
         workers=args.workers,
         scheduler=args.scheduler,
@@ -108,10 +181,32 @@ def run(args: argparse.Namespace) -> int:
         figure=args.figures,
         command=command_line(args),
     )
-    print(summary(result))
-    names = ", ".join(path.name for path in paths)
-    print(f"wrote {names} in {paths[0].parent}")
-    return 0
+    return _printed(summary(result) + "\n", paths)
+
+
+def run_mechanism(args: argparse.Namespace) -> int:
+    """A mechanism's sensitivities (:mod:`feeder.design.mechanism.outputs`)."""
+    from ..design.mechanism.outputs import run_mechanism_sensitivities
+    from ..design.mechanism.sensitivities import summary
+
+    if args.out is None:
+        from ..exceptions import InputError
+
+        raise InputError("give the output folder: --out DIR")
+    result, paths = run_mechanism_sensitivities(
+        args.model,
+        args.closures,
+        args.design,
+        args.motion,
+        args.out,
+        factor=STEP_FACTOR if args.step is None else args.step,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=True,
+        figure=args.figures,
+        command=command_line(args),
+    )
+    return _printed(summary(result) + "\n", paths)
 
 
 def add_optimize(tasks: argparse._SubParsersAction) -> None:
@@ -126,11 +221,11 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
     optimize.add_argument(
         "--objective",
         action=Once,
-        default="peak_pressure",
         metavar="NAME",
-        help="what to minimise: peak_pressure (the larger chamber's), peak_piston_force, "
+        help="the device's objective: peak_pressure (the larger chamber's), peak_piston_force, "
         "peak_forearm_moment, any peak of sweep_peaks.csv, or weighted:NAME=W,NAME=W (each "
-        "relative to the device as given) (default: %(default)s)",
+        "relative to the device as given) (default: peak_pressure; a mechanism's is in its "
+        "design file)",
     )
     optimize.add_argument(
         "--out",
@@ -145,8 +240,9 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
         action=Once,
         type=path_argument,
         metavar="FILE",
-        help="design file (TOML): the free parameters and their bounds, fixed ones, "
-        "constraints and limits (default: the built-in one, --print-design)",
+        help="design file (TOML): the device's free parameters and their bounds, fixed ones, "
+        "constraints and limits (default: the built-in one, --print-design); with MODEL, the "
+        "mechanism's variables, objective and constraints (required)",
     )
     switch(optimize, "--print-design", "print_design", "print the built-in design file and "
            "exit (default: optimise)")  # fmt: skip
@@ -174,18 +270,18 @@ def add_optimize(tasks: argparse._SubParsersAction) -> None:
         type=int,
         metavar="N",
         help="points of the global start (Latin hypercube; default: 8 per variable that loads "
-        "depend on; 0: none)",
+        "depend on, or the mechanism design file's [search] samples; 0: none)",
     )
     optimize.add_argument(
         "--starts",
         action=Once,
         type=int,
-        default=1,
         metavar="N",
-        help="local searches (SLSQP), from the best points of the global start (default: "
-        "%(default)s)",
+        help="local searches (SLSQP), from the best points of the global start (default: 1, "
+        "or the mechanism design file's [search] starts)",
     )
     parallel_options(optimize)
+    mechanism_arguments(optimize, design=False)
     switch(optimize, "--no-figures", "figures", "no optimum.png (default: written)")
     switch(
         optimize,
@@ -199,7 +295,6 @@ def run_optimize(args: argparse.Namespace) -> int:
     """The optimum geometry; its parameter file, tables, figure, history and manifest."""
     from ..design.design_space import BUILT_IN
     from ..design.optimize import run_optimization
-    from ..design.report import INTERRUPTED
     from ..exceptions import InputError
     from ..motion.laws import CycleSpec
     from ..study.grid import elevation_range
@@ -211,6 +306,8 @@ def run_optimize(args: argparse.Namespace) -> int:
         return 0
     if args.out is None:
         raise InputError("give the output folder: --out DIR (or --print-design)")
+    if _mechanism(args):
+        return run_mechanism_optimize(args)
     params = params_of(args)
     grid = None if args.grid is None else read_grid(args.grid)
     spec = None
@@ -218,31 +315,71 @@ def run_optimize(args: argparse.Namespace) -> int:
         durations = grid.spec.durations if grid is not None else CycleSpec.durations
         spec = CycleSpec(durations=durations, rate=args.rate)
     elevations = None if args.elevations is None else elevation_range(*args.elevations)
-    try:
-        optimum, paths = run_optimization(
+    return _optimized(
+        args,
+        lambda: run_optimization(
             params,
             args.out,
-            objective=args.objective,
+            objective=args.objective or "peak_pressure",
             design=args.design,
             elevations_deg=elevations,
             grid=grid,
             spec=spec,
             samples=args.samples,
-            starts=args.starts,
+            starts=1 if args.starts is None else args.starts,
             workers=args.workers,
             scheduler=args.scheduler,
             progress=True,
             figure=args.figures,
             sensitivities=args.sensitivities,
             command=command_line(args),
-        )
+        ),
+    )
+
+
+def run_mechanism_optimize(args: argparse.Namespace) -> int:
+    """A mechanism's optimum (:func:`~feeder.design.mechanism.run_mechanism_optimization`)."""
+    from ..design.mechanism.optimize import run_mechanism_optimization
+
+    return _optimized(
+        args,
+        lambda: run_mechanism_optimization(
+            args.model,
+            args.closures,
+            args.design,
+            args.motion,
+            args.out,
+            samples=args.samples,
+            starts=args.starts,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=True,
+            figure=args.figures,
+            command=command_line(args),
+        ),
+    )
+
+
+def _optimized(args: argparse.Namespace, optimise) -> int:
+    """Run ``optimise()`` (the device's or a mechanism's optimisation: (optimum, paths)), print
+    its summary and the files written; on Ctrl-C say where the best point so far was written."""
+    from ..design.report import INTERRUPTED
+
+    try:
+        optimum, paths = optimise()
     except KeyboardInterrupt:
         if _status(args.out) == INTERRUPTED:
             print(f"feeder: {INTERRUPTED}: written in {args.out}", file=sys.stderr)
         raise
-    print((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), end="")
-    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    _printed((paths[0].parent / "summary.txt").read_text(encoding="utf-8"), paths)
     return 0 if optimum.best is not None else 1
+
+
+def _printed(summary: str, paths) -> int:
+    """Print ``summary`` and the files written (``paths``); 0, the exit status."""
+    print(summary, end="")
+    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    return 0
 
 
 def _status(folder) -> str | None:

@@ -28,6 +28,10 @@ Optimisation:
   :mod:`~feeder.design.optimize` — ``optimum.csv``, the summary, the figure and the output
   folder.
 
+Any mechanism (``feeder design sensitivities|optimize MODEL --closures F --design D --motion
+M``): :mod:`feeder.design.mechanism`, a client of the same differences, epigraph form, search,
+history, tables and heat map.
+
 The names below load on first use, so that ``feeder design sensitivities`` does not import the
 optimisation's SciPy modules (``scipy.optimize``, ``scipy.stats``), nor the command line's
 parser either of the commands.
@@ -41,6 +45,10 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .design_space import BUILT_IN, DesignSpace, read_design
     from .differentiable import DesignParameter, design_parameters
+    from .mechanism.design_file import MechanismDesign, read_mechanism_design
+    from .mechanism.optimize import run_mechanism_optimization
+    from .mechanism.outputs import run_mechanism_sensitivities
+    from .mechanism.sensitivities import MechanismSensitivities, mechanism_sensitivities
     from .objectives import Objective, parse_objective
     from .optimize import run_optimization
     from .outputs import run_sensitivities
@@ -53,6 +61,12 @@ _SOURCES = {
     "read_design": ".design_space",
     "DesignParameter": ".differentiable",
     "design_parameters": ".differentiable",
+    "MechanismDesign": ".mechanism.design_file",
+    "read_mechanism_design": ".mechanism.design_file",
+    "run_mechanism_optimization": ".mechanism.optimize",
+    "run_mechanism_sensitivities": ".mechanism.outputs",
+    "MechanismSensitivities": ".mechanism.sensitivities",
+    "mechanism_sensitivities": ".mechanism.sensitivities",
     "Objective": ".objectives",
     "parse_objective": ".objectives",
     "run_optimization": ".optimize",
@@ -68,14 +82,20 @@ __all__ = [
     "BUILT_IN",
     "DesignParameter",
     "DesignSpace",
+    "MechanismDesign",
+    "MechanismSensitivities",
     "Objective",
     "Optimum",
     "Sensitivities",
     "Sensitivity",
     "design_parameters",
     "design_sensitivities",
+    "mechanism_sensitivities",
     "parse_objective",
     "read_design",
+    "read_mechanism_design",
+    "run_mechanism_optimization",
+    "run_mechanism_sensitivities",
     "run_optimization",
     "run_sensitivities",
 ]

@@ -29,17 +29,13 @@ import numpy as np
 from ..device.loop import TRAVEL_SAMPLES, arm_travel, solve_loop, transmission_angle
 from ..device.parameters import FeederParameters
 from .design_space import DesignSpace
+from .epigraph import FEASIBLE
 
 ANGLE_SCALE = 10.0
 """[deg] An angle margin of this size counts as 1 for the optimiser (module docstring)."""
 
 LENGTH_SCALE = 0.1
 """[m] A length margin of this size counts as 1 for the optimiser (module docstring)."""
-
-FEASIBLE = 1e-8
-"""Largest scaled violation [-] of a constraint that still counts as met: 1e-9 m, 1e-7° or 1e-8
-of a limit (SLSQP meets its active constraints to ~1e-12 at convergence; a stroke of 0.51 m −
-0.21 m misses 0.30 m by 4e-17 m)."""
 
 
 @dataclass(frozen=True)

@@ -140,7 +140,8 @@ def _parameter(where: str, name: str, known: dict[str, DesignParameter]) -> Desi
     raise InputError(f"{where} names {name!r}, not a free parameter of the device: {why}{hint}")
 
 
-def _table(where: str, data: dict, key: str) -> dict:
+def table_of(where: str, data: dict, key: str) -> dict:
+    """The TOML table ``[key]`` of ``data`` (empty when absent); refused unless a table."""
     value = data.get(key, {})
     if not isinstance(value, dict):
         raise InputError(f"{where}: [{key}] must be a table, got {value!r}")
@@ -244,12 +245,12 @@ def design_space(text: str, device: FeederParameters, where: str = "the design")
     if unknown := sorted(set(data) - set(KEYS)):
         raise InputError(f"{where}: unknown table {unknown[0]!r}; a design has {', '.join(KEYS)}")
     known = _choices()
-    fixed = _table(where, data, "fixed")
+    fixed = table_of(where, data, "fixed")
     for name, value in fixed.items():
         parameter = _parameter(f"{where}: [fixed]", name, known)
         number = check_number(f"{where}: [fixed] {name} [{parameter.unit}]", value)
         device = parameter.changed(device, number)
-    entries = _table(where, data, "variables")
+    entries = table_of(where, data, "variables")
     if not entries:
         raise InputError(f"{where}: [variables] is empty: name at least one free parameter")
     variables = []
@@ -262,8 +263,8 @@ def design_space(text: str, device: FeederParameters, where: str = "the design")
         raise InputError(f"{where}: every variable is an end stop: no load would change")
     for variable in variables:
         device = variable.parameter.changed(device, variable.start)
-    band, margin, clearance, stroke = _constraints(where, _table(where, data, "constraints"))
-    limits = _limits(where, _table(where, data, "limits"))
+    band, margin, clearance, stroke = _constraints(where, table_of(where, data, "constraints"))
+    limits = _limits(where, table_of(where, data, "limits"))
     return DesignSpace(tuple(variables), device, band, margin, clearance, stroke, limits, text)
 
 
@@ -272,14 +273,22 @@ def read_design(path: str | Path | None, device: FeederParameters) -> DesignSpac
     (:func:`design_space`)."""
     if path is None:
         return design_space(BUILT_IN, device, "the built-in design")
+    return design_space(design_text(path), device, str(path))
+
+
+def design_text(path: str | Path) -> str:
+    """The text of the design file ``path`` (the device's or a mechanism's).
+
+    Raises:
+        InputError: It cannot be read, or is not text.
+    """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        return path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise InputError(f"cannot read the design file {path}: {exc.strerror or exc}") from exc
     except UnicodeDecodeError as exc:
         raise InputError(f"{path} is not a TOML design file: {exc}") from exc
-    return design_space(text, device, str(path))
 
 
 def with_values(space: DesignSpace, values) -> FeederParameters:

@@ -28,10 +28,12 @@ LEFT_OUT = {
 }
 """Length fields [m] that are not differentiated, with the reason."""
 
-SCALES = {"m": 0.1, "kg": 1.0}
+SCALES = {"m": 0.1, "kg": 1.0, "rad": 0.1, "-": 1.0}
 """The smallest magnitude [unit] a step is taken relative to (:func:`~.differences.step`): a
 length near zero (the offset c = −0.014 m, a position L2) is stepped as if it were 0.1 m, the
-size of the device's links, so that its step does not vanish with its value."""
+size of the device's links, so that its step does not vanish with its value. A mechanism's
+design variables (:mod:`feeder.design.mechanism`) also have angles of a joint's origin [rad],
+stepped as if at least 0.1 rad, and length scales [-], whose value 1 is their scale."""
 
 
 @dataclass(frozen=True)

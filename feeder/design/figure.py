@@ -1,6 +1,7 @@
 """The figure of a sensitivity study: a heat map of elasticities, peaks × parameters, one panel
-per scope (the one elevation, the envelope), after the house conventions of
-:mod:`feeder.viz.figures` (fixed margins, units in the labels, words for the quantities)."""
+per scope (the device's one elevation and envelope; a mechanism's motion tables), after the
+house conventions of :mod:`feeder.viz.figures` (fixed margins, units in the labels, words for
+the quantities)."""
 
 from __future__ import annotations
 
@@ -45,7 +46,10 @@ def _cell(scope: Scope, peak: str, parameter: str) -> tuple[float, str]:
 
 
 def sensitivity_figure(result: Sensitivities) -> Figure:
-    """The heat map of every scope's elasticities (module docstring)."""
+    """The heat map of every scope's elasticities (module docstring): of the device's
+    :class:`~feeder.design.sensitivities.Sensitivities` or a mechanism's
+    :class:`~feeder.design.mechanism.sensitivities.MechanismSensitivities` (each has a
+    ``title``, ``parameters`` and ``scopes`` of peaks and entries)."""
     names = [p.name for p in result.parameters]
     rows = max(len(scope.peaks) for scope in result.scopes)
     panels = len(result.scopes)
@@ -76,9 +80,9 @@ def sensitivity_figure(result: Sensitivities) -> Figure:
             label.set(rotation=50, ha="right", rotation_mode="anchor", fontsize=7.5)
         for label in ax.get_yticklabels():
             label.set_fontsize(7.5)
-        ax.set_title(f"{result.device} feeder, {scope.title}", pad=6, fontsize=10)
+        ax.set_title(f"{result.title}, {scope.title}", pad=6, fontsize=10)
     fig.suptitle(
-        "Elasticity of each peak load: % of the peak per % of the parameter "
+        "Elasticity of each peak load: % of the peak per % of the parameter\n"
         "(* not differentiable within the step; grey: unavailable or a zero peak)",
         fontsize=9,
         y=1.0 - 0.1 / height,

@@ -116,17 +116,19 @@ def check_inputs(
     return Setup(space, goal, scope, samples, starts, fingerprint)
 
 
-def _earlier(folder: OutputFolder, setup: Setup) -> list:
-    """The history of an earlier run of this problem in ``folder`` (resumed), or none."""
+def earlier_history(folder: OutputFolder, setup: Setup) -> list:
+    """The history of an earlier run of this problem in ``folder`` (resumed), or none; the
+    problem is told by ``setup.fingerprint`` (also a mechanism's setup,
+    :mod:`feeder.design.mechanism.optimize`)."""
     if HISTORY not in folder.previous:
         return []
     record = json.loads((folder.path / MANIFEST).read_text(encoding="utf-8"))
     path = folder.path / HISTORY
     if record.get("problem_sha256") != setup.fingerprint:
         raise InputError(
-            f"{folder.path} holds the history of another optimisation (another device, design, "
-            "objective, elevations, cases or timing): write to another folder, or delete "
-            f"{HISTORY} to start afresh"
+            f"{folder.path} holds the history of another optimisation (another device or model, "
+            "design, objective, elevations, motion tables, cases or timing): write to another "
+            f"folder, or delete {HISTORY} to start afresh"
         )
     if hashlib.sha256(path.read_bytes()).hexdigest() != folder.previous[HISTORY]:
         raise InputError(f"{path} changed since the run that wrote it: delete it to start afresh")
@@ -215,7 +217,7 @@ def run_optimization(
     folder = OutputFolder(out_dir, resumable=True)
     began = time.monotonic()
     with folder:
-        history = History([v.name for v in setup.space.variables], _earlier(folder, setup),
+        history = History([v.name for v in setup.space.variables], earlier_history(folder, setup),
                           save=lambda h: folder.put(HISTORY, h.write))  # fmt: skip
         folder.begin(_record(setup, command, "running", 0))
         search = None
@@ -225,7 +227,7 @@ def run_optimization(
                 search = Search(problem, history, progress)
                 found = search.run(setup.samples, setup.starts)
                 best, text = _written(problem, search.feasible())
-            optimum = _optimum(found, best, time.monotonic() - began)
+            optimum = found_optimum(found, best, time.monotonic() - began)
             result = None
             if sensitivities and best is not None:
                 result = _sensitivities(optimum, workers, scheduler, progress)
@@ -247,7 +249,7 @@ def _named(params: FeederParameters) -> FeederParameters:
     return replace(params, name=f"{params.name}_optimum")
 
 
-def _optimum(found: Found, best: Evaluation | None, seconds: float) -> Optimum:
+def found_optimum(found: Found, best: Evaluation | None, seconds: float) -> Optimum:
     """The :class:`~.report.Optimum` of a finished search; SLSQP's multipliers only when its
     last point is the optimum."""
     problem, result, point = found.problem, found.result, found.result_point

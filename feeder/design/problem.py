@@ -6,11 +6,9 @@ per objective term (the epigraph form below).
 
 **Objective and the peaks.** A term's peak is a maximum over quantities, elevations and cases
 (:mod:`~feeder.design.objectives`): not differentiable where the case that peaks changes. So the
-optimiser minimises Σ W_j t_j subject to t_j ≥ |peak of q in case c| / R_j for every quantity q
-of term j and every case c (R_j: the term's peak for the device as given): each case's peak is
-a constraint of its own, differentiable while its largest sample stays put, and the optimum
-balances the cases that bind (their multipliers say which). A ``[limits]`` entry L on a peak is
-likewise one constraint per case, 1 − |peak| / L ≥ 0.
+optimiser minimises it in the epigraph form of :mod:`~feeder.design.epigraph` (the cost, the
+scaling and one constraint per case and quantity, shared with a mechanism's problem). A
+``[limits]`` entry L on a peak is likewise one constraint per case, 1 − |peak| / L ≥ 0.
 
 **Derivatives.** The geometric constraints (:mod:`~feeder.design.constraints`) are closed forms,
 differentiated here by central differences. The peaks are differentiated by central differences
@@ -39,9 +37,16 @@ from ..exceptions import FeederError
 from ..motion.laws import CycleSpec
 from ..study.grid import SweepCase, Variant
 from ..study.sweep_table import Row
-from .constraints import FEASIBLE, geometry_constraints, geometry_margins, travel
+from .constraints import (
+    geometry_constraints,
+    geometry_margins,
+    geometry_met,
+    hugging_stops,
+    travel,
+)
 from .design_space import DesignSpace, with_values
 from .differences import step
+from .epigraph import FEASIBLE, Epigraph
 from .evaluations import run_evaluations
 from .objectives import Objective
 
@@ -131,7 +136,7 @@ def widened(p: FeederParameters) -> FeederParameters:
     )
 
 
-class Problem:
+class Problem(Epigraph):
     """The scaled problem (module docstring) and the cycles it has run.
 
     Args:
@@ -160,16 +165,6 @@ class Problem:
         self.cycles = 0
         self._cache: dict[bytes, Evaluation] = {}
         self._points = 0
-
-    # --- points -----------------------------------------------------------------------------
-    def physical(self, z: np.ndarray) -> np.ndarray:
-        """The variables [their units] of the scaled ``z`` (its first n entries)."""
-        n = len(self.lower)
-        return self.lower + np.asarray(z, dtype=float)[:n] * (self.upper - self.lower)
-
-    def scaled(self, x: np.ndarray) -> np.ndarray:
-        """The scaled variables of ``x`` [their units], (n,)."""
-        return (np.asarray(x, dtype=float) - self.lower) / (self.upper - self.lower)
 
     def evaluate(self, points: Sequence[np.ndarray]) -> list[Evaluation]:
         """Each point's :class:`Evaluation`, the new ones' cycles run in one batch."""
@@ -201,6 +196,18 @@ class Problem:
             )
         return [self._cache[x.tobytes()] for x in points]
 
+    def candidate(self, x: np.ndarray) -> np.ndarray | None:
+        """A global-start point from the sample ``x`` [the variables' units]: its end stops set
+        to the travel ± the clearance (:func:`~feeder.design.constraints.hugging_stops`), moved
+        to the nearest point that meets the geometric constraints
+        (:func:`~feeder.design.feasibility.nearest_feasible`); None when that misses them."""
+        from .feasibility import nearest_feasible  # scipy.optimize: not for the CLI's parser
+
+        params = hugging_stops(self.space, with_values(self.space, x))
+        x = nearest_feasible(self.space, [v.parameter.value(params) for v in self.space.variables],
+                             tolerance=FEASIBLE)  # fmt: skip
+        return x if geometry_met(self.space, with_values(self.space, x)) else None
+
     def evaluate_written(self, params: FeederParameters) -> Evaluation:
         """``params`` as its parameter file holds them, run as ``feeder sweep`` runs them (its
         own name, no widening)."""
@@ -213,15 +220,6 @@ class Problem:
         margins = geometry_margins(self.space, params)
         return Evaluation(x, params, margins, () if failed else tuple(rows), failed)
 
-    # --- values -----------------------------------------------------------------------------
-    def term_peaks(self, e: Evaluation) -> list[float]:
-        """Each objective term's peak [its unit]."""
-        return [max(e.peaks(q).max() for q in t.quantities) for t in self.objective.terms]
-
-    def objective_value(self, e: Evaluation) -> float:
-        """The objective at ``e`` [its unit]."""
-        return self.objective.value(self.term_peaks(e), self.references)
-
     def violations(self, e: Evaluation) -> np.ndarray:
         """The scaled margins of the real constraints (geometry, then each limit's worst case);
         ≥ 0 where met."""
@@ -229,36 +227,10 @@ class Problem:
         limits = [1.0 - e.peaks(q).max() / L for q, L in self.space.limits.items()]
         return np.concatenate([geometry, limits])
 
-    def max_violation(self, e: Evaluation) -> float:
-        """The largest scaled violation of a real constraint (0 when all are met) [-]."""
-        return float(max(0.0, -self.violations(e).min()))
-
-    def feasible(self, e: Evaluation) -> bool:
-        """Every real constraint met within :data:`FEASIBLE`, and the cycles ran."""
-        return not e.failure and self.max_violation(e) <= FEASIBLE
-
-    # --- the SLSQP form ---------------------------------------------------------------------
-    def start(self, e: Evaluation) -> np.ndarray:
-        """z at the point ``e``: its scaled variables and t at the terms' peaks."""
-        peaks = self.term_peaks(e)
-        return np.concatenate([self.scaled(e.x), np.divide(peaks, self.references)])
-
-    def cost(self, z: np.ndarray) -> float:
-        """Σ W_j t_j [-]."""
-        return float(np.dot(self._weights(), z[len(self.lower) :]))
-
-    def cost_gradient(self, z: np.ndarray) -> np.ndarray:
-        """d cost / dz, (n + m,)."""
-        return np.concatenate([np.zeros(len(self.lower)), self._weights()])
-
-    def _weights(self) -> np.ndarray:
-        return np.array([term.weight for term in self.objective.terms])
-
     def _dynamic(self, e: Evaluation, t: np.ndarray) -> np.ndarray:
         """The per-case limit constraints, then the epigraph ones (module docstring)."""
         parts = [1.0 - e.peaks(q) / L for q, L in self.space.limits.items()]
-        for j, term in enumerate(self.objective.terms):
-            parts += [t[j] - e.peaks(q) / self.references[j] for q in term.quantities]
+        parts += self.epigraph_rows(e, t)
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def constraint_names(self) -> list[str]:

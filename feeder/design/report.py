@@ -77,7 +77,7 @@ class Optimum:
         return math.nan if e is None else self.problem.objective_value(e)
 
 
-def _change(before: float, after: float) -> str:
+def change_percent(before: float, after: float) -> str:
     if before == 0.0 or not (math.isfinite(before) and math.isfinite(after)):
         return ""
     return repr(float(100.0 * (after - before) / abs(before)))
@@ -96,21 +96,29 @@ def _multiplier_factor(opt: Optimum) -> float:
     return 1.0 if opt.objective.weighted else opt.problem.references[0]
 
 
+def variable_rows(opt: Optimum) -> list[list[str]]:
+    """The ``variable`` rows of ``optimum.csv`` (the device's and a mechanism's): each variable
+    before and after [its unit], its bounds, and the bound it ends on."""
+    rows, before, after = [], opt.reference, opt.best
+    for k, v in enumerate(opt.problem.space.variables):
+        end = math.nan if after is None else float(after.x[k])
+        z = (end - v.lower) / (v.upper - v.lower)
+        active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
+        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
+                     change_percent(before.x[k], end), cell(v.lower), cell(v.upper), active,
+                     "", "", v.parameter.meaning])  # fmt: skip
+    return rows
+
+
 def optimum_rows(opt: Optimum) -> list[list[str]]:
     """``optimum.csv``: the header :data:`COLUMNS`, then its rows (module docstring)."""
     p, before, after = opt.problem, opt.reference, opt.best
     unit = opt.objective.unit
     rows = [list(COLUMNS)]
     value = (opt.value(before), opt.value(after))
-    rows.append(["objective", opt.objective.text, unit, *map(cell, value), _change(*value),
+    rows.append(["objective", opt.objective.text, unit, *map(cell, value), change_percent(*value),
                  "", "", "", "", "", " or ".join(opt.objective.quantities())])  # fmt: skip
-    for k, v in enumerate(p.space.variables):
-        end = math.nan if after is None else float(after.x[k])
-        z = (end - v.lower) / (v.upper - v.lower)
-        active = "lower" if z <= ACTIVE else "upper" if z >= 1.0 - ACTIVE else ""
-        rows.append(["variable", v.name, v.unit, cell(before.x[k]), cell(end),
-                     _change(before.x[k], end), cell(v.lower), cell(v.upper), active,
-                     "", "", v.parameter.meaning])  # fmt: skip
+    rows += variable_rows(opt)
     factor = _multiplier_factor(opt)
     for k, c in enumerate(p.geometry):
         margin = math.nan if after is None else float(after.margins[k])
@@ -129,11 +137,11 @@ def optimum_rows(opt: Optimum) -> list[list[str]]:
                      f"peak {q} ≤ {limit:g} {UNITS[q]}"])  # fmt: skip
     for name, (quantity, case, share) in binding(opt).items():
         peaks = [_case_peak(e, quantity, case) for e in (before, after)]
-        rows.append(["binding", name, UNITS[quantity], *map(cell, peaks), _change(*peaks),
+        rows.append(["binding", name, UNITS[quantity], *map(cell, peaks), change_percent(*peaks),
                      "", "", "1", cell(share), "-", "sets the objective"])  # fmt: skip
     for q in QUANTITIES:
         peaks = [signed_peak(e, q) for e in (before, after)]
-        rows.append(["peak", q, UNITS[q], *map(cell, peaks), _change(*peaks),
+        rows.append(["peak", q, UNITS[q], *map(cell, peaks), change_percent(*peaks),
                      "", "", "", "", "", ""])  # fmt: skip
     return rows
 
@@ -163,6 +171,30 @@ def binding(opt: Optimum) -> dict[str, tuple[str, int, float]]:
     return found
 
 
+def result_lines(rows: list[list[str]]) -> list[str]:
+    """The summary's lines of the rows of ``optimum.csv`` (the device's and a mechanism's): the
+    variables before → after, the active constraints with their multipliers, the binding
+    cases."""
+    lines = ["Variables:"]
+    for row in (r for r in rows if r[0] == "variable"):
+        bound = f" (at its {row[8]} bound)" if row[8] else ""
+        end = f"{float(row[4]):.6g}" if row[4] else "–"
+        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
+    active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
+    lines.append(
+        "Active constraints (multiplier: the objective's fall per unit the constraint were "
+        "relaxed):"
+        if active
+        else "Active constraints: none"
+    )
+    for row in active:
+        multiplier = f"{float(row[9]):.4g} {row[10]}" if row[9] else "no multiplier"
+        lines.append(f"  {row[1]} ({row[11]}): margin {float(row[4]):.3g} {row[2]}, {multiplier}")
+    for row in (r for r in rows if r[0] == "binding"):
+        lines.append(f"  binding case: {row[1]}, multiplier {float(row[9]):.4g}")
+    return lines
+
+
 def summary(opt: Optimum, elevations: str) -> str:
     """The summary printed and written to ``summary.txt``."""
     p = opt.problem
@@ -183,23 +215,7 @@ def summary(opt: Optimum, elevations: str) -> str:
         ),
     ]
     rows = optimum_rows(opt)[1:]
-    lines.append("Variables:")
-    for row in (r for r in rows if r[0] == "variable"):
-        bound = f" (at its {row[8]} bound)" if row[8] else ""
-        end = f"{float(row[4]):.6g}" if row[4] else "–"
-        lines.append(f"  {row[1]} = {float(row[3]):.6g} → {end} {row[2]}{bound}")
-    active = [r for r in rows if r[0] == "constraint" and r[8] == "1"]
-    lines.append(
-        "Active constraints (multiplier: the objective's fall per unit the constraint were "
-        "relaxed):"
-        if active
-        else "Active constraints: none"
-    )
-    for row in active:
-        multiplier = f"{float(row[9]):.4g} {row[10]}" if row[9] else "no multiplier"
-        lines.append(f"  {row[1]} ({row[11]}): margin {float(row[4]):.3g} {row[2]}, {multiplier}")
-    for row in (r for r in rows if r[0] == "binding"):
-        lines.append(f"  binding case: {row[1]}, multiplier {float(row[9]):.4g}")
+    lines += result_lines(rows)
     lines += [*opt.messages]
     lines.append(f"{len(p.space.variables)} variables, {p.cycles} cycles in {opt.seconds:.1f} s.")
     return "\n".join(lines)

@@ -4,9 +4,9 @@
    reference values, the "before" of every table.
 2. **Global start.** The peaks may have several local minima over the bounds, so a
    Latin-hypercube sample (``scipy.stats.qmc.LatinHypercube``, seeded: the same sample every
-   run) of the variables that loads depend on is drawn, each point's end stops set to the travel
-   ± the clearance (:func:`~feeder.design.constraints.hugging_stops`). The geometric
-   constraints cost no cycle: only the points that meet them are run, one after another.
+   run) of the variables that loads depend on is drawn, and each point made a candidate by the
+   problem (``candidate``: the device's moves it to its geometric constraints, which cost no
+   cycle, and drops it if none is met); the candidates are run one after another.
 3. **Local search.** ``scipy.optimize.minimize(method="SLSQP")`` on the problem of
    :mod:`~feeder.design.problem`, from the best feasible point so far (or the least infeasible
    one), then again from the next-best for each further start asked. Each iterate is a row of
@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.optimize import OptimizeResult, minimize
@@ -28,9 +29,6 @@ from scipy.stats import qmc
 from tqdm import tqdm
 
 from ..exceptions import InputError
-from .constraints import FEASIBLE, geometry_met, hugging_stops
-from .design_space import with_values
-from .feasibility import nearest_feasible
 from .history import History
 from .problem import Evaluation, EvaluationFailed, Problem
 
@@ -76,7 +74,7 @@ class Search:
         progress: Progress bars on a terminal.
     """
 
-    def __init__(self, problem: Problem, history: History, progress: bool = True):
+    def __init__(self, problem: Problem | Any, history: History, progress: bool = True):
         self.problem, self.history = problem, history
         self.quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
         self.began = time.monotonic()
@@ -113,12 +111,12 @@ class Search:
         start = np.array([v.start for v in p.space.variables])
         (e,) = p.evaluate([start])
         if e.failure:
-            raise InputError(f"the device as given (the variables' starts) fails: {e.failure}")
+            raise InputError(f"{p.given} (the variables' starts) fails: {e.failure}")
         for term, peak in zip(p.objective.terms, p.term_peaks(e), strict=True):
             if not peak > 0.0:
                 raise InputError(
-                    f"the objective's peak {term.name} is zero for the device as given over "
-                    "these elevations and cases: there is nothing to minimise"
+                    f"the objective's peak {term.name} is zero for {p.given} over its cases: "
+                    "there is nothing to minimise"
                 )
         p.references = p.term_peaks(e)
         self.record("reference", e)
@@ -137,12 +135,9 @@ class Search:
         for row in unit:
             x = np.array([v.start for v in p.space.variables])
             x[p.loads] = p.lower[p.loads] + row * (p.upper[p.loads] - p.lower[p.loads])
-            params = hugging_stops(p.space, with_values(p.space, x))
-            x = nearest_feasible(p.space, [v.parameter.value(params) for v in p.space.variables],
-                                 tolerance=FEASIBLE)  # fmt: skip
-            z = p.scaled(x)
-            met = geometry_met(p.space, with_values(p.space, x))
-            if met and all(np.abs(z - p.scaled(y)).max() > DISTINCT for y in candidates):
+            x = p.candidate(x)
+            z = None if x is None else p.scaled(x)
+            if z is not None and all(np.abs(z - p.scaled(y)).max() > DISTINCT for y in candidates):
                 candidates.append(x)
         candidates = [x for x in candidates if x.tobytes() not in done]
         with tqdm(candidates, desc="global start", unit="point", disable=self.quiet) as bar:

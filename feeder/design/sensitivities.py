@@ -165,6 +165,11 @@ class Sensitivities:
     cycles: int
     seconds: float
 
+    @property
+    def title(self) -> str:
+        """What the figure's panels are titled with: ``projectile feeder``."""
+        return f"{self.device} feeder"
+
 
 def check_inputs(
     params: FeederParameters,

@@ -115,7 +115,7 @@ def shown(value: float, unit: str, form: str = ".4g") -> str:
     return f"{_signed(value * factor, form)} {unit_shown}".rstrip()
 
 
-def _top(scope: Scope, peak: str, names: list[str]) -> str:
+def top_elasticities(scope: Scope, peak: str, names: list[str]) -> str:
     entries = [scope.entries[(peak, n)] for n in names]
     ranked = sorted(
         (e for e in entries if math.isfinite(e.elasticity)), key=lambda e: -abs(e.elasticity)
@@ -163,13 +163,13 @@ def summary(result: Sensitivities) -> str:
             )
             lines.append(
                 f"  {words(peak.name):<{width}}  {shown(peak.value, peak.unit)} "
-                f"({where}t = {peak.time:g} s): {_top(scope, peak.name, names)}"
+                f"({where}t = {peak.time:g} s): {top_elasticities(scope, peak.name, names)}"
             )
-        lines += _flags(scope)
+        lines += flag_lines(scope)
     return "\n".join(lines)
 
 
-def _flags(scope: Scope) -> list[str]:
+def flag_lines(scope: Scope) -> list[str]:
     entries = list(scope.entries.values())
     kinks = [e for e in entries if e.status == "kink"]
     moved = [e for e in entries if e.moved and e.status == "ok"]
