@@ -66,23 +66,22 @@ def urdf(n: int) -> str:
 
 def mechanism(n: int) -> str:
     """The mechanism file of the N-four-bar (module docstring): its closures, the start pose
-    (rockers vertical, couplers horizontal); the first rocker is the independent joint, and
-    (until a run may be passive) the actuated one, which the run leaves undriven."""
+    (rockers vertical, couplers horizontal) and its rates (the first rocker's −1 rad/s: B0 at
+    1 m/s along +x); the first rocker is the independent joint, and nothing is actuated."""
     pose = ", ".join([f"r{i} = {HALF_PI}" for i in range(n + 1)] + [
         f"c{i} = -{HALF_PI}" for i in range(1, n + 1)
     ])  # fmt: skip
     lines = [
         f"# IFToMM A02, the N-four-bar with N = {n} (examples/iftomm/n_four_bar.py wrote it;",
         "# see README.md). Start: every rocker vertical, B0 moving at 1 m/s along +x, the",
-        "# first rocker's rate −1 rad/s: the rates line below, commented out until the",
-        "# mechanism reader takes initial rates (the tests start it through the API).",
+        "# first rocker's rate −1 rad/s; nothing drives it (a passive run).",
         "[mechanism]",
         f'urdf = "n_four_bar_{n}.urdf"',
-        'actuated = ["r0"]',
+        "actuated = []",
         'independent = ["r0"]',
         "gravity = [0.0, -9.81, 0.0]      # [m/s²]",
         f"pose = {{ {pose} }}",
-        "# rates = { r0 = -1.0 }          # [rad/s]",
+        "rates = { r0 = -1.0 }            # [rad/s]",
         "",
     ]
     for i in range(1, n + 1):

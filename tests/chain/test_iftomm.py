@@ -4,8 +4,9 @@ functions); A02, the N-four-bar, against the one equation of its crank angle tha
 parallelogram leaves (integrated by SciPy alone), through every flat pose where the closure loses
 N of its rank. The accuracy asked by the benchmark ("high") is 1e-3 [m, m/s, N].
 
-The mechanism files cannot carry an initial rate yet (``rates`` in ``[mechanism]``): the N-four-bar
-is started through the API with the benchmark's rate, built by Partition.velocity.
+The N-four-bar starts from its mechanism file's rate (``rates = { r0 = -1.0 }``), as
+``feeder simulate`` runs it; the tests check that this is the benchmark's start (B0 at 1 m/s along
++x, the other joints' rates closed by Partition.velocity).
 """
 
 from __future__ import annotations
@@ -17,8 +18,10 @@ import pytest
 import scipy.integrate
 import scipy.special
 
-from feeder.chain import ChainDynamics, Partition, simulate
+from feeder.chain import Partition
+from feeder.cli import main
 from feeder.study.analyze import mount_mechanism
+from feeder.study.csv import read_csv
 from feeder.study.simulate import simulate_mechanism
 
 from ..conftest import REPO
@@ -73,10 +76,16 @@ def _four_bar_reference(n: int, t: np.ndarray):
 
 
 def _four_bar_run(n: int, duration: float, rtol: float):
-    spec, chain, _, _, q0 = mount_mechanism(FOLDER / f"n_four_bar_{n}.toml", None, None)
+    """The run ``feeder simulate`` makes of the N-four-bar's files (the start rate theirs),
+    after checking that start against the benchmark's, built here by Partition.velocity."""
+    path = FOLDER / f"n_four_bar_{n}.toml"
+    simulation = simulate_mechanism(
+        path, duration, samples=int(round(duration * 100)) + 1, rtol=rtol, atol=rtol * 1e-2
+    )
+    run, chain = simulation.run, simulation.chain
+    spec, _, _, _, q0 = mount_mechanism(path, None, None)
     v0 = Partition(chain, spec.independent).velocity(q0, np.array([-1.0]))
-    t = np.linspace(0.0, duration, int(round(duration * 100)) + 1)
-    run = simulate(ChainDynamics(chain, spec.actuated), t, q0, v0, rtol=rtol, atol=rtol * 1e-2)
+    np.testing.assert_allclose(run.v[0], v0, rtol=0.0, atol=1e-12)  # round-off of the closure
     joint = chain.model.joints[chain.model.getJointId("r0")]
     return run, run.q[:, joint.idx_q : joint.idx_q + 2], run.v[:, joint.idx_v]
 
@@ -105,3 +114,37 @@ def test_a02_the_n_four_bar_passes_every_flat_pose_on_its_parallelogram(n, durat
         assert (singular.rank_before, singular.rank_at, singular.rank_after) == (2 * n, n, 2 * n)
     # no force acts but gravity: the energy is kept (measured 3.7e-6 J of ~50 J over 20 s)
     assert run.energy_error() <= 1e-5 * run.kinetic.max()
+
+
+def test_a02_as_the_readme_runs_it(tmp_path, capsys):
+    """The README's command (over 4 s: four flat poses) from the files alone: states.csv's crank
+    follows the 1-DOF reference as the API's run does, and the summary lists every pass."""
+    out = tmp_path / "a02"
+    status = main(
+        [
+            "simulate",
+            str(FOLDER / "n_four_bar_2.urdf"),
+            "--closures",
+            str(FOLDER / "n_four_bar_2.toml"),
+            "--duration",
+            "4",
+            "--samples",
+            "401",
+            "--rtol",
+            "1e-10",
+            "--atol",
+            "1e-12",
+            "--no-figures",
+            "--out",
+            str(out),
+        ]
+    )
+    assert status == 0, capsys.readouterr().err
+    columns = read_csv(out / "states.csv")
+    theta, _, flats = _four_bar_reference(2, columns["t"])
+    # the same accuracy as the API's run above (it is the same run): the benchmark's 1e-3
+    assert np.abs(np.cos(columns["q_r0"]) - np.cos(theta)).max() <= HIGH
+    assert np.abs(np.sin(columns["q_r0"]) - np.sin(theta)).max() <= HIGH
+    summary = (out / "summary.txt").read_text(encoding="utf-8")
+    assert f"singular positions passed: {flats.size}" in summary
+    assert flats.size == 4
