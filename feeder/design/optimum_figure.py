@@ -57,10 +57,17 @@ def optimum_figure(opt: Optimum) -> Figure:
         ax.set_title(f"{device} feeder: {term.name} ({quantities})", fontsize=10)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    before, after = opt.value(opt.reference), opt.value(opt.best)
-    factor, unit = display_unit(p.objective.unit)
-    change = f" → {after * factor:.4g} {unit} ({100.0 * (after - before) / before:+.1f} %)"
-    title = f"{p.objective.text}: {before * factor:.4g} {unit}" + (change if opt.best else "")
-    fig.suptitle(f"{title}; {opt.status}".replace("-", "−"), fontsize=9)
+    fig.suptitle(objective_title(opt, p.objective.unit), fontsize=9)
     finish(fig, left=0.9, right=0.2, bottom=0.6, top=0.75, hspace=0.9)
     return fig
+
+
+def objective_title(opt: Optimum, unit: str) -> str:
+    """The figure's title: the objective as given → at the optimum [``unit``, SI], and the run's
+    status."""
+    p = opt.problem
+    before, after = opt.value(opt.reference), opt.value(opt.best)
+    factor, unit = display_unit(unit)
+    change = f" → {after * factor:.4g} {unit} ({100.0 * (after - before) / before:+.1f} %)"
+    title = f"{p.objective.text}: {before * factor:.4g} {unit}" + (change if opt.best else "")
+    return f"{title}; {opt.status}".replace("-", "−")

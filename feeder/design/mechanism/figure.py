@@ -9,6 +9,7 @@ from matplotlib.figure import Figure
 
 from ...viz.catalog import display_unit
 from ...viz.figures import finish
+from ..optimum_figure import objective_title
 from ..report import Optimum
 
 PANEL = (6.5, 3.2)
@@ -36,6 +37,8 @@ def mechanism_optimum_figure(opt: Optimum) -> Figure:
         ax.set_title(f"{p.mechanism.model.stem}: {quantity}", fontsize=10)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    fig.suptitle(f"{p.objective.text}; {opt.status}".replace("-", "−"), fontsize=9)
+    terms = p.objective.terms
+    unit = "" if p.objective.weighted else opt.reference.run.units[terms[0].quantities[0]]
+    fig.suptitle(objective_title(opt, unit), fontsize=9)
     finish(fig, left=0.9, right=0.2, bottom=0.6, top=0.75, hspace=0.9)
     return fig
