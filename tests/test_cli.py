@@ -650,6 +650,7 @@ def test_analyze_check_is_a_gate_for_scripts(tmp_path, capsys):
     assert "with independent ['rocker_joint']: the closure does not determine" in captured.out
     (error,) = [line for line in captured.err.splitlines() if "error" in line]
     assert error.startswith("feeder: error: the independent joints ['rocker_joint'] cannot drive")
+    assert "mount from one nearer it with --pose FILE" in error  # what to do about it
     with pytest.raises(SystemExit):
         main(["analyze", "--help"])
     assert "exit status 0 when the independent joints drive" in " ".join(

@@ -63,7 +63,9 @@ def run(args: argparse.Namespace) -> int:
             raise SingularPoseError(
                 f"the independent joints {list(check.report.independent)} cannot drive the "
                 "mechanism at its assembled pose (the report above says why): feeder analyze "
-                "would refuse the motion"
+                "would refuse the motion; if that pose is not the assembly you mean (a singular "
+                "one: a collapsed or folded branch), mount from one nearer it with --pose FILE "
+                "(joint,value rows) or a TOML file's pose = {...}"
             )
         return 0
     if args.motion is None or args.out is None:

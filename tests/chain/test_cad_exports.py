@@ -227,6 +227,25 @@ def test_an_override_of_an_unknown_joint_is_refused(tmp_path):
         load_mechanism(read_spec(tmp_path / "robot.yaml"))
 
 
+@pytest.mark.filterwarnings("ignore::feeder.exceptions.FeederWarning")
+def test_an_override_of_a_misspelt_joint_names_the_nearest(tmp_path):
+    """The collection's disney_robot names 'left_spherical_free_foot' in its side-file while its
+    URDF spells the joint 'left_sĥerical_free_foot': the refusal points at the spelling."""
+    text = (CAD / "5bar_linkage" / "robot.urdf").read_text()
+    assert text.count('<joint name="free1"') == 1
+    (tmp_path / "robot.urdf").write_text(
+        text.replace('<joint name="free1"', '<joint name="frĥe1"')
+    )
+    (tmp_path / "robot.yaml").write_text(
+        "closed_loop: [['closedloop1_A', 'closedloop1_B']]\nname_mot: [mot1, mot2]\n"
+        "joint_name: [free1]\njoint_type: [SPHERICAL]\n"
+    )
+    with pytest.raises(
+        InputError, match="'free1' is not a joint of the model; did you mean 'frĥe1'"
+    ):
+        load_mechanism(read_spec(tmp_path / "robot.yaml"))
+
+
 def test_a_loop_that_cannot_close_is_named_with_its_gap(tmp_path):
     """The 5-bar's cut frames paired with the base frame instead: the mount names the loop."""
     (tmp_path / "robot.urdf").write_text((CAD / "5bar_linkage" / "robot.urdf").read_text())
@@ -241,8 +260,11 @@ def test_a_loop_that_cannot_close_is_named_with_its_gap(tmp_path):
         chain = load_mechanism(spec)
     with pytest.raises(
         UnreachablePoseError, match=r"loop 'closedloop1_A-universe': gap [0-9.]+ m"
-    ):
+    ) as refusal:
         Partition(chain, spec.independent).mount(pin.neutral(chain.model))
+    assert "A loop that does not close even alone has frames its joints cannot" in str(
+        refusal.value
+    )  # what to do: the collection's kangaroo legs have loops 5 mm and 4 cm short alone
 
 
 def test_motion_columns_land_on_the_joints_they_name():

@@ -134,7 +134,10 @@ def not_mounted(norm: float, gaps: Sequence[str]) -> UnreachablePoseError:
     """A mount that does not close the loops; ``gaps``: each loop's line."""
     return UnreachablePoseError(
         f"the loops do not close from the reference pose (residual {norm:.3e} after the "
-        f"mount): {'; '.join(gaps)}"
+        f"mount): {'; '.join(gaps)}. A loop that does not close even alone has frames its "
+        "joints cannot bring together: check them in the model (an export's slip) and the "
+        "side-file's pair and type; if every loop closes alone, a pose nearer the assembly "
+        "(--pose) may close them together"
     )
 
 

@@ -20,6 +20,7 @@ are those of its new type (none, or a unit quaternion).
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Mapping
 
 import numpy as np
@@ -71,10 +72,10 @@ def replace_joints(model: pin.Model, types: Mapping[str, str], source: str) -> p
         return model
     for name, kind in types.items():
         if not model.existJointName(name):
-            raise InputError(
-                f"{source}: joint_name {name!r} is not a joint of the model; joints: "
-                f"{list(model.names)[1:]}"
-            )
+            names = list(model.names)[1:]
+            near = difflib.get_close_matches(name, names, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else f"joints: {names}"
+            raise InputError(f"{source}: joint_name {name!r} is not a joint of the model; {hint}")
         joint_model(kind)
     new = pin.Model()
     new.name, new.gravity = model.name, model.gravity
