@@ -203,7 +203,16 @@ def test_write_needs_the_with_block(tmp_path):
 
 @pytest.mark.parametrize(
     "files",
-    [{"../escape": None}, {"sub/a": None}, {MANIFEST: None}, {"..": None}, {"": None}, "abc", []],
+    [
+        {"../escape": None},
+        {"sub/../a": None},
+        {"/abs": None},
+        {MANIFEST: None},
+        {"..": None},
+        {"": None},
+        "abc",
+        [],
+    ],
 )
 def test_a_manifest_that_points_outside_is_refused(tmp_path, files):
     (tmp_path / MANIFEST).write_text(json.dumps({"files": files}))

@@ -376,9 +376,14 @@ def _optimized(args: argparse.Namespace, optimise) -> int:
 
 
 def _printed(summary: str, paths) -> int:
-    """Print ``summary`` and the files written (``paths``); 0, the exit status."""
+    """Print ``summary`` and the files written (``paths``, the first in the output folder, a
+    subfolder's counted: ``meshes/ (3 files)``); 0, the exit status."""
     print(summary, end="")
-    print(f"wrote {', '.join(path.name for path in paths)} in {paths[0].parent}")
+    folder = paths[0].parent
+    names = [path.name for path in paths if path.parent == folder]
+    inner = [path.relative_to(folder).parts[0] for path in paths if path.parent != folder]
+    names += [f"{name}/ ({inner.count(name)} files)" for name in dict.fromkeys(inner)]
+    print(f"wrote {', '.join(names)} in {folder}")
     return 0
 
 

@@ -8,6 +8,9 @@ An output folder (:class:`OutputFolder`) holds the outputs of one run:
 * For the run it is created and locked: a second run on the same folder is refused at once. A
   run that fails or is interrupted removes the folder if it created it (a resumable run, the
   sweep, keeps what it wrote, for the next run to resume).
+* An output is a file of the folder, or of a subfolder inside it (``meshes/part.stl``: file
+  names joined by ``/``, never ``..``, nor a link leading out), which the run creates and
+  removes with its last file.
 * The manifest :data:`MANIFEST` says which command, feeder version and parameters made the
   outputs, when, and the SHA-256 of each output. It is written first marked incomplete (listing
   the previous run's files with their hashes), updated as each output lands, and marked complete
@@ -35,7 +38,7 @@ from pathlib import Path
 
 from ..exceptions import FeederWarning, InputError
 from ..validation import check_path
-from .atomic import is_plain_name, path_in, write_text
+from .atomic import is_plain_name, write_text
 from .lock import exclusive_lock
 
 MANIFEST = "feeder-run.json"
@@ -144,12 +147,13 @@ class OutputFolder:
         incomplete manifest; returns its path.
 
         Raises:
-            InputError: Not begun, a name that is not a file name, or a file that cannot be
-                written.
+            InputError: Not begun, a name that is not a file name (or ``/``-separated file
+                names: a file in a subfolder, created here, which must lie inside this folder),
+                or a file that cannot be written.
         """
         if self._manifest is None or self._lock is None:
             raise InputError(f"begin the run in the output folder {self.path} before writing")
-        path = path_in(self.path, name, "the output")
+        path = self._output_path(name)
         if name in (MANIFEST, LOCK):
             raise InputError(f"the output {name!r} is the output folder's own file: rename it")
         self._tried.add(name)  # removed after a failure even if written but not yet recorded
@@ -171,8 +175,11 @@ class OutputFolder:
             path = self.path / name
             if name in self._files or not path.is_file():
                 continue
+            if not path.resolve().is_relative_to(self.path.resolve()):
+                continue  # a link made since leads out of the folder: not this run's to remove
             if recorded is not None and _sha256(path) == recorded:
                 path.unlink(missing_ok=True)
+                self._prune(name)
             else:
                 warnings.warn(
                     f"kept {path}: an earlier run's manifest lists it, but not with its present "
@@ -181,6 +188,31 @@ class OutputFolder:
                     stacklevel=2,
                 )
         self.previous = dict(self._files)  # for a second write in the same block
+
+    def _output_path(self, name: str) -> Path:
+        """The path of the output ``name``: a file name, or file names joined by ``/`` (its
+        subfolders created, each a folder inside this one, not a link leading out of it)."""
+        if not _is_output_name(name):
+            raise InputError(f"the output {name!r} is not a file name in {self.path}: rename it")
+        path = self.path / name
+        if "/" in name:
+            try:
+                path.parent.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise InputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+            if not path.parent.resolve().is_relative_to(self.path.resolve()):
+                raise InputError(f"the output {name!r} would lie outside {self.path}: not written")
+        return path
+
+    def _prune(self, name: str) -> None:
+        """Remove the subfolders of the output ``name`` (removed) that are now empty."""
+        for parent in (self.path / name).parents:
+            if parent == self.path or not parent.is_relative_to(self.path):
+                return
+            try:
+                parent.rmdir()
+            except OSError:
+                return  # not empty (or gone): its parents are not empty either
 
     def _previous_files(self) -> dict[str, str | None]:
         """The outputs an earlier run listed in this folder's manifest, with their SHA-256
@@ -226,11 +258,18 @@ class OutputFolder:
             return
         for name in [*self._tried, MANIFEST]:
             (self.path / name).unlink(missing_ok=True)
+            self._prune(name)
         try:
             self.path.rmdir()
         except OSError:
             pass  # something else was put there meanwhile: leave it
         self._created = False
+
+
+def _is_output_name(name: object) -> bool:
+    """Whether ``name`` names a file in an output folder: a plain file name, or plain names
+    joined by ``/`` (a file in a subfolder; no ``..``, no absolute path)."""
+    return isinstance(name, str) and all(is_plain_name(part) for part in name.split("/"))
 
 
 def verified_output(folder: str | Path, name: str) -> Path:
@@ -272,7 +311,7 @@ def verified_output(folder: str | Path, name: str) -> Path:
 
 def _read_manifest(manifest: Path, what: str, remedy: str) -> dict[str, object]:
     """The manifest ``manifest`` of ``what`` (a folder, for messages), checked: a JSON object
-    whose ``files`` map plain file names in its folder to SHA-256 texts (or None).
+    whose ``files`` map output names (:func:`_is_output_name`) to SHA-256 texts (or None).
 
     Raises:
         InputError: Anything else, with ``remedy``.
@@ -288,7 +327,7 @@ def _read_manifest(manifest: Path, what: str, remedy: str) -> dict[str, object]:
         raise InputError(
             f"{what} has a {MANIFEST} that is not a feeder manifest ({exc}): {remedy}"
         ) from exc
-    if not all(is_plain_name(name) and name not in (MANIFEST, LOCK) for name in files):
+    if not all(_is_output_name(name) and name not in (MANIFEST, LOCK) for name in files):
         raise InputError(
             f"the manifest {manifest} lists files outside its folder: {list(files)}; {remedy}"
         )

@@ -11,7 +11,8 @@ MODEL --closures F --design D --motion M``).
   sensitivities and their files;
 * :mod:`~feeder.design.mechanism.problem` — the problem in SLSQP's epigraph form;
 * :mod:`~feeder.design.mechanism.report`, :mod:`~feeder.design.mechanism.figure`,
-  :mod:`~feeder.design.mechanism.optimize` — the optimisation's files.
+  :mod:`~feeder.design.mechanism.optimize` — the optimisation's files;
+* :mod:`~feeder.design.mechanism.meshes` — the model's mesh files copied beside the optimum.
 
 The device's modules supply what the two share: the differences and their check, the epigraph
 form, the search and its history, the tables and the heat map. Its public names are

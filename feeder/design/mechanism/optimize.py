@@ -9,7 +9,8 @@ run on the same folder resumes, Ctrl-C writing the best feasible point so far, s
 :mod:`~feeder.design.mechanism.problem`.
 
 Files: :data:`MODEL_FILE` and :data:`MECHANISM_FILE` (the optimum as a URDF and the mechanism
-file naming it, which ``feeder analyze`` and the other commands read), ``optimum.csv`` and
+file naming it, which ``feeder analyze`` and the other commands read), the model's mesh files
+copied into ``meshes/`` for them (:mod:`~feeder.design.mechanism.meshes`), ``optimum.csv`` and
 ``summary.txt`` (:mod:`~feeder.design.mechanism.report`), ``history.csv``, ``optimum.png``
 (:mod:`~feeder.design.mechanism.figure`), ``report.html`` (the summary, the table and the
 figure on one static page) and the manifest. The optimum's peaks are those of the written
@@ -38,6 +39,7 @@ from ..tables import write_rows
 from .design_file import MechanismDesign
 from .evaluation import Mechanism, PointCase, run_point
 from .inputs import MechanismInputs, check_inputs
+from .meshes import MESH_FOLDER, MESH_LIMIT, MeshCopies, mesh_copies
 from .problem import MechanismEvaluation, MechanismProblem
 from .report import optimum_rows, summary
 
@@ -56,11 +58,13 @@ class MechanismSetup:
         inputs: The design, the mechanism's files, the run at the starts.
         space: The design (the name the device's history check reads).
         fingerprint: SHA-256 of the files' contents.
+        meshes: The model's mesh files to copy beside the optimum.
     """
 
     inputs: MechanismInputs
     space: MechanismDesign
     fingerprint: str
+    meshes: MeshCopies
 
 
 def mechanism_text(closures: Path, urdf_name: str) -> str:
@@ -74,48 +78,46 @@ def mechanism_text(closures: Path, urdf_name: str) -> str:
     return _MODEL_KEY.sub(lambda m: f'{m.group(1)}"{urdf_name}"', text)
 
 
-def check_setup(model, closures, design, motions) -> MechanismSetup:
+def check_setup(model, closures, design, motions, mesh_limit: int = MESH_LIMIT) -> MechanismSetup:
     """Every input checked (:func:`~.inputs.check_inputs`, and what writing the optimum needs)
     before any folder is made.
 
     Raises:
         InputError: As :func:`~.inputs.check_inputs`; a mechanism file that is not TOML or
-            does not name its model in one ``urdf =`` line; a model that names meshes (they
-            would not be beside the written model).
+            does not name its model in one ``urdf =`` line; mesh files totalling more than
+            ``mesh_limit`` bytes (:func:`~.meshes.mesh_copies`).
     """
     inputs = check_inputs(model, closures, design, motions)
     m = inputs.mechanism
     if m.closures.suffix.lower() != ".toml":
         raise InputError(f"{m.closures}: optimize writes a TOML mechanism file: give a TOML one")
     mechanism_text(m.closures, MODEL_FILE)
-    if m.meshes:
-        raise InputError(
-            f"{m.model} names mesh files, which the optimum written in the output folder could "
-            "not read (meshes are read only beside the model): remove the visuals to optimise"
-        )
+    meshes = mesh_copies(m.model, m.urdf, mesh_limit)
     files = [m.model, m.closures, inputs.design.path, *m.motions]
     text = json.dumps([hashlib.sha256(Path(f).read_bytes()).hexdigest() for f in files])
     fingerprint = hashlib.sha256(text.encode("utf-8")).hexdigest()
-    return MechanismSetup(inputs, inputs.design, fingerprint)
+    return MechanismSetup(inputs, inputs.design, fingerprint, meshes)
 
 
 def written(
-    problem: MechanismProblem, candidates: Sequence[MechanismEvaluation]
+    problem: MechanismProblem, candidates: Sequence[MechanismEvaluation], meshes: MeshCopies
 ) -> tuple[MechanismEvaluation | None, str]:
-    """The first candidate whose model, written as :data:`MODEL_FILE` and
-    :data:`MECHANISM_FILE`, runs as ``feeder analyze`` runs it: (its evaluation as written,
-    the mechanism file's text); (None, "") when none does."""
+    """The first candidate whose model, written as :data:`MODEL_FILE` (its meshes named as
+    ``meshes`` copies them) and :data:`MECHANISM_FILE`, runs as ``feeder analyze`` runs it: (its
+    evaluation as written, the mechanism file's text); (None, "") when none does. The meshes
+    are not copied for this run: the loads read none."""
     m = problem.mechanism
     text = mechanism_text(m.closures, MODEL_FILE)
     with tempfile.TemporaryDirectory(prefix="feeder-optimum-") as folder:
         for e in candidates:
             urdf, closures = Path(folder) / MODEL_FILE, Path(folder) / MECHANISM_FILE
-            write_text(urdf, e.urdf)
+            model = meshes.rewritten(e.urdf)
+            write_text(urdf, model)
             write_text(closures, text)
-            _, run = run_point(PointCase(b"", Mechanism(urdf, closures, m.motions, e.urdf), None))
+            _, run = run_point(PointCase(b"", Mechanism(urdf, closures, m.motions, model), None))
             problem.cycles += len(m.motions)
             if not isinstance(run, str):
-                return MechanismEvaluation(e.x, e.urdf, run, ""), text
+                return MechanismEvaluation(e.x, model, run, ""), text
     return None, ""
 
 
@@ -153,11 +155,14 @@ def _write(
     from ...viz.report_page import report_page
 
     urdf, closures = model_text
-    names = f"{MODEL_FILE} and {MECHANISM_FILE}" if urdf else ""
+    copies = len(setup.meshes.files)
+    meshes = f" (its {copies} mesh file(s) copied into {MESH_FOLDER}/)" if copies else ""
+    names = f"{MODEL_FILE}{meshes} and {MECHANISM_FILE}" if urdf else ""
     report = summary(optimum, names) + "\n"
     rows = optimum_rows(optimum)
     outputs: dict[str, Writer] = {HISTORY: history.write}
     if urdf:
+        outputs |= setup.meshes.writers()  # before the model that names them
         outputs[MODEL_FILE] = lambda path: write_text(path, urdf)
         outputs[MECHANISM_FILE] = lambda path: write_text(path, closures)
     outputs[TABLE] = lambda path: write_rows(path, rows)
@@ -220,7 +225,7 @@ def run_mechanism_optimization(
                 problem = MechanismProblem(space, setup.inputs.mechanism, executor, slots)
                 search = Search(problem, history, progress)
                 found = search.run(samples, starts)
-                best, text = written(problem, search.feasible())
+                best, text = written(problem, search.feasible(), setup.meshes)
             optimum = found_optimum(found, best, time.monotonic() - began)
         except KeyboardInterrupt:
             if search is None or search.reference_point is None:
@@ -231,7 +236,7 @@ def run_mechanism_optimization(
             )
             optimum = Optimum(INTERRUPTED, (), search.problem, search.reference_point, best, {},
                               time.monotonic() - began)  # fmt: skip
-            model_text = (best.urdf, text) if best is not None else ("", "")
+            model_text = ("", "") if best is None else (setup.meshes.rewritten(best.urdf), text)
             _write(folder, setup, optimum, history, model_text, figure, command)
             raise
         model_text = (best.urdf, text) if best is not None else ("", "")
