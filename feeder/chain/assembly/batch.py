@@ -16,9 +16,12 @@ recursions.
 The sequential path's checks run on every sample: the loops closed to
 :data:`~feeder.chain.assembly.newton.POSITION_TOLERANCE`, hinges the right way up, the correction
 small next to the step (no branch switch), the joint limits; a sample that fails one is continued
-sequentially from its predecessor instead. A rank that drops (J_r ill-conditioned) or a
-velocity gain past the limit sends the whole trajectory back to the sequential path, which gives
-the error its precise message. Idle motions: each inner sample takes the minimum-norm
+sequentially from its predecessor instead. A rank that drops (J_r ill-conditioned), a
+velocity gain past the limit, more than :data:`MAX_REDONE` of a stride's samples failing (the
+first stride is tried alone first) or two consecutive samples further apart than the closure's
+tangent allows in one sequential step (:func:`_check_steps`: a stride too long for the motion)
+sends the whole trajectory back to the sequential path, which gives an error its precise
+message. Idle motions: each inner sample takes the minimum-norm
 correction from its prediction between the coarse samples, so an idle coordinate (a rod's spin
 angle) may differ from the sequential path's by the drift that path accumulates between two
 coarse samples (measured 2e-4 rad on the Cassie-like leg's rods); poses, rates and loads are
