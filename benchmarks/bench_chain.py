@@ -11,14 +11,22 @@ cut, 4 joints, run through the generic layer), and two CAD exports read from the
 side-files: the Cassie-like leg (2 welds, 19 joints, two idle rod spins) and the biped
 ``battobot_6d`` (6 welds, 12 motors, ball and universal joints, 48 velocities).
 
+Large mechanisms (issue 29): the IFToMM N-four-bar (examples/iftomm/n_four_bar.py) for N = 2 …
+40, its first rocker driven through a swing of ±0.5 rad about the vertical (away from the flat
+singular poses): ``inverse_dynamics`` (loads, every reaction, the indeterminacy) per sample
+against one bare ``constraintDynamics`` call at each N, goal ≤ 2 × at every N, and the growth
+exponents of both (least-squares slope of log time over log N).
+
 Run: ``.venv/bin/python benchmarks/bench_chain.py [--samples N] [--json FILE]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
+import tempfile
 import time
 from pathlib import Path
 
@@ -40,11 +48,14 @@ from feeder.chain.dynamics.indeterminacy import indeterminacy
 from feeder.chain.dynamics.inverse import check_motion
 from feeder.chain.dynamics.loads_solve import solve_loads
 from feeder.chain.dynamics.reactions import closure_wrenches, joint_reactions
+from feeder.chain.readers.pose import pose_from_values
 from feeder.device import CLOSURE, load_feeder
 
 REPEATS = 5
 GOAL = 3.0
 ANALYSIS_GOAL = 10.0
+LARGE_GOAL = 2.0
+LOOPS = (2, 5, 10, 20, 40)
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -208,13 +219,81 @@ def measure(name: str, chain: ClosedChain, actuated, q, v, a) -> dict:
     return {"call_us": call * 1e6, "loads_calls": per_loads / call, "all_calls": ratio}
 
 
+def n_four_bar(n: int, samples: int, folder: Path):
+    """The N-four-bar (module docstring) written into ``folder``, its first rocker swinging
+    θ = π/2 + 0.5 sin(2π t) over 1 s, tracked; returns (chain, actuated, q, v, a)."""
+    script = EXAMPLES / "iftomm" / "n_four_bar.py"
+    loaded = importlib.util.spec_from_file_location("n_four_bar", script)
+    module = importlib.util.module_from_spec(loaded)
+    loaded.loader.exec_module(module)
+    _, toml = module.write(n, folder)
+    spec = read_spec(toml)
+    chain = load_mechanism(spec)
+    partition = Partition(chain, ["r0"])
+    q0 = partition.mount(pose_from_values(list(spec.pose), chain.model))
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    w = 2.0 * math.pi
+    x = math.pi / 2.0 + 0.5 * np.sin(w * t)
+    motion = track(partition, q0, x, 0.5 * w * np.cos(w * t), -0.5 * w**2 * np.sin(w * t))
+    return chain, ["r0"], motion.q, motion.v, motion.a
+
+
+def measure_large(samples: int) -> dict:
+    """``inverse_dynamics`` per sample over the bare call for the N-four-bars of :data:`LOOPS`,
+    and both growth exponents."""
+    bare, feeder = [], []
+    with tempfile.TemporaryDirectory() as folder:
+        for n in LOOPS:
+            chain, actuated, q, v, a = n_four_bar(n, samples, Path(folder))
+            dyn = ChainDynamics(chain, actuated)
+            loads = inverse_dynamics(dyn, q, v, a)
+            tau = np.zeros((q.shape[0], chain.model.nv))
+            tau[:, dyn.columns] = loads.actuators["r0"][:, None]
+            bare.append(bare_call(chain, q, v, tau))
+            run = lambda dyn=dyn, q=q, v=v, a=a: inverse_dynamics(dyn, q, v, a)  # noqa: E731
+            feeder.append(best_time(run, repeats=3) / samples)
+            ratio = feeder[-1] / bare[-1]
+            print(
+                f"N-four-bar N = {n:2d} ({chain.model.nv} velocities, {chain.nc} closure rows): "
+                f"bare {bare[-1] * 1e6:8.1f} µs, inverse_dynamics {feeder[-1] * 1e6:8.1f} "
+                f"µs/sample = {ratio:5.2f} (goal ≤ {LARGE_GOAL:g}): "
+                f"{'PASS' if ratio <= LARGE_GOAL else 'MISS'}"
+            )
+    logs = np.log(np.array(LOOPS, dtype=float))
+    growth = {
+        name: float(np.polyfit(logs, np.log(times), 1)[0])
+        for name, times in (("bare", bare), ("inverse_dynamics", feeder))
+    }
+    print(
+        f"  growth exponents over N = {LOOPS[0]} … {LOOPS[-1]}: bare constraintDynamics "
+        f"N^{growth['bare']:.2f}, inverse_dynamics per sample N^{growth['inverse_dynamics']:.2f}"
+    )
+    return {
+        "loops": list(LOOPS),
+        "bare_us": [x * 1e6 for x in bare],
+        "inverse_dynamics_us": [x * 1e6 for x in feeder],
+        "growth": growth,
+    }
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
         "--samples", type=int, default=1000, help="samples per motion (default 1000)"
     )
     parser.add_argument("--json", help="also write the figures to this JSON file")
+    parser.add_argument(
+        "--large-samples", type=int, default=200, help="samples per N-four-bar (default 200)"
+    )
+    parser.add_argument(
+        "--large-only", action="store_true", help="only the N-four-bars (issue 29's scaling)"
+    )
     args = parser.parse_args(argv)
+    if args.large_only:
+        figures = {"n_four_bar": measure_large(args.large_samples)}
+        if args.json:
+            Path(args.json).write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
+        return
     figures = {
         "four_bar": measure("four-bar (revolute cut)", *four_bar(args.samples)),
         "device": measure("feeding device (point cut)", *device(args.samples)),
@@ -228,6 +307,7 @@ def main(argv: list[str] | None = None) -> None:
         )
     for name in ("cassie_like", "battobot_6d"):
         figures[name] = measure_analysis(f"{name}, whole analysis", *cad(name, args.samples))
+    figures["n_four_bar"] = measure_large(args.large_samples)
     if args.json:
         Path(args.json).write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
 

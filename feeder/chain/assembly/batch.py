@@ -16,9 +16,12 @@ recursions.
 The sequential path's checks run on every sample: the loops closed to
 :data:`~feeder.chain.assembly.newton.POSITION_TOLERANCE`, hinges the right way up, the correction
 small next to the step (no branch switch), the joint limits; a sample that fails one is continued
-sequentially from its predecessor instead. A rank that drops (J_r ill-conditioned) or a
-velocity gain past the limit sends the whole trajectory back to the sequential path, which gives
-the error its precise message. Idle motions: each inner sample takes the minimum-norm
+sequentially from its predecessor instead. A rank that drops (J_r ill-conditioned), a
+velocity gain past the limit, more than :data:`MAX_REDONE` of a stride's samples failing (the
+first stride is tried alone first) or two consecutive samples further apart than the closure's
+tangent allows in one sequential step (:func:`_check_steps`: a stride too long for the motion)
+sends the whole trajectory back to the sequential path, which gives an error its precise
+message. Idle motions: each inner sample takes the minimum-norm
 correction from its prediction between the coarse samples, so an idle coordinate (a rod's spin
 angle) may differ from the sequential path's by the drift that path accumulates between two
 coarse samples (measured 2e-4 rad on the Cassie-like leg's rods); poses, rates and loads are
@@ -52,6 +55,12 @@ Hermite predictor the error falls quadratically: 1–2 suffice)."""
 MIN_SAMPLES = 2 * STRIDE
 """Trajectories shorter than this run sequentially (nothing to gain)."""
 
+MAX_REDONE = 0.25
+"""Largest fraction of the inner samples that may fail the batched checks and be redone one by
+one; past it the whole trajectory goes the sequential way at once. A redone sample costs ~3
+sequential ones (its predecessor checked anew, then its own step): with 112 of 193 redone the
+batched tracking took 1.8 × the sequential one (issue 29); break-even is near a third."""
+
 
 class BatchFallback(Exception):
     """A batched sample failed a check: the trajectory goes the sequential way."""
@@ -75,7 +84,8 @@ def batch_track(
     """
     kept = _independent_rows(first.jacobian, partition)
     q, jacobian = _positions(partition, first, x, kept, times)
-    v, a, gain = _rates(partition, q, jacobian, dx, ddx, kept)
+    v, a, gain, rates = _rates(partition, q, jacobian, dx, ddx, kept)
+    _check_steps(partition, q, x, rates)
     return Trajectory(q, v, a, gain, batched=True)
 
 
@@ -83,7 +93,9 @@ def _positions(partition, first, x, kept, times) -> tuple[np.ndarray, np.ndarray
     """The configurations (N, nq) and their closure Jacobians (N, nc, nv): every
     :data:`STRIDE`-th sample continued sequentially, the others predicted from them and
     corrected together; a sample that fails a check there is continued sequentially from the
-    one before it (which is on the branch)."""
+    one before it (which is on the branch). The first stride goes alone first: one too long
+    for the motion shows there (more than :data:`MAX_REDONE` of its samples fail), before the
+    other coarse samples cost their sequential work."""
     chain = partition.chain
     n = x.shape[0]
     coarse = list(range(0, n, STRIDE))
@@ -92,18 +104,22 @@ def _positions(partition, first, x, kept, times) -> tuple[np.ndarray, np.ndarray
     q = np.empty((n, chain.model.nq))
     jacobian = np.empty((n, chain.nc, chain.model.nv))
     checks = {0: first}  # the samples continued sequentially
-    for c0, c1 in zip(coarse, coarse[1:], strict=False):
-        try:
-            checks[c1] = advance(partition, checks[c0], x[c0], x[c1], c1, times)
-        except (UnreachablePoseError, SingularPoseError) as exc:  # the sequential path decides
-            raise BatchFallback(str(exc)) from exc
-    for c in coarse:
-        q[c], jacobian[c] = checks[c].q, checks[c].jacobian
-    tangents = {c: checks[c].tangent() for c in coarse}
-    inner = np.setdiff1d(np.arange(n), coarse)
-    if inner.size:
-        guess, scale = _predict(partition, q, coarse, tangents, inner, x)
+    q[0], jacobian[0] = first.q, first.jacobian
+    for anchors in (coarse[:2], coarse[1:]):
+        for c0, c1 in zip(anchors, anchors[1:], strict=False):
+            try:  # a refusal: the sequential path decides
+                checks[c1] = advance(partition, checks[c0], x[c0], x[c1], c1, times)
+            except (UnreachablePoseError, SingularPoseError) as exc:
+                raise BatchFallback(str(exc)) from exc
+            q[c1], jacobian[c1] = checks[c1].q, checks[c1].jacobian
+        inner = np.setdiff1d(np.arange(anchors[0], anchors[-1] + 1), anchors)
+        if not inner.size:
+            continue
+        tangents = {c: checks[c].tangent() for c in anchors}
+        guess, scale = _predict(partition, q, anchors, tangents, inner, x)
         q[inner], jacobian[inner], failed = _newton(partition, guess, kept, scale)
+        if failed.sum() > MAX_REDONE * inner.size:
+            raise BatchFallback("the stride is too long for the motion")
         for i in inner[failed]:  # in increasing order: q[i − 1] is always settled
             before = checks[i - 1] if i - 1 in checks else ChainPose(chain, q[i - 1])
             checks[i] = advance(partition, before, x[i - 1], x[i], i, times, known=first)
@@ -229,9 +245,36 @@ def _right_inverse(jac: np.ndarray) -> np.ndarray:
         raise BatchFallback("a rank drop") from exc
 
 
-def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Velocities, accelerations (minimum norm in the idle motions) and velocity gains of every
-    sample, from the closure Jacobians (N, nc, nv) at q."""
+def _check_steps(partition, q: np.ndarray, x: np.ndarray, rates: np.ndarray) -> None:
+    """The sequential continuation's branch test on every pair of consecutive samples: the
+    change of the coordinates from sample i to i + 1 must be the closure's tangent at i times
+    the change of the independent ones, q_dep(i+1) − q_dep(i) = R_i (x(i+1) − x(i)) (R_i, the
+    rates ``rates`` (N, n_dep, n_ind)), within the correction
+    :func:`~feeder.chain.assembly.continuation.advance` accepts in one step
+    (:data:`~feeder.chain.assembly.newton.CONTINUATION_STEP` of the step). A stride too long for
+    the motion (a crank turning past a full revolution between two coarse samples) makes the
+    Hermite predictions meaningless: Newton still closes the loops, on either branch, with a
+    correction that the per-sample test (scaled by the distance to the coarse sample) lets
+    pass. Raises :class:`BatchFallback` where any pair fails: the sequential path then decides,
+    subdividing the steps it must."""
+    model = partition.chain.model
+    change = _difference(model, q[:-1], q[1:], model.nq == model.nv)
+    angles = partition.angle_columns
+    change[:, angles] = np.angle(np.exp(1j * change[:, angles]))  # wrapped: the short way
+    step = np.diff(x, axis=0)
+    tangent = -np.einsum("nij,nj->ni", rates[:-1], step)
+    error = np.abs(change[:, partition.dependent] - tangent).max(axis=1, initial=0.0)
+    size = np.abs(step).max(axis=1, initial=0.0)
+    if np.any((error > CONTINUATION_STEP * np.maximum(size, 1e-12)) & (error > 1e-9)):
+        raise BatchFallback("the stride is too long for the motion")
+
+
+def _rates(
+    partition, q, jacobian, dx, ddx, kept
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Velocities, accelerations (minimum norm in the idle motions), velocity gains of every
+    sample, and the rate maps J_dep⁺ J_ind (N, n_dep, n_ind) (q̇_dep = −J_dep⁺ J_ind q̇_ind),
+    from the closure Jacobians (N, nc, nv) at q."""
     chain, model = partition.chain, partition.chain.model
     dependent, independent = partition.dependent, partition.independent
     n = q.shape[0]
@@ -259,4 +302,4 @@ def _rates(partition, q, jacobian, dx, ddx, kept) -> tuple[np.ndarray, np.ndarra
     bias = closure_kinematics(chain, motion, v, with_jacobian=False).acceleration[:, kept]
     rhs = np.einsum("nij,nj->ni", jac_ind, ddx) + bias
     a[:, dependent] = -np.einsum("nij,nj->ni", inverse, rhs)
-    return v, a, gain
+    return v, a, gain, gains_map

@@ -44,14 +44,17 @@ def locked_motions(
     return rank, motions
 
 
-def truncated_inverse(matrix: np.ndarray, tolerance: float) -> tuple[np.ndarray, int, np.ndarray]:
+def truncated_inverse(
+    matrix: np.ndarray, tolerance: float, relative: bool = False
+) -> tuple[np.ndarray, int, np.ndarray]:
     """The pseudo-inverse of ``matrix`` (m, n) with its singular values at or below
     ``tolerance`` dropped (idle motions get no share: minimum-norm solutions), its rank r, and an
-    orthonormal basis (m, r) of its range."""
+    orthonormal basis (m, r) of its range; ``relative``: ``tolerance`` is a fraction of the
+    largest singular value (taken from the same decomposition)."""
     if matrix.size == 0:
         return np.zeros((matrix.shape[1], matrix.shape[0])), 0, np.zeros((matrix.shape[0], 0))
     u, s, vt = np.linalg.svd(matrix, full_matrices=False)
-    keep = s > tolerance
+    keep = s > (tolerance * max(float(s[0]), 1e-300) if relative else tolerance)
     return (vt[keep].T / s[keep]) @ u[:, keep].T, int(keep.sum()), u[:, keep]
 
 

@@ -14,11 +14,13 @@ import numpy as np
 
 from ...exceptions import InputError
 from ...validation import check_finite, check_samples
+from ..blas import one_blas_thread
 from .batch import MIN_SAMPLES, BatchFallback, batch_track
 from .continuation import first_sample, sequential
 from .trajectory import Trajectory
 
 
+@one_blas_thread
 def track(
     partition,
     q_start: np.ndarray,

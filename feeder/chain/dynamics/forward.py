@@ -51,6 +51,7 @@ import scipy.integrate
 
 from ...exceptions import FeederWarning, InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number
+from ..blas import one_blas_thread
 from . import budget
 from .budget import (
     Progress,
@@ -98,6 +99,7 @@ METHODS = ("DOP853", "RK45", "Radau", "BDF")
 the implicit Radau IIA (order 5) and BDF for stiff mechanisms."""
 
 
+@one_blas_thread
 def simulate(
     dyn: ChainDynamics,
     t: np.ndarray,

@@ -48,6 +48,7 @@ from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number, check_samples
 from ..assembly.continuation import MOUNT_STEP
 from ..assembly.newton import POSITION_TOLERANCE, newton
+from ..blas import one_blas_thread
 from ..kinematics.coordinates import length_rates, pose_text
 from .budget import MAX_STEPS, check_sample_count, step_cap_message
 from .forward import ATOL, BAUMGARTE_RATE, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
@@ -144,6 +145,7 @@ def velocity_name(model: pin.Model, index: int) -> str:
     return f"{model.names[j]} component {index - model.joints[j].idx_v + 1}"
 
 
+@one_blas_thread
 def hybrid_run(
     dyn: ChainDynamics,
     t: np.ndarray,

@@ -49,6 +49,7 @@ import pinocchio as pin
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_samples
 from ..assembly.partition import Partition
+from ..blas import one_blas_thread
 from ..kinematics.joints import kind_of
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import TreeMotion, on_base, tree_motion
@@ -278,6 +279,7 @@ def _external_terms(
     return terms
 
 
+@one_blas_thread
 def inverse_dynamics(
     dyn: ChainDynamics,
     q: np.ndarray,

@@ -152,7 +152,7 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     from (its round-off's scale, for the consistency check where the sum cancels: a mechanism at
     rest in equilibrium).
 
-    Where a sample's system has full row rank and a small condition number (every sample of a
+    Where a sample's system has full rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
     (:func:`_shortcut`); the other samples, and a subsample for the structural checks (the null
     space of the equations), go through the singular value decomposition."""
@@ -163,6 +163,8 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     solution = np.empty((n, system.shape[2]))
     if np.any(fast):
         solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
+        if system.shape[1] > system.shape[2]:  # a least-squares answer: is it a solution?
+            _check_consistency(system[fast], rhs[fast], solution[fast], terms[fast])
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True
@@ -177,14 +179,24 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
 
 def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Which samples of system (n, nv, nx) are certainly well-conditioned (bool (n,)), and for
-    them the right inverse A⁺ (n, nx, nv): A⁻¹ when square (round-off cond(A) ε), else
-    Aᵀ (A Aᵀ)⁻¹ (the normal equations square the condition number). The test needs no
-    decomposition: cond(B) ≤ ‖B‖_F ‖B⁻¹‖_F for B = A, or B = A Aᵀ whose condition number is
-    cond(A)². A near-singular B gives a computed inverse of huge norm (backward stability: it
-    is the inverse of a matrix within round-off of B), so the bound cannot pass by accident; a
-    doubtful sample takes the singular value decomposition, which also refuses a singular one."""
-    square = system.shape[1] == system.shape[2]
-    matrix = system if square else system @ np.swapaxes(system, 1, 2)
+    them the pseudo-inverse A⁺ (n, nx, nv): A⁻¹ when square (round-off cond(A) ε); for a wide
+    A (fewer equations than unknowns) the right inverse Aᵀ (A Aᵀ)⁻¹, the minimum-norm solution;
+    for a tall one (more equations than unknowns: a leg whose closures leave the actuated
+    joints' rows dependent) the left inverse (Aᵀ A)⁻¹ Aᵀ, the least-squares solution, which
+    :func:`_solve` then checks solves the equations. Either Gram matrix is the one of the short
+    side (the other, of rank nx < nv or nv < nx, is singular: a shortcut through it would never
+    pass and would send every sample to the singular value decomposition), and it squares the
+    condition number: cond(B) = cond(A)². The test needs no decomposition: cond(B) ≤ ‖B‖_F
+    ‖B⁻¹‖_F for B = A or the Gram matrix. A near-singular B gives a computed inverse of huge
+    norm (backward stability: it is the inverse of a matrix within round-off of B), so the
+    bound cannot pass by accident — a full-rank A passes only with cond(A) below
+    :data:`MAX_FORCE_GAIN` (square) or :data:`NORMAL_EQUATIONS` (Gram: ≤ 1e6 × ε of relative
+    round-off); a doubtful sample takes the singular value decomposition, which also refuses a
+    singular one."""
+    rows, unknowns = system.shape[1:]
+    square = rows == unknowns
+    transposed = np.swapaxes(system, 1, 2)
+    matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
     try:
         inverse = np.linalg.inv(matrix)
     except np.linalg.LinAlgError:  # some sample is exactly singular: the others one by one
@@ -192,8 +204,10 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(invalid="ignore", over="ignore"):
         bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
     fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
-    if not square:
-        inverse = np.swapaxes(system, 1, 2) @ inverse
+    if rows < unknowns:
+        inverse = transposed @ inverse
+    elif rows > unknowns:
+        inverse = inverse @ transposed
     return fast, inverse
 
 
@@ -241,6 +255,23 @@ def _solve_svd(
     k = min(system.shape[1:])
     projected = np.einsum("nji,nj->ni", u[:, :, :k], rhs)
     solution = np.einsum("nij,nj->ni", np.swapaxes(vt[:, :k, :], 1, 2), inverse * projected)
+    _check_consistency(system, rhs, solution, terms)
+    for r in np.unique(rank):  # samples of equal rank share the null-space dimension
+        basis = vt[rank == r, r:, :n_act]  # (samples, dim, n_act)
+        if basis.size and np.abs(basis).max() > NULL_SPACE:
+            raise SingularPoseError(
+                "the actuator loads are not determined: the actuated joints and the closures "
+                "can balance each other without load (a singular or redundant actuation)"
+            )
+    return solution
+
+
+def _check_consistency(
+    system: np.ndarray, rhs: np.ndarray, solution: np.ndarray, terms: np.ndarray
+) -> None:
+    """Refuse (:class:`InputError`) solutions (n, nx) that leave system (n, nv, nx) x = rhs
+    (n, nv) a residual above :data:`CONSISTENCY` of the equations' largest term (``terms``: see
+    :func:`_solve`)."""
     misfit = np.abs(np.einsum("nij,nj->ni", system, solution) - rhs).max(axis=1)
     size = np.maximum.reduce(
         [
@@ -255,11 +286,3 @@ def _solve_svd(
             f"the actuated joints cannot produce the motion: the equations of motion leave a "
             f"residual of {misfit[worst]:.3e} (choose other actuated joints)"
         )
-    for r in np.unique(rank):  # samples of equal rank share the null-space dimension
-        basis = vt[rank == r, r:, :n_act]  # (samples, dim, n_act)
-        if basis.size and np.abs(basis).max() > NULL_SPACE:
-            raise SingularPoseError(
-                "the actuator loads are not determined: the actuated joints and the closures "
-                "can balance each other without load (a singular or redundant actuation)"
-            )
-    return solution

@@ -40,7 +40,6 @@ def project(chain: ClosedChain, y: np.ndarray) -> np.ndarray:
     # J⁺ truncated: a redundant row (a planar loop's, Bricard's) is a singular value of
     # round-off size that lstsq's default cut-off (n ε σ_max) may keep, and then J⁺ J = I would
     # project every velocity to zero.
-    largest = float(np.linalg.norm(jac, 2)) if jac.size else 0.0
-    pinv, _, _ = truncated_inverse(jac, SINGULAR_TOLERANCE * max(largest, 1e-300))
+    pinv, _, _ = truncated_inverse(jac, SINGULAR_TOLERANCE, relative=True)
     v = v - pinv @ (jac @ v)
     return np.concatenate([q, v, y[nq + nv :]])

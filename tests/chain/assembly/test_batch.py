@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+import feeder.chain.assembly.batch as batch
 import feeder.chain.assembly.tracking as tracking
 from feeder.chain import Closure, Partition, load_closed_chain, load_mechanism, read_spec, track
 from feeder.chain.assembly.batch import MIN_SAMPLES
@@ -85,3 +86,25 @@ def test_batched_and_sequential_continuation_agree(case, monkeypatch):
     for name in ("v", "a", "gain"):
         mine, theirs = getattr(batched, name), getattr(sequential, name)
         assert np.abs(mine - theirs).max() <= AGREEMENT * max(1.0, np.abs(theirs).max())
+
+
+@pytest.mark.parametrize("redone", [0.25, 1.0], ids=["early", "after-the-redone-samples"])
+def test_a_stride_too_long_for_the_motion_keeps_the_branch(redone, monkeypatch):
+    """The four-bar's crank turning twice in 100 samples (14.4° a sample: a stride of 32 spans
+    460°, where no cubic predicts the coupler): the batched path gives the poses of a fine
+    sequential reference (1001 samples, every tenth; steps of 1.4°), or falls back — before,
+    it closed loops on the other branch (5 rad off). With ``redone`` = 1 the many redone
+    samples do not end it: the branch test of consecutive samples does."""
+    monkeypatch.setattr(batch, "MAX_REDONE", redone)
+    chain, independent, q0, _ = four_bar()
+    x0 = Partition(chain, independent).independent_values(q0) - 2.0 * np.pi  # 2 turns in ±4π
+
+    def run(samples: int):
+        x = x0 + 4.0 * np.pi * np.linspace(0.0, 1.0, samples)[:, None]
+        return track(Partition(chain, independent), q0, x, np.full_like(x, 4.0 * np.pi))
+
+    coarse = run(101)
+    monkeypatch.setattr(tracking, "MIN_SAMPLES", 10**6)  # the reference: sequential
+    fine = run(1001)
+    gaps = [pin.difference(chain.model, a, b) for a, b in zip(coarse.q, fine.q[::10], strict=True)]
+    assert np.abs(gaps).max() <= AGREEMENT

@@ -19,7 +19,13 @@ from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.assembly.partition import Partition
 from feeder.chain.assembly.tracking import track
 from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
-from feeder.chain.dynamics.loads_solve import MAX_FORCE_GAIN, _shortcut, load_gain, load_rank
+from feeder.chain.dynamics.loads_solve import (
+    MAX_FORCE_GAIN,
+    _shortcut,
+    _solve,
+    load_gain,
+    load_rank,
+)
 from feeder.chain.readers.urdf import build_model
 from feeder.device import load_feeder
 from feeder.exceptions import InputError, SingularPoseError, UnreachablePoseError
@@ -321,19 +327,40 @@ def test_the_gain_of_one_pose_is_the_one_the_loads_check():
             inverse_dynamics(dyn, q[None], still, still)
 
 
-@pytest.mark.parametrize("columns", [6, 9])  # square (A⁻¹) and wide (Aᵀ (A Aᵀ)⁻¹)
-def test_the_shortcut_takes_only_well_conditioned_samples(columns):
-    """The decomposition-free shortcut of the load solve: a well-conditioned sample gets the
-    minimum-norm solution (SVD's, to round-off); a sample with two equal rows (where LU may
-    raise) or two rows equal to round-off (where inv returns garbage rather than raising)
-    never passes, and does not keep the good sample from passing."""
+@pytest.mark.parametrize(("rows", "columns"), [(6, 6), (6, 9), (9, 6)])
+def test_the_shortcut_takes_only_well_conditioned_samples(rows, columns):
+    """The decomposition-free shortcut of the load solve, square (A⁻¹), wide (Aᵀ (A Aᵀ)⁻¹) and
+    tall ((Aᵀ A)⁻¹ Aᵀ, a leg's equations): a well-conditioned sample gets the minimum-norm
+    least-squares solution (SVD's, to round-off); a sample with two equal rows — columns for a
+    tall one — (where LU may raise) or two equal to round-off (where inv returns garbage rather
+    than raising) never passes, and does not keep the good sample from passing."""
     rng = np.random.default_rng(3)
-    good = rng.normal(size=(6, columns)) + 3.0 * np.eye(6, columns)
+    good = rng.normal(size=(rows, columns)) + 3.0 * np.eye(rows, columns)
     equal, near = good.copy(), good.copy()
-    equal[5] = equal[4]
-    near[5] = near[4] + 1e-15 * rng.normal(size=columns)
+    last = min(rows, columns) - 1
+    for matrix, noise in ((equal, 0.0), (near, 1e-15)):
+        vectors = matrix.T if rows > columns else matrix  # the short side's: rank lost there
+        vectors[last] = vectors[last - 1] + noise * rng.normal(size=vectors.shape[1])
     fast, inverse = _shortcut(np.stack([good, equal, near]))
     assert fast.tolist() == [True, False, False]
-    rhs = rng.normal(size=6)
+    rhs = rng.normal(size=rows)
     # cond(good) ~ 10: the shortcut's error is ~cond² ε at most (normal equations).
     assert np.allclose(inverse[0] @ rhs, np.linalg.pinv(good) @ rhs, rtol=0.0, atol=1e-12)
+
+
+def test_a_tall_system_solved_by_the_shortcut_is_checked_for_consistency():
+    """More equations than unknowns (9 × 6): the left inverse's least-squares answer is the
+    solution where the equations have one (x recovered to round-off, cond ~ 10), and the
+    actuated joints are refused where they have none (a right-hand side off A's range) — at a
+    sample that only the shortcut solves (64 samples: the structural checks take every other)."""
+    rng = np.random.default_rng(4)
+    system = np.repeat((rng.normal(size=(9, 6)) + 3.0 * np.eye(9, 6))[None], 64, axis=0)
+    x = rng.normal(size=(64, 6))
+    rhs = np.einsum("nij,nj->ni", system, x)
+    terms = np.abs(rhs).max(axis=1)
+    assert _shortcut(system)[0].all()  # it is the shortcut that answers
+    assert np.allclose(_solve(system, rhs, 1, terms), x, rtol=0.0, atol=1e-12)
+    off = rhs.copy()
+    off[1] += 1e-3 * np.linalg.svd(system[1])[0][:, -1]  # orthogonal to the range of A
+    with pytest.raises(InputError, match="cannot produce the motion"):
+        _solve(system, off, 1, terms)
