@@ -88,3 +88,59 @@ def test_a_run_without_figures_loads_no_plotting(tmp_path):
     bare = run.format(**files, out=str(tmp_path / "bare"), extra=", '--no-figures'")
     assert "matplotlib" not in _modules_after(bare)
     assert "matplotlib" in _modules_after(run.format(**files, out=str(tmp_path / "all"), extra=""))
+
+
+VIEWER = {"meshcat", "trimesh", "pinocchio.visualize"}
+"""What only the viewer and the report page need (0.35–0.39 s, issue 29)."""
+
+FORWARD = {"scipy.integrate"}
+"""What only the generic forward and hybrid runs need (0.13 s); the device's own forward run
+(:mod:`feeder.dynamics.integrator`) does without it."""
+
+PLOTTING = {"matplotlib"}
+
+EXAMPLES = REPO / "examples"
+FOUR_BAR = [str(EXAMPLES / "four_bar" / "four_bar.urdf"), "--closures"]
+FOUR_BAR += [str(EXAMPLES / "four_bar" / "closures.toml")]
+SQUEEZER = [str(EXAMPLES / "andrews_squeezer" / "andrews_squeezer.urdf"), "--closures"]
+SQUEEZER += [str(EXAMPLES / "andrews_squeezer" / "squeezer.toml")]
+
+COMMANDS = {
+    "parameters": (["parameters"], {"pinocchio", "scipy"} | PLOTTING | VIEWER),
+    "urdf": (["urdf", "--out", "{out}"], {"pinocchio", "scipy"} | PLOTTING | VIEWER),
+    "errata": (["errata"], {"scipy"} | PLOTTING | VIEWER),
+    "kinematics": (["kinematics", "--elevation", "30", "--out", "{out}"], FORWARD | VIEWER),
+    "cycle": (["cycle", "--elevation", "30", "--out", "{out}"], FORWARD | VIEWER),
+    "cycle --no-figures": (
+        ["cycle", "--elevation", "30", "--no-figures", "--out", "{out}"],
+        FORWARD | PLOTTING | VIEWER,
+    ),
+    "sweep": (["sweep", "--elevations", "0", "10", "10", "--out", "{out}"], FORWARD | VIEWER),
+    "analyze": (
+        ["analyze", *FOUR_BAR, "--motion", str(EXAMPLES / "four_bar" / "motion.csv")]
+        + ["--out", "{out}", "--no-figures"],
+        FORWARD | PLOTTING | VIEWER,
+    ),
+    "simulate --no-figures": (
+        ["simulate", *SQUEEZER, "--duration", "0.003", "--out", "{out}", "--no-figures"],
+        PLOTTING | VIEWER,
+    ),
+    "design sensitivities --no-figures": (
+        ["design", "sensitivities", "--elevation", "30", "--parameter", "L1"]
+        + ["--out", "{out}", "--no-figures"],
+        FORWARD | PLOTTING | VIEWER | {"scipy.stats"},
+    ),
+}
+"""Each command as a user types it, and what it must not import: the plotting only where it
+draws in this process (``cycle`` draws in its figure workers), the viewer nowhere but ``view``
+and ``simulate``'s report page, ``scipy.integrate`` only in the generic forward runs, and
+neither Pinocchio nor SciPy where a command only prints or writes the device's numbers."""
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_each_command_imports_only_what_it_uses(command, tmp_path):
+    argv, absent = COMMANDS[command]
+    argv = [word.format(out=tmp_path / "out") for word in argv]
+    loaded = _modules_after(f"from feeder.cli import main\nassert main({argv!r}) == 0", full=True)
+    assert "feeder.cli" in loaded  # the command ran in that interpreter
+    assert not {m for m in loaded for a in absent if m == a or m.startswith(a + ".")}

@@ -47,7 +47,6 @@ from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
-import scipy.integrate
 
 from ...exceptions import FeederWarning, InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number
@@ -243,6 +242,8 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
     or None for one that stops at them."""
     chain = equations.dyn.chain
     nq = equations.model.nq
+    import scipy.integrate  # here: only forward runs pay its import (~0.13 s)
+
     solver_class = getattr(scipy.integrate, method)
 
     def start(time: float, y: np.ndarray, first_step: float | None):

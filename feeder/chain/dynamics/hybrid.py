@@ -42,7 +42,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-import scipy.integrate
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number, check_samples
@@ -237,6 +236,8 @@ def _first_sample(dyn: ChainDynamics, q: np.ndarray, x0: np.ndarray) -> np.ndarr
 
 def _integrate(equations: HybridEquations, t, y0, method, rtol, atol, drift_tolerance):
     """The states (N, len(y0)) at the times t, the accepted steps and the projections."""
+    import scipy.integrate  # here: only hybrid runs pay its import (~0.13 s)
+
     solver_class = getattr(scipy.integrate, method)
     nq = equations.nq
 
