@@ -55,7 +55,8 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .assembly.partition import Partition
     from .assembly.rates import initial_rates
     from .assembly.tracking import track
-    from .dynamics.forward import BAUMGARTE_RATE, simulate
+    from .dynamics.forward import simulate
+    from .dynamics.forward_equations import BAUMGARTE_RATE
     from .dynamics.hybrid import hybrid_run
     from .dynamics.inverse import ChainDynamics, inverse_dynamics
     from .kinematics.frames import frame_motion
@@ -69,7 +70,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .readers.urdf import load_closed_chain
 
 _SOURCES = {
-    "BAUMGARTE_RATE": ".dynamics.forward",
+    "BAUMGARTE_RATE": ".dynamics.forward_equations",
     "BaseMotion": ".model.base",
     "Bump": ".model.profiles",
     "ChainDynamics": ".dynamics.inverse",

@@ -58,17 +58,13 @@ from .budget import (
     sample_progress,
     step_cap_message,
 )
-from .forward_equations import Actuation, ForwardEquations, IntegrationError
+from .forward_equations import BAUMGARTE_RATE, Actuation, ForwardEquations, IntegrationError
 from .forward_run import ForwardRun
 from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
 from .singular import MODES, RankWatch, coast, determinate_loads
 from .stiffness import StiffnessTest, step_advice, stiff_warning
-
-BAUMGARTE_RATE = 20.0
-"""Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
-mechanism's motion and slow enough not to make the equations stiff."""
 
 MAX_BAUMGARTE_RATE = 1e6
 """Largest accepted Baumgarte rate ω [1/s]. Its K_p = ω² (1e12 /s² here) multiplies the loop

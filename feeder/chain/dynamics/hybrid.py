@@ -49,8 +49,8 @@ from ..assembly.continuation import MOUNT_STEP
 from ..assembly.newton import POSITION_TOLERANCE, newton
 from ..kinematics.coordinates import length_rates, pose_text
 from .budget import MAX_STEPS, check_sample_count, step_cap_message
-from .forward import ATOL, BAUMGARTE_RATE, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
-from .forward_equations import IntegrationError
+from .forward import ATOL, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
+from .forward_equations import BAUMGARTE_RATE, IntegrationError
 from .free_freedoms import FreeFreedoms, free_freedoms, rest_pose
 from .hybrid_equations import HybridEquations, Prescribed
 from .inverse import ChainDynamics, ChainLoads, check_dynamics, inverse_dynamics
