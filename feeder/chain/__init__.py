@@ -51,6 +51,10 @@ device's tree does not import what only tracking (``scipy.linalg``) or forward r
 import importlib
 from typing import TYPE_CHECKING
 
+# Bound here, not on first use: once the submodule ``mobility`` is imported (by any module),
+# the package's attribute ``mobility`` would be that module, and __getattr__ never asked.
+from .mobility import mobility
+
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .assembly.partition import Partition
     from .assembly.rates import initial_rates
@@ -60,7 +64,6 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .dynamics.hybrid import hybrid_run
     from .dynamics.inverse import ChainDynamics, inverse_dynamics
     from .kinematics.frames import frame_motion
-    from .mobility import mobility
     from .model.base import BaseMotion
     from .model.closure import ClosedChain, Closure
     from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
@@ -93,7 +96,6 @@ _SOURCES = {
     "inverse_dynamics": ".dynamics.inverse",
     "load_closed_chain": ".readers.urdf",
     "load_mechanism": ".readers.mechanism",
-    "mobility": ".mobility",
     "read_spec": ".readers.mechanism",
     "simulate": ".dynamics.forward",
     "track": ".assembly.tracking",

@@ -43,8 +43,7 @@ from functools import cached_property
 import numpy as np
 
 from ..chain import inverse_dynamics
-from ..chain.dynamics.inverse import ChainLoads
-from ..chain.model.base import BaseState
+from ..chain.results import BaseState, ChainLoads
 from ..device.loop import check_closed, check_closed_velocity, check_transmission
 from ..exceptions import InputError
 from ..validation import check_flags, check_samples

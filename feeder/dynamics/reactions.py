@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain.dynamics.reactions import JointWrench, MountWrench
+from ..chain.results import JointWrench, MountWrench
 from ..device.feeder import PAPER_JOINTS
 from .inverse import ActuatorLoads
 from .models import FeederDynamics

@@ -4,17 +4,20 @@ and payload path) and the payload's workspace (paper Figs. 4, 7, 8, 10)."""
 import importlib
 from typing import TYPE_CHECKING
 
+# Bound here, not on first use: once the submodule ``workspace`` is imported (by any module),
+# the package's attribute ``workspace`` would be that module, and __getattr__ never asked.
+from .workspace import workspace
+
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .cycle import CycleKinematics, feeding_cycle
     from .laws import CycleSpec
-    from .workspace import Workspace, workspace
+    from .workspace import Workspace
 
 _SOURCES = {
     "CycleKinematics": ".cycle",
     "CycleSpec": ".laws",
     "Workspace": ".workspace",
     "feeding_cycle": ".cycle",
-    "workspace": ".workspace",
 }
 """Public name → the module that defines it."""
 

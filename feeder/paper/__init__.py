@@ -11,9 +11,13 @@ differs, and by how much).
 import importlib
 from typing import TYPE_CHECKING
 
+# Bound here, not on first use: once the submodule ``errata_rows`` is imported (by any module),
+# the package's attribute ``errata_rows`` would be that module, and __getattr__ never asked.
+from .errata import errata_rows
+
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .coriolis import christoffel_coriolis, kronecker_coriolis
-    from .errata import ReferenceMotion, errata_markdown, errata_rows
+    from .errata import ReferenceMotion, errata_markdown
     from .lagrange import LagrangeLoads, lagrange_loads, mass_matrix
     from .printed import PrintedEquations, printed_equations
 
@@ -23,7 +27,6 @@ _SOURCES = {
     "ReferenceMotion": ".errata",
     "christoffel_coriolis": ".coriolis",
     "errata_markdown": ".errata",
-    "errata_rows": ".errata",
     "kronecker_coriolis": ".coriolis",
     "lagrange_loads": ".lagrange",
     "mass_matrix": ".lagrange",

@@ -4,6 +4,10 @@
 import importlib
 from typing import TYPE_CHECKING
 
+# Bound here, not on first use: once the submodule ``retrofit`` is imported (by any module),
+# the package's attribute ``retrofit`` would be that module, and __getattr__ never asked.
+from .retrofit import retrofit
+
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .columns import COLUMNS, KINEMATIC_COLUMNS, Column, cycle_columns, kinematic_columns
     from .csv import read_csv, write_csv
@@ -11,7 +15,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .elevation_sweeps import ElevationSweep, elevation_sweep
     from .errata import paper_errata
     from .peaks import Peak, cycle_peaks
-    from .retrofit import retrofit
+
 
 _SOURCES = {
     "COLUMNS": ".columns",
@@ -26,7 +30,6 @@ _SOURCES = {
     "kinematic_columns": ".columns",
     "paper_errata": ".errata",
     "read_csv": ".csv",
-    "retrofit": ".retrofit",
     "run_cycle_study": ".cycle_study",
     "write_csv": ".csv",
 }

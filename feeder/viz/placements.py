@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ..chain.model.base import BaseState
+from ..chain.results import BaseState
 
 
 def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:

@@ -32,7 +32,7 @@ import numpy as np
 import pinocchio as pin
 from pinocchio.visualize import MeshcatVisualizer
 
-from ..chain.model.base import BaseState
+from ..chain.results import BaseState
 from .arrows import Arrows, DrawnArrows, arrow_length, draw_arrows
 from .framing import GRID_COLOR, HULL_COLOR, draw_hull, frame_scene
 from .key_frames import key_transforms
