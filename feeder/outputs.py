@@ -18,21 +18,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .chain.dynamics.inverse import ChainLoads
-from .chain.model.closure import ClosedChain
 from .device.feeder import Feeder
 from .device.parameter_file import parameters_sha256
 from .files import LOCK as LOCK  # re-exported: the output folder's names, for its users
 from .files import MANIFEST as MANIFEST
 from .files import OutputFolder, Writer, write_text
 from .motion.cycle import CycleKinematics
-from .study.analyze import Analysis
 from .study.columns import kinematic_columns
 from .study.csv import write_csv
 from .study.cycle_study import CycleStudy
-from .study.mechanism_table import indeterminate_columns
-from .study.simulate import Simulation
-from .study.view import MechanismView, analysis_view, simulation_view
 from .viz.report import (
     FigureData,
     FigureWorkers,
@@ -43,6 +37,12 @@ from .viz.report import (
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from .chain.dynamics.inverse import ChainLoads
+    from .chain.model.closure import ClosedChain
+    from .study.analyze import Analysis
+    from .study.simulate import Simulation
+    from .study.view import MechanismView
 
 
 INDETERMINATE = "indeterminate.txt"
@@ -122,6 +122,8 @@ def write_analysis_outputs(
     columns are statically indeterminate), its figures
     (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
     manifest; returns the paths, the table first."""
+    from .study.view import analysis_view
+
     record = {
         "actuated": list(analysis.spec.actuated),
         "independent": list(analysis.spec.independent),
@@ -160,6 +162,8 @@ def write_simulation_outputs(
     ``assembled_pose.csv``, ``indeterminate.txt`` (when some columns are statically
     indeterminate), its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
     ``report.html`` if ``figures``, and the manifest; returns the paths, the table first."""
+    from .study.view import simulation_view
+
     record = {
         "force_elements": [element.name for element in simulation.elements],
         "integrator": {
@@ -216,6 +220,8 @@ def _write_mechanism(
             path, _pose_csv(result.chain, result.assembled)
         ),
     }
+    from .study.mechanism_table import indeterminate_columns
+
     indeterminate = indeterminate_columns(loads.indeterminacy)
     if indeterminate:
         outputs[INDETERMINATE] = lambda path: write_text(

@@ -46,8 +46,9 @@ def test_figure_writers_load_matplotlib_only_to_draw():
 
 def test_design_sensitivities_load_nothing_of_the_optimisation():
     """``feeder design sensitivities`` imports neither the optimisation's modules nor what only
-    they use, scipy.stats (~0.3 s). (scipy.optimize is loaded all the same: scipy.integrate,
-    which the forward run of feeder.chain uses, imports it.)"""
+    they use, scipy.stats (~0.3 s). (scipy.optimize is loaded all the same by the whole parser:
+    ``simulate``'s options name the singular-pass modes of feeder.chain, whose module imports
+    it; the command itself builds its own sub-parser only, and loads no SciPy.)"""
     loaded = _modules_after(
         "import feeder.cli as c\nc.parser()\nimport feeder.design as d\nd.run_sensitivities\n"
         "from feeder.design import outputs, tables",
@@ -88,3 +89,64 @@ def test_a_run_without_figures_loads_no_plotting(tmp_path):
     bare = run.format(**files, out=str(tmp_path / "bare"), extra=", '--no-figures'")
     assert "matplotlib" not in _modules_after(bare)
     assert "matplotlib" in _modules_after(run.format(**files, out=str(tmp_path / "all"), extra=""))
+
+
+VIEWER = {"meshcat", "trimesh", "pinocchio.visualize"}
+"""What only the viewer and the report page need (0.35–0.39 s, issue 29)."""
+
+FORWARD = {"scipy.integrate"}
+"""What only the generic forward and hybrid runs need (0.13 s); the device's own forward run
+(:mod:`feeder.dynamics.integrator`) does without it."""
+
+PLOTTING = {"matplotlib"}
+
+SCIPY = {"scipy"}
+"""The device's own studies (its cycle, kinematics, sweeps, design sensitivities) use none of
+SciPy: only the generic chain's tracking, forward runs and mobility do."""
+
+EXAMPLES = REPO / "examples"
+FOUR_BAR = [str(EXAMPLES / "four_bar" / "four_bar.urdf"), "--closures"]
+FOUR_BAR += [str(EXAMPLES / "four_bar" / "closures.toml")]
+SQUEEZER = [str(EXAMPLES / "andrews_squeezer" / "andrews_squeezer.urdf"), "--closures"]
+SQUEEZER += [str(EXAMPLES / "andrews_squeezer" / "squeezer.toml")]
+
+COMMANDS = {
+    "parameters": (["parameters"], {"pinocchio"} | SCIPY | PLOTTING | VIEWER),
+    "urdf": (["urdf", "--out", "{out}"], {"pinocchio"} | SCIPY | PLOTTING | VIEWER),
+    "errata": (["errata"], SCIPY | PLOTTING | VIEWER),
+    "kinematics": (["kinematics", "--elevation", "30", "--out", "{out}"], SCIPY | VIEWER),
+    "cycle": (["cycle", "--elevation", "30", "--out", "{out}"], SCIPY | VIEWER),
+    "cycle --no-figures": (
+        ["cycle", "--elevation", "30", "--no-figures", "--out", "{out}"],
+        SCIPY | PLOTTING | VIEWER,
+    ),
+    "sweep": (["sweep", "--elevations", "0", "10", "10", "--out", "{out}"], SCIPY | VIEWER),
+    "analyze": (
+        ["analyze", *FOUR_BAR, "--motion", str(EXAMPLES / "four_bar" / "motion.csv")]
+        + ["--out", "{out}", "--no-figures"],
+        FORWARD | PLOTTING | VIEWER,
+    ),
+    "simulate --no-figures": (
+        ["simulate", *SQUEEZER, "--duration", "0.003", "--out", "{out}", "--no-figures"],
+        PLOTTING | VIEWER,
+    ),
+    "design sensitivities --no-figures": (
+        ["design", "sensitivities", "--elevation", "30", "--parameter", "L1"]
+        + ["--out", "{out}", "--no-figures"],
+        SCIPY | PLOTTING | VIEWER,
+    ),
+}
+"""Each command as a user types it, and what it must not import: the plotting only where it
+draws in this process (``cycle`` draws in its figure workers), the viewer nowhere but ``view``
+and ``simulate``'s report page, ``scipy.integrate`` only in the generic forward runs, no SciPy
+in the device's studies, and no Pinocchio where a command only prints or writes the device's
+numbers."""
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_each_command_imports_only_what_it_uses(command, tmp_path):
+    argv, absent = COMMANDS[command]
+    argv = [word.format(out=tmp_path / "out") for word in argv]
+    loaded = _modules_after(f"from feeder.cli import main\nassert main({argv!r}) == 0", full=True)
+    assert "feeder.cli" in loaded  # the command ran in that interpreter
+    assert not {m for m in loaded for a in absent if m == a or m.startswith(a + ".")}

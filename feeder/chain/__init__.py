@@ -42,23 +42,65 @@ freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
 Tolerances and limits live next to where they are checked (``MAX_GAIN`` in
 :mod:`feeder.chain.assembly.partition`, ``POSITION_TOLERANCE`` in
 :mod:`feeder.chain.assembly.newton`).
+
+The names below load on first use, so that a command that only reads a model or builds the
+device's tree does not import what only tracking (``scipy.linalg``) or forward runs
+(``scipy.integrate``) need.
 """
 
-from .assembly.partition import Partition
-from .assembly.rates import initial_rates
-from .assembly.tracking import track
-from .dynamics.forward import BAUMGARTE_RATE, simulate
-from .dynamics.hybrid import hybrid_run
-from .dynamics.inverse import ChainDynamics, inverse_dynamics
-from .kinematics.frames import frame_motion
+import importlib
+from typing import TYPE_CHECKING
+
+# Bound here, not on first use: once the submodule ``mobility`` is imported (by any module),
+# the package's attribute ``mobility`` would be that module, and __getattr__ never asked.
 from .mobility import mobility
-from .model.base import BaseMotion
-from .model.closure import ClosedChain, Closure
-from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
-from .model.hull_table import HullTable
-from .model.profiles import Bump, Recoil, Slope, Terrain
-from .readers.mechanism import load_mechanism, read_spec
-from .readers.urdf import load_closed_chain
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .assembly.partition import Partition
+    from .assembly.rates import initial_rates
+    from .assembly.tracking import track
+    from .dynamics.forward import simulate
+    from .dynamics.forward_equations import BAUMGARTE_RATE
+    from .dynamics.hybrid import hybrid_run
+    from .dynamics.inverse import ChainDynamics, inverse_dynamics
+    from .kinematics.frames import frame_motion
+    from .model.base import BaseMotion
+    from .model.closure import ClosedChain, Closure
+    from .model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
+    from .model.hull_table import HullTable
+    from .model.profiles import Bump, Recoil, Slope, Terrain
+    from .readers.mechanism import load_mechanism, read_spec
+    from .readers.urdf import load_closed_chain
+
+_SOURCES = {
+    "BAUMGARTE_RATE": ".dynamics.forward_equations",
+    "BaseMotion": ".model.base",
+    "Bump": ".model.profiles",
+    "ChainDynamics": ".dynamics.inverse",
+    "ClosedChain": ".model.closure",
+    "Closure": ".model.closure",
+    "Cylinder": ".model.forces",
+    "ForceElement": ".model.forces",
+    "HullTable": ".model.hull_table",
+    "JointSpring": ".model.forces",
+    "Load": ".model.forces",
+    "Partition": ".assembly.partition",
+    "Recoil": ".model.profiles",
+    "Slope": ".model.profiles",
+    "Spring": ".model.forces",
+    "Table": ".model.forces",
+    "Terrain": ".model.profiles",
+    "frame_motion": ".kinematics.frames",
+    "hybrid_run": ".dynamics.hybrid",
+    "initial_rates": ".assembly.rates",
+    "inverse_dynamics": ".dynamics.inverse",
+    "load_closed_chain": ".readers.urdf",
+    "load_mechanism": ".readers.mechanism",
+    "read_spec": ".readers.mechanism",
+    "simulate": ".dynamics.forward",
+    "track": ".assembly.tracking",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "BAUMGARTE_RATE",
@@ -89,3 +131,15 @@ __all__ = [
     "simulate",
     "track",
 ]
+
+
+def __getattr__(name: str):
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -34,7 +34,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..exceptions import SingularPoseError
 from .assembly.check import idle_motions
@@ -242,7 +241,7 @@ def _pivoted_choice(jac, joints, columns, rank, tolerance) -> list[tuple[str, ..
     column-pivoted QR of the one-coordinate joints' columns (the best-conditioned dependent
     set), if they determine the rest."""
     index = [columns[name] for name in joints]
-    _, _, pivots = scipy.linalg.qr(jac[:, index], pivoting=True, mode="economic")
+    pivots = _pivots(jac[:, index])
     dependent = set(pivots[:rank].tolist())
     choice = tuple(name for k, name in enumerate(joints) if k not in dependent)
     others = [i for i in range(jac.shape[1]) if i not in {columns[name] for name in choice}]
@@ -258,6 +257,14 @@ def localised(motions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     (k,)."""
     if motions.shape[0] == 0:
         return motions, np.zeros(0, dtype=int)
-    _, _, pivots = scipy.linalg.qr(motions, pivoting=True, mode="economic")
+    pivots = _pivots(motions)
     chosen = pivots[: motions.shape[0]]
     return np.linalg.solve(motions[:, chosen], motions), chosen
+
+
+def _pivots(matrix: np.ndarray) -> np.ndarray:
+    """The column order of ``matrix``'s column-pivoted QR (SciPy's; imported here, so that
+    reading or building a chain does not load scipy.linalg)."""
+    import scipy.linalg
+
+    return scipy.linalg.qr(matrix, pivoting=True, mode="economic")[2]

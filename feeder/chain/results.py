@@ -15,20 +15,45 @@
 * :class:`MobilityReport` — :func:`~feeder.chain.mobility` (:mod:`feeder.chain.mobility`);
 * :class:`BaseState` — a :class:`~feeder.chain.BaseMotion` at the sample times
   (:mod:`feeder.chain.model.base`).
+
+The names load on first use: the device's dynamics name two of them, and must not import the
+forward run's SciPy with them.
 """
 
-from .assembly.check import PoseCheck
-from .assembly.rates import InitialRates
-from .assembly.trajectory import Trajectory
-from .dynamics.forward_run import ForwardRun
-from .dynamics.hybrid import HybridRun
-from .dynamics.inverse import ChainLoads
-from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
-from .dynamics.singular import SingularPass
-from .kinematics.frames import FrameMotion
-from .kinematics.pose import ChainPose
-from .mobility import MobilityReport
-from .model.base import BaseState
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .assembly.check import PoseCheck
+    from .assembly.rates import InitialRates
+    from .assembly.trajectory import Trajectory
+    from .dynamics.forward_run import ForwardRun
+    from .dynamics.hybrid import HybridRun
+    from .dynamics.inverse import ChainLoads
+    from .dynamics.reactions import ClosureWrench, JointWrench, MountWrench
+    from .dynamics.singular import SingularPass
+    from .kinematics.frames import FrameMotion
+    from .kinematics.pose import ChainPose
+    from .mobility import MobilityReport
+    from .model.base import BaseState
+
+_SOURCES = {
+    "BaseState": ".model.base",
+    "ChainLoads": ".dynamics.inverse",
+    "ChainPose": ".kinematics.pose",
+    "ClosureWrench": ".dynamics.reactions",
+    "ForwardRun": ".dynamics.forward_run",
+    "FrameMotion": ".kinematics.frames",
+    "HybridRun": ".dynamics.hybrid",
+    "InitialRates": ".assembly.rates",
+    "JointWrench": ".dynamics.reactions",
+    "MobilityReport": ".mobility",
+    "MountWrench": ".dynamics.reactions",
+    "PoseCheck": ".assembly.check",
+    "SingularPass": ".dynamics.singular",
+    "Trajectory": ".assembly.trajectory",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "BaseState",
@@ -46,3 +71,15 @@ __all__ = [
     "SingularPass",
     "Trajectory",
 ]
+
+
+def __getattr__(name: str):
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __package__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -46,8 +46,10 @@ COMMANDS = (cycle, kinematics, view, parameters, urdf, errata, sweep, analyze, s
 """The commands' modules, in the order ``feeder --help`` lists them."""
 
 
-def parser() -> argparse.ArgumentParser:
-    """The command line's parser: one sub-parser per module of :data:`COMMANDS`."""
+def parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser: one sub-parser per module of :data:`COMMANDS`; given the
+    ``command`` about to run, the others are bare names (their options, and the modules their
+    help quotes, are not loaded: :func:`main` parses one command)."""
     top = argparse.ArgumentParser(
         prog="feeder",
         description="Analysis of the 152 mm SPH M77 ammunition feeding device. SI units, "
@@ -56,7 +58,11 @@ def parser() -> argparse.ArgumentParser:
     )
     commands = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for module in COMMANDS:
-        module.add(commands)
+        name = module.__name__.rpartition(".")[2]
+        if command in (None, name):
+            module.add(commands)
+        else:
+            commands.add_parser(name)
     return top
 
 
@@ -110,7 +116,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
-            command_parser = parser()
+            known = argv[:1] and argv[0] in (m.__name__.rpartition(".")[2] for m in COMMANDS)
+            command_parser = parser(argv[0] if known else None)
             _check_command(command_parser, argv)
             args = command_parser.parse_args(argv)
             args.argv = argv

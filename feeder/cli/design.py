@@ -10,7 +10,6 @@ import sys
 
 from ..design.differences import STEP_FACTOR
 from ..design.differentiable import SCALES
-from ..design.problem import DEFAULT_ELEVATIONS, DEFAULT_RATE
 from .options import (
     Once,
     add_command,
@@ -211,6 +210,8 @@ def run_mechanism(args: argparse.Namespace) -> int:
 
 def add_optimize(tasks: argparse._SubParsersAction) -> None:
     """The ``design optimize`` sub-parser."""
+    from ..design.problem import DEFAULT_ELEVATIONS, DEFAULT_RATE
+
     optimize = add_command(
         tasks,
         "optimize",

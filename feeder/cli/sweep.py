@@ -6,7 +6,6 @@ import argparse
 from pathlib import Path
 
 from ..device.builtin import DEVICES
-from ..study.grid import DEFAULT_ELEVATIONS_DEG
 from .options import (
     Once,
     add_command,
@@ -21,6 +20,8 @@ from .options import (
 
 def add(commands: argparse._SubParsersAction) -> None:
     """The ``sweep`` sub-parser."""
+    from ..study.grid import DEFAULT_ELEVATIONS_DEG
+
     sweep = add_command(commands, "sweep", run, "peak loads over elevations × variants × devices")
     sweep.add_argument(
         "--out",

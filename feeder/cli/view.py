@@ -76,7 +76,7 @@ def add(commands: argparse._SubParsersAction) -> None:
         "--port",
         action=Once,
         type=int,
-        help="web port on 127.0.0.1 (default: a free one)",
+        help="web port on 127.0.0.1 of the live viewer (default: a free one); not with --html",
     )
 
 
@@ -87,6 +87,8 @@ def run(args: argparse.Namespace) -> int:
 
     html = None if args.html is None else check_writable(args.html)
     port = check_port(args.port)
+    if html is not None and port is not None:
+        raise InputError("--port is the live viewer's; --html writes the page without a server")
     if args.model is None:
         return _view_device(args, html, port)
     device = [flag for flag, value in (("--elevation", args.elevation), ("--device",
@@ -144,7 +146,7 @@ def _write_or_serve(scene: MechanismScene, html: Path | None, port: int | None, 
     from ..viz.viewer import show, write_html
 
     if html is not None:
-        print(f"wrote {write_html(scene, html, port=port)}")
+        print(f"wrote {write_html(scene, html)}")
         return 0
     # Ctrl-C is how the viewer stops: from the first line printed on, it ends with status 0.
     with show(scene, port=port) as viewer, suppress(KeyboardInterrupt):

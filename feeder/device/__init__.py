@@ -7,11 +7,36 @@ and the rod-eye pin closure, through :mod:`feeder.chain`). The loop's geometry l
 :mod:`feeder.device.loop`.
 """
 
-from .builtin import CHARGE_FEEDER, DEVICES, PROJECTILE_FEEDER
-from .feeder import CLOSURE, INDEPENDENT_JOINTS, PAPER_JOINTS, Feeder, load_feeder
-from .loop import LoopState, loop_state, required_stroke, transmission_angle
-from .parameters import GRAVITY, FeederParameters, LinkInertia
-from .urdf_writer import urdf_string, write_urdfs
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .builtin import CHARGE_FEEDER, DEVICES, PROJECTILE_FEEDER
+    from .feeder import CLOSURE, INDEPENDENT_JOINTS, PAPER_JOINTS, Feeder, load_feeder
+    from .loop import LoopState, loop_state, required_stroke, transmission_angle
+    from .parameters import GRAVITY, FeederParameters, LinkInertia
+    from .urdf_writer import urdf_string, write_urdfs
+
+_SOURCES = {
+    "CHARGE_FEEDER": ".builtin",
+    "CLOSURE": ".feeder",
+    "DEVICES": ".builtin",
+    "Feeder": ".feeder",
+    "FeederParameters": ".parameters",
+    "GRAVITY": ".parameters",
+    "INDEPENDENT_JOINTS": ".feeder",
+    "LinkInertia": ".parameters",
+    "LoopState": ".loop",
+    "PAPER_JOINTS": ".feeder",
+    "PROJECTILE_FEEDER": ".builtin",
+    "load_feeder": ".feeder",
+    "loop_state": ".loop",
+    "required_stroke": ".loop",
+    "transmission_angle": ".loop",
+    "urdf_string": ".urdf_writer",
+    "write_urdfs": ".urdf_writer",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "CHARGE_FEEDER",
@@ -32,3 +57,15 @@ __all__ = [
     "urdf_string",
     "write_urdfs",
 ]
+
+
+def __getattr__(name: str):
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

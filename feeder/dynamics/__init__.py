@@ -7,11 +7,35 @@ loads) → :mod:`.reactions` → :mod:`.drives` → :mod:`.forward` (the force-r
 :mod:`.cycle` (all of them over one cycle).
 """
 
-from .cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynamics
-from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate_feeder
-from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_cycle_motion
-from .models import FeederDynamics
-from .reactions import JOINT_NAMES, JointReactions, JointWrench, pin_reactions
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynamics
+    from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate_feeder
+    from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_cycle_motion
+    from .models import FeederDynamics
+    from .reactions import JOINT_NAMES, JointReactions, JointWrench, pin_reactions
+
+_SOURCES = {
+    "ActuatorLoads": ".inverse",
+    "CycleDynamics": ".cycle",
+    "FORWARD_TOLERANCE": ".cycle",
+    "FeederDynamics": ".models",
+    "ForceRule": ".forward",
+    "ForwardMotion": ".forward",
+    "JOINT_NAMES": ".reactions",
+    "JointReactions": ".reactions",
+    "JointWrench": ".reactions",
+    "SampledMotion": ".inverse",
+    "actuator_loads": ".inverse",
+    "check_cycle_motion": ".inverse",
+    "constrained_dynamics": ".forward",
+    "cycle_dynamics": ".cycle",
+    "pin_reactions": ".reactions",
+    "simulate_feeder": ".forward",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "FORWARD_TOLERANCE",
@@ -31,3 +55,15 @@ __all__ = [
     "pin_reactions",
     "simulate_feeder",
 ]
+
+
+def __getattr__(name: str):
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

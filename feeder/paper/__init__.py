@@ -8,10 +8,31 @@ Depends on the device's parameters and numpy only, never on Pinocchio or the pip
 differs, and by how much).
 """
 
-from .coriolis import christoffel_coriolis, kronecker_coriolis
-from .errata import ReferenceMotion, errata_markdown, errata_rows
-from .lagrange import LagrangeLoads, lagrange_loads, mass_matrix
-from .printed import PrintedEquations, printed_equations
+import importlib
+from typing import TYPE_CHECKING
+
+# Bound here, not on first use: once the submodule ``errata_rows`` is imported (by any module),
+# the package's attribute ``errata_rows`` would be that module, and __getattr__ never asked.
+from .errata import errata_rows
+
+if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
+    from .coriolis import christoffel_coriolis, kronecker_coriolis
+    from .errata import ReferenceMotion, errata_markdown
+    from .lagrange import LagrangeLoads, lagrange_loads, mass_matrix
+    from .printed import PrintedEquations, printed_equations
+
+_SOURCES = {
+    "LagrangeLoads": ".lagrange",
+    "PrintedEquations": ".printed",
+    "ReferenceMotion": ".errata",
+    "christoffel_coriolis": ".coriolis",
+    "errata_markdown": ".errata",
+    "kronecker_coriolis": ".coriolis",
+    "lagrange_loads": ".lagrange",
+    "mass_matrix": ".lagrange",
+    "printed_equations": ".printed",
+}
+"""Public name → the module that defines it."""
 
 __all__ = [
     "LagrangeLoads",
@@ -25,3 +46,15 @@ __all__ = [
     "mass_matrix",
     "printed_equations",
 ]
+
+
+def __getattr__(name: str):
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -91,7 +91,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
     label and tick labels under the lowest drawn panel; a panel whose curves are all zero is a
     note (:func:`~feeder.viz.axes.leave_out`). Each drawn panel's legend stands beside it, in
     columns of at most :data:`LEGEND_ROWS` entries, the panel as tall as the legend; matplotlib's
-    constrained layout makes room for the legends and labels."""
+    constrained layout, computed once (:func:`_lay_out`), makes room for the legends and labels."""
     curves = [[_wrapped(curve) for curve in panel.curves()] for panel in panels]
     drawn = [not all(curve.zero for curve in panel) for panel in curves]
     columns = [math.ceil(len(panel) / LEGEND_ROWS) for panel in curves]
@@ -100,7 +100,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         for panel, n, shown in zip(curves, columns, drawn, strict=True)
     ]
     width = FIGURE_WIDTH + LEGEND_COLUMN * (max(columns, default=1) - 1)
-    fig = Figure(figsize=(width, sum(heights) + 0.5), layout="constrained")
+    fig = Figure(figsize=(width, sum(heights) + 0.5))
     grid = {"height_ratios": heights}
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False, gridspec_kw=grid)[:, 0]
     for ax, panel, panel_curves, n, shown in zip(
@@ -125,7 +125,24 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         lowest[-1].xaxis.set_tick_params(labelbottom=True)
         lowest[-1].set_xlabel("time t [s]")
     label_ticks(fig)
+    _lay_out(fig)
     return fig
+
+
+def _lay_out(fig: Figure) -> None:
+    """Matplotlib's constrained layout computed once, with the text measured at the PNG's
+    resolution (:data:`~feeder.viz.report.FIGURE_DPI`, as ``savefig`` would), and then fixed: a
+    figure that keeps a layout engine is drawn twice by each ``savefig`` (a first time without
+    output, only to lay it out: about 40 % of its cost); this one once, with the same pixels."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from .report import FIGURE_DPI
+
+    shown, fig.dpi = fig.dpi, FIGURE_DPI
+    try:
+        ConstrainedLayoutEngine().execute(fig)
+    finally:
+        fig.dpi = shown
 
 
 def _wrapped(curve: Curve) -> Curve:

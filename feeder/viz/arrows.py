@@ -11,9 +11,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import meshcat
+import meshcat.animation
 import meshcat.geometry as mg
 import numpy as np
 
+from .key_frames import key_property, key_transforms
 from .legend import LegendEntry, css, note
 from .nodes import BASE, ON_TOP
 from .placements import homogeneous, in_level_axes, y_onto
@@ -122,14 +124,15 @@ class DrawnArrows:
                 scale = np.diag([*arrow[f"{part}_scale"][0], 1.0])
                 vis[f"{node}/{part}"].set_transform(arrow[part][0] @ scale)
 
-    def key_frame(self, frame, k: int) -> None:
-        """Place every arrow in the animation ``frame`` as at key frame ``k``."""
+    def key_frames(
+        self, animation: meshcat.animation.Animation, vis: meshcat.Visualizer, frames: list
+    ) -> None:
+        """Place every arrow in ``animation`` at its K key ``frames`` (K,)."""
         for node, arrow in self.keys.items():
             for part in _PARTS:
-                frame[f"{node}/{part}"].set_transform(arrow[part][k])
-                frame[f"{node}/{part}"].set_property(
-                    "scale", "vector3", arrow[f"{part}_scale"][k].tolist()
-                )
+                key_transforms(animation, vis[f"{node}/{part}"], frames, arrow[part])
+                scale = arrow[f"{part}_scale"]
+                key_property(animation, vis[f"{node}/{part}"], frames, "scale", "vector3", scale)
 
 
 def draw_arrows(

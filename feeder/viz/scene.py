@@ -35,6 +35,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from ..chain.results import BaseState
 from .arrows import Arrows, DrawnArrows, arrow_length, draw_arrows
 from .framing import GRID_COLOR, HULL_COLOR, draw_hull, frame_scene
+from .key_frames import key_transforms
 from .legend import DrawnScene, LegendEntry, css
 from .nodes import ANIMATION, BASE
 from .overlays import Overlay
@@ -199,13 +200,12 @@ def _animate(
     if t.size == 1:
         return
     animation = meshcat.animation.Animation(default_framerate=FRAME_RATE)
-    for k, i in enumerate(samples):
-        with animation.at_frame(vis, (t[i] - t[0]) * slow * FRAME_RATE) as frame:
-            if base is not None:
-                frame[BASE].set_transform(base[i])
-            for node, placements in tracks.items():
-                frame[node].set_transform(placements[i])
-            arrows.key_frame(frame, k)
+    frames = ((t[samples] - t[0]) * slow * FRAME_RATE).tolist()
+    if base is not None:
+        key_transforms(animation, vis[BASE], frames, base[samples])
+    for node, placements in tracks.items():
+        key_transforms(animation, vis[node], frames, placements[samples])
+    arrows.key_frames(animation, vis, frames)
     # Kept on a node of its own, created last: MeshCat sends a scene node by node in creation
     # order, so the animation comes after every set_transform (Pinocchio's included) and a late
     # transform cannot undo a pause at a chosen time.

@@ -7,7 +7,8 @@ Both the live page and the static one carry a legend for every colour and a play
 loop, a time slider with the time and the stage (:mod:`feeder.viz._page`). MeshCat 0.3.2's
 server listens on every interface unless told otherwise; :class:`SceneViewer` starts it here
 with its web port bound to 127.0.0.1 (its ZMQ port is on 127.0.0.1 already). The static page
-(:func:`scene_html`) embeds MeshCat's JavaScript and the scene: it opens offline. It carries
+(:func:`scene_html`) embeds MeshCat's JavaScript and the scene: it opens offline, and is written
+without a server. It carries
 :data:`~feeder.viz._page.PAGE_MARKER` in its head, and replaces no file but such a page.
 """
 
@@ -26,6 +27,7 @@ from ..exceptions import InputError
 from ..files import check_replaceable, write_text
 from ..study.view import MechanismView
 from ._meshcat_server import MeshcatServer
+from ._offline import OfflineWindow
 from ._page import PAGE_MARKER, panels_html, static_page
 from .legend import DrawnScene
 from .model_scene import model_scene
@@ -107,32 +109,31 @@ def show(
     return viewer
 
 
-def scene_html(scene: MechanismScene, *, port: int | None = None) -> str:
-    """The scene as a self-contained HTML page (about 1 MB, opens offline; meshes embedded). A
-    MeshCat server runs on 127.0.0.1 while the page is assembled (on ``port``, or a free one).
-    """
-    with SceneViewer(scene, port=port) as viewer:
-        return viewer.static_html()
+def scene_html(scene: MechanismScene) -> str:
+    """The scene as a self-contained HTML page (about 1 MB, opens offline; meshes embedded),
+    assembled in this process: MeshCat's page without its server (:class:`OfflineWindow`)."""
+    window = OfflineWindow()
+    visualizer = MeshcatVisualizer(scene.model, None, scene.visuals)
+    visualizer.initViewer(viewer=meshcat.Visualizer(window=window))
+    drawn = draw_scene(visualizer, scene)
+    return static_page(window.get_scene(), panels_html(drawn, scene.title))
 
 
-def write_html(scene: MechanismScene, path: str | Path, *, port: int | None = None) -> Path:
+def write_html(scene: MechanismScene, path: str | Path) -> Path:
     """Write the scene as a self-contained HTML page (:func:`scene_html`).
 
     Raises:
         InputError: ``path`` cannot be written or is a file other than a page of the viewer
-            (:func:`check_writable`), a bad port number.
-        ViewerPortError: The port is busy.
+            (:func:`check_writable`).
     """
     path = check_writable(path)
-    return write_text(path, scene_html(scene, port=port))
+    return write_text(path, scene_html(scene))
 
 
-def mechanism_html(
-    view: MechanismView, reactions: Sequence[str] | None = None, *, port: int | None = None
-) -> str:
+def mechanism_html(view: MechanismView, reactions: Sequence[str] | None = None) -> str:
     """A user's mechanism's view as a self-contained HTML page (the 3-D view of
     ``report.html``), with the reaction forces of ``reactions`` (default: the largest)."""
-    return scene_html(model_scene(view, reactions), port=port)
+    return scene_html(model_scene(view, reactions))
 
 
 def check_port(port: int | None) -> int | None:

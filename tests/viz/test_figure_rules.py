@@ -7,6 +7,7 @@ charge feeder's file names."""
 
 from __future__ import annotations
 
+import io
 import math
 import struct
 import warnings
@@ -23,6 +24,7 @@ from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.study.simulate import simulate_mechanism
+from feeder.viz import analysis
 from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
 from feeder.viz.axes import ROUND_OFF, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
@@ -359,3 +361,23 @@ def test_figures_are_written_at_150_dpi_or_more():
 )
 def test_tick_labels_carry_their_whole_value(ticks, labels):
     assert FullTicks().format_ticks(ticks) == labels
+
+
+def test_a_layout_computed_once_gives_the_pixels_of_savefigs_own(monkeypatch):
+    """stacked_figure lays its figure out once, at the PNG's resolution, and fixes the layout
+    (savefig then draws it once): the PNG's pixels are those of the same figure left to
+    savefig's own constrained layout (a layout engine, as before), bit for bit."""
+    from PIL import Image  # matplotlib's own dependency
+
+    t = np.linspace(0.0, 2.0, 201)
+    panels = [
+        Panel("Forces", "|force| [N]", "N", (("pin A", 3.0 + np.sin(t)), ("pin B", 2.0 * t))),
+        Panel("Moment", "moment [N·m]", "N·m", (("motor", np.cos(3.0 * t)),), reference=0.5),
+        Panel("Idle", "force [N]", "N", (("slider", 1e-20 * t),)),  # a note, not a panel
+    ]
+    fixed = stacked_figure(t, panels)
+    monkeypatch.setattr(analysis, "_lay_out", lambda fig: fig.set_layout_engine("constrained"))
+    at_save = stacked_figure(t, panels)
+    assert fixed.get_layout_engine() is None and at_save.get_layout_engine() is not None
+    pixels = [np.asarray(Image.open(io.BytesIO(png_bytes(fig)))) for fig in (fixed, at_save)]
+    np.testing.assert_array_equal(pixels[0], pixels[1])

@@ -42,7 +42,7 @@ from feeder.viz.framing import HULL_COLOR
 from feeder.viz.legend import css
 from feeder.viz.nodes import BASE, ROOT
 from feeder.viz.scene import FRAME_RATE
-from feeder.viz.viewer import SceneViewer, show, write_html
+from feeder.viz.viewer import PAGE_MARKER, SceneViewer, show, write_html
 
 ELEVATION_DEG = 30.0
 WINDOW = (1000, 800)
@@ -242,7 +242,6 @@ def test_static_page_is_self_contained(feeder, cycle30, tmp_path):
 
 def test_static_page_replaces_only_a_page_the_viewer_wrote(feeder, cycle30, tmp_path):
     """The page carries PAGE_MARKER in its head; write_html replaces such a page only."""
-    from feeder.viz.viewer import PAGE_MARKER
 
     path = write_html(device_scene(feeder, cycle30), tmp_path / "cycle.html")
     assert PAGE_MARKER in path.read_text(encoding="utf-8")[:4096]
@@ -515,13 +514,26 @@ def test_view_command_unwritable_html(tmp_path, no_blocking, where):
         view_command("projectile", 30.0, str(path), None)
 
 
-@pytest.mark.parametrize("html", [None, "view.html"], ids=["live", "html"])
-def test_view_command_busy_port(tmp_path, no_blocking, html):
+def test_view_command_busy_port(no_blocking):
     with socket.create_server((LOOPBACK, 0)) as busy:
         port = busy.getsockname()[1]
         with pytest.raises(ViewerPortError, match=f"port {port}"):
-            view_command("projectile", 30.0, html and str(tmp_path / html), port)
+            view_command("projectile", 30.0, None, port)
     assert no_blocking == []
+
+
+def test_a_page_is_written_without_a_server(tmp_path, monkeypatch):
+    """``--html`` assembles MeshCat's page in this process: no server starts (and so no port
+    is taken, nor accepted)."""
+
+    def no_server(*args, **kwargs):
+        raise AssertionError("a server was started to write a page")
+
+    monkeypatch.setattr("feeder.viz.viewer.MeshcatServer", no_server)
+    assert view_command("projectile", 30.0, str(tmp_path / "view.html"), None) == 0
+    assert PAGE_MARKER in (tmp_path / "view.html").read_text(encoding="utf-8")
+    with pytest.raises(InputError, match="--port"):
+        view_command("projectile", 30.0, str(tmp_path / "view.html"), 8000)
 
 
 @pytest.mark.parametrize("port", [0, 65536, -1])

@@ -47,7 +47,6 @@ from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
-import scipy.integrate
 
 from ...exceptions import FeederWarning, InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number
@@ -60,17 +59,13 @@ from .budget import (
     sample_progress,
     step_cap_message,
 )
-from .forward_equations import Actuation, ForwardEquations, IntegrationError
+from .forward_equations import BAUMGARTE_RATE, Actuation, ForwardEquations, IntegrationError
 from .forward_run import ForwardRun
 from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
 from .singular import MODES, RankWatch, coast, determinate_loads
 from .stiffness import StiffnessTest, step_advice, stiff_warning
-
-BAUMGARTE_RATE = 20.0
-"""Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
-mechanism's motion and slow enough not to make the equations stiff."""
 
 MAX_BAUMGARTE_RATE = 1e6
 """Largest accepted Baumgarte rate ω [1/s]. Its K_p = ω² (1e12 /s² here) multiplies the loop
@@ -245,6 +240,8 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
     or None for one that stops at them."""
     chain = equations.dyn.chain
     nq = equations.model.nq
+    import scipy.integrate  # here: only forward runs pay its import (~0.13 s)
+
     solver_class = getattr(scipy.integrate, method)
 
     def start(time: float, y: np.ndarray, first_step: float | None):

@@ -28,6 +28,10 @@ from ...validation import check_finite
 from ..kinematics.joints import ConfigurationRate
 from .inverse import ChainDynamics
 
+BAUMGARTE_RATE = 20.0
+"""Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
+mechanism's motion and slow enough not to make the equations stiff."""
+
 PROXIMAL = pin.ProximalSettings(1e-13, 1e-10, 100)
 """Pinocchio's proximal solver: absolute accuracy 1e-13 of the constraint accelerations,
 regularisation μ = 1e-10 (positive: the redundant rows of a planar loop), at most 100 iterations

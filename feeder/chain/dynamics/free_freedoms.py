@@ -27,7 +27,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-import scipy.optimize
 
 from ...exceptions import UnreachablePoseError
 from ..assembly.newton import POSITION_TOLERANCE, newton
@@ -132,6 +131,8 @@ def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
         return free.basis @ (locked.T @ (locked @ gradient))
 
     start = np.zeros(len(free))
+    import scipy.optimize  # here: only a rest search loads it
+
     basin = scipy.optimize.minimize(potential, start, method="BFGS").x
     polished = scipy.optimize.root(stationarity, basin, method="hybr")
     return dyn.partition.wrap(pose(polished.x if polished.success else basin))

@@ -42,7 +42,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-import scipy.integrate
 
 from ...exceptions import InputError, SingularPoseError, UnreachablePoseError
 from ...validation import check_finite, check_number, check_samples
@@ -51,8 +50,8 @@ from ..assembly.newton import POSITION_TOLERANCE, newton
 from ..blas import one_blas_thread
 from ..kinematics.coordinates import length_rates, pose_text
 from .budget import MAX_STEPS, check_sample_count, step_cap_message
-from .forward import ATOL, BAUMGARTE_RATE, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
-from .forward_equations import IntegrationError
+from .forward import ATOL, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
+from .forward_equations import BAUMGARTE_RATE, IntegrationError
 from .free_freedoms import FreeFreedoms, free_freedoms, rest_pose
 from .hybrid_equations import HybridEquations, Prescribed
 from .inverse import ChainDynamics, ChainLoads, check_dynamics, inverse_dynamics
@@ -239,6 +238,8 @@ def _first_sample(dyn: ChainDynamics, q: np.ndarray, x0: np.ndarray) -> np.ndarr
 
 def _integrate(equations: HybridEquations, t, y0, method, rtol, atol, drift_tolerance):
     """The states (N, len(y0)) at the times t, the accepted steps and the projections."""
+    import scipy.integrate  # here: only hybrid runs pay its import (~0.13 s)
+
     solver_class = getattr(scipy.integrate, method)
     nq = equations.nq
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from scipy.interpolate import BPoly
 
 from ..assembly.newton import POSITION_TOLERANCE, newton
 from ..assembly.rank import rank_tolerance, truncated_inverse
@@ -25,6 +24,8 @@ class Prescribed:
     polynomial (evaluated once per call for all of them)."""
 
     def __init__(self, t: np.ndarray, x: np.ndarray, dx: np.ndarray, ddx: np.ndarray):
+        from scipy.interpolate import BPoly  # here: only hybrid runs pay its import
+
         columns = [
             BPoly.from_derivatives(t, np.stack([x[:, i], dx[:, i], ddx[:, i]], axis=1))
             for i in range(x.shape[1])
