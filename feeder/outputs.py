@@ -100,13 +100,16 @@ def write_kinematics_outputs(
     cycle: CycleKinematics,
     directory: str | Path | OutputFolder,
     command: str | None = None,
+    figures: bool = True,
 ) -> list[Path]:
-    """Write the kinematic columns of ``cycle.csv``, Figs. 4 and 10 and the manifest into
-    ``directory`` (as :func:`write_cycle_outputs`); returns the paths, the table first."""
+    """Write the kinematic columns of ``cycle.csv``, Figs. 4 and 10 (if ``figures``) and the
+    manifest into ``directory`` (as :func:`write_cycle_outputs`); returns the paths, the table
+    first."""
     outputs: dict[str, Writer] = {
         "cycle.csv": lambda path: write_csv(path, kinematic_columns(cycle))
     }
-    outputs |= _figure_writers(kinematics_figures(feeder, cycle))
+    if figures:
+        outputs |= _figure_writers(kinematics_figures(feeder, cycle))
     return _write(directory, outputs, run_record(feeder, cycle, command))
 
 

@@ -41,6 +41,18 @@ def test_kinematics_command(tmp_path, capsys):
     assert speed == pytest.approx(table["projectile_speed"].max(), abs=PRINTED_DIGITS)
 
 
+def test_kinematics_without_figures_writes_the_same_table_and_no_figure(tmp_path):
+    """--no-figures: the table (byte for byte the one written with the figures) and the
+    manifest, no PNG."""
+    argv = ["kinematics", "--elevation", "30", "--rate", "200", "--out"]
+    assert main([*argv, str(tmp_path / "all")]) == 0
+    assert main([*argv, str(tmp_path / "table"), "--no-figures"]) == 0
+    written = sorted(path.name for path in (tmp_path / "table").iterdir())
+    assert written == ["cycle.csv", "feeder-run.json"]
+    table = (tmp_path / "table" / "cycle.csv").read_bytes()
+    assert table == (tmp_path / "all" / "cycle.csv").read_bytes()
+
+
 def test_charge_device(tmp_path):
     assert (
         main(

@@ -115,6 +115,10 @@ COMMANDS = {
     "urdf": (["urdf", "--out", "{out}"], {"pinocchio"} | SCIPY | PLOTTING | VIEWER),
     "errata": (["errata"], SCIPY | PLOTTING | VIEWER),
     "kinematics": (["kinematics", "--elevation", "30", "--out", "{out}"], SCIPY | VIEWER),
+    "kinematics --no-figures": (
+        ["kinematics", "--elevation", "30", "--no-figures", "--out", "{out}"],
+        SCIPY | PLOTTING | VIEWER,
+    ),
     "cycle": (["cycle", "--elevation", "30", "--out", "{out}"], SCIPY | VIEWER),
     "cycle --no-figures": (
         ["cycle", "--elevation", "30", "--no-figures", "--out", "{out}"],

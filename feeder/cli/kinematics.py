@@ -13,6 +13,7 @@ from .options import (
     elevation_of,
     params_of,
     study_options,
+    switch,
 )
 
 
@@ -22,6 +23,12 @@ def add(commands: argparse._SubParsersAction) -> None:
     study_options(kinematics)
     kinematics.add_argument(
         "--rate", action=Once, type=float, default=1000.0, metavar="HZ", help=RATE_HELP
+    )
+    switch(
+        kinematics,
+        "--no-figures",
+        "figures",
+        "write the table and the manifest only, for batch use (default: Figs. 4 and 10)",
     )
 
 
@@ -39,7 +46,10 @@ def run(args: argparse.Namespace) -> int:
     feeder = load_feeder(params)
     with folder:
         cycle = feeding_cycle(feeder, elevation, spec)
-        paths = write_kinematics_outputs(feeder, cycle, folder, command_line(args))
+        paths = write_kinematics_outputs(
+            feeder, cycle, folder, command_line(args), figures=args.figures
+        )
     print(kinematics_summary(feeder, cycle))
-    print(f"wrote {paths[0]} and figures in {folder.path}")
+    figures = f"{len(paths) - 1} figures" if args.figures else "no figures (--no-figures)"
+    print(f"wrote {paths[0]} and {figures} in {folder.path}")
     return 0
