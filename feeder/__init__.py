@@ -31,8 +31,9 @@ and ``feeder parameters`` needs neither.
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from .lazy import lazy_names
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .device import DEVICES, Feeder, FeederParameters, load_feeder, loop_state
@@ -104,17 +105,4 @@ _SUBMODULES = frozenset(
 )
 
 
-def __getattr__(name: str):
-    """Import a public name or a layer on first use (PEP 562) and keep it."""
-    if name in _SOURCES:
-        value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    elif name in _SUBMODULES:
-        value = importlib.import_module(f".{name}", __name__)
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__) | _SUBMODULES)
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__, submodules=_SUBMODULES)

@@ -48,8 +48,9 @@ device's tree does not import what only tracking (``scipy.linalg``) or forward r
 (``scipy.integrate``) need.
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_names
 
 # Bound here, not on first use: once the submodule ``mobility`` is imported (by any module),
 # the package's attribute ``mobility`` would be that module, and __getattr__ never asked.
@@ -133,13 +134,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

@@ -7,8 +7,9 @@ loads) → :mod:`.reactions` → :mod:`.drives` → :mod:`.forward` (the force-r
 :mod:`.cycle` (all of them over one cycle).
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_names
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynamics
@@ -57,13 +58,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

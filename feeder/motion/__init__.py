@@ -1,8 +1,9 @@
 """The motion: the feeding cycle's timing and rest-to-rest laws, the sampled cycle (closed loop
 and payload path) and the payload's workspace (paper Figs. 4, 7, 8, 10)."""
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_names
 
 # Bound here, not on first use: once the submodule ``workspace`` is imported (by any module),
 # the package's attribute ``workspace`` would be that module, and __getattr__ never asked.
@@ -24,13 +25,4 @@ _SOURCES = {
 __all__ = ["CycleKinematics", "CycleSpec", "Workspace", "feeding_cycle", "workspace"]
 
 
-def __getattr__(name: str):
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

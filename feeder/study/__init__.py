@@ -1,8 +1,9 @@
 """Studies on the device: one loading cycle cross-checked by the hand-derived equations, the
 ``cycle.csv`` contract, peaks, elevation sweeps, the retrofit payload and the paper's errata."""
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_names
 
 # Bound here, not on first use: once the submodule ``retrofit`` is imported (by any module),
 # the package's attribute ``retrofit`` would be that module, and __getattr__ never asked.
@@ -54,13 +55,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

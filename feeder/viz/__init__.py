@@ -11,8 +11,9 @@ writers) does not import matplotlib in a process that only ships data to the wor
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_names
 
 if TYPE_CHECKING:  # the names for type checkers; at run time they load on first use
     from .catalog import CYCLE_FIGURES
@@ -55,14 +56,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    """Import a public name on first use (PEP 562) and keep it."""
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)
