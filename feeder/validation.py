@@ -9,6 +9,7 @@ its exceptions, so every layer may use it.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 from collections.abc import Iterable
@@ -147,3 +148,10 @@ def first_outside(values: np.ndarray, low: float, high: float) -> int | None:
     values = np.ravel(values)
     outside = np.flatnonzero((values < low - LIMIT_SLACK) | (values > high + LIMIT_SLACK))
     return int(outside[0]) if outside.size else None
+
+
+def did_you_mean(name: str, names: Iterable[str]) -> str:
+    """``"did you mean 'X'? "`` for the one of ``names`` closest to a misspelt ``name``
+    (:func:`difflib.get_close_matches`), or ``""`` when none is close: the hint of a refusal."""
+    near = difflib.get_close_matches(name, list(names), n=1)
+    return f"did you mean {near[0]!r}? " if near else ""

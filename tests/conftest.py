@@ -104,3 +104,20 @@ def fourbar_urdf(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("fourbar") / "fourbar.urdf"
     path.write_bytes(etree.tostring(robot, xml_declaration=True, encoding="utf-8"))
     return path
+
+
+@pytest.fixture
+def dask_scheduler():
+    """The address of a Dask LocalCluster (two worker processes, one thread each, on
+    127.0.0.1, no dashboard) for the test's duration; skips without the cluster extra."""
+    distributed = pytest.importorskip(
+        "distributed", reason="dask.distributed (the cluster extra) not installed"
+    )
+    with distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:
+        yield cluster.scheduler_address

@@ -135,3 +135,13 @@ def test_an_elevation_just_or_far_outside_the_range_is_shown_as_given(degrees, s
         ElevationError, match=rf"^elevation {re.escape(shown)} is outside .* \[-4°, 70°\]$"
     ):
         check_elevation(math.radians(degrees), (math.radians(-4.0), math.radians(70.0)))
+
+
+def test_did_you_mean_names_the_nearest_name_or_nothing():
+    from feeder.validation import did_you_mean
+
+    assert (
+        did_you_mean("crank_jiont", ["rocker_joint", "crank_joint"])
+        == "did you mean 'crank_joint'? "
+    )
+    assert did_you_mean("zzz", ["crank_joint"]) == ""

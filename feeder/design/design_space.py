@@ -20,7 +20,7 @@ from ..device.loop import TRANSMISSION_BAND_DEG
 from ..device.parameters import SINGULAR_TRANSMISSION_DEG, FeederParameters
 from ..exceptions import FeederError, InputError
 from ..study.sweep_table import QUANTITIES
-from ..validation import check_number
+from ..validation import check_number, did_you_mean
 from .differentiable import DesignParameter, design_parameters, why_not
 
 END_STOPS = {
@@ -217,8 +217,7 @@ def _limits(where: str, table: dict) -> dict[str, float]:
     limits = {}
     for name, value in table.items():
         if name not in QUANTITIES:
-            near = difflib.get_close_matches(name, QUANTITIES, n=1)
-            hint = f"did you mean {near[0]!r}? " if near else ""
+            hint = did_you_mean(name, QUANTITIES)
             raise InputError(
                 f"{where}: [limits] names {name!r}, no peak of the sweep; {hint}peaks: "
                 f"{', '.join(QUANTITIES)}"

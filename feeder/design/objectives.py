@@ -15,13 +15,12 @@ elevations and the cases.
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass
 
 from ..exceptions import InputError
 from ..study.elevation_sweeps import UNITS
 from ..study.sweep_table import QUANTITIES
-from ..validation import check_number
+from ..validation import check_number, did_you_mean
 
 ALIASES: dict[str, tuple[str, ...]] = {
     "peak_pressure": ("cylinder_cap_pressure", "cylinder_rod_pressure"),
@@ -90,8 +89,7 @@ def _term(name: str, weight: float) -> Term:
     if name in QUANTITIES:
         return Term(name, (name,), weight)
     known = [*ALIASES, *QUANTITIES]
-    near = difflib.get_close_matches(name, known, n=1)
-    hint = f"did you mean {near[0]!r}? " if near else ""
+    hint = did_you_mean(name, known)
     raise InputError(
         f"the objective {name!r} names no peak; {hint}choose {', '.join(ALIASES)}, a peak of the "
         f"sweep ({', '.join(QUANTITIES)}) or weighted:NAME=W,…"

@@ -5,7 +5,6 @@ digit, as the sweep's table does (tests/study/test_sweep.py)."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from feeder.design import design_sensitivities
 from feeder.device.builtin import PROJECTILE_FEEDER
@@ -26,21 +25,11 @@ def _sensitivities(**where):
     )
 
 
-def test_a_dask_cluster_gives_the_local_derivatives():
+def test_a_dask_cluster_gives_the_local_derivatives(dask_scheduler):
     """The same cycles on the same parameters: a cluster may only change where they run, so
     every derivative and peak is bit-identical (no tolerance)."""
-    distributed = pytest.importorskip(
-        "distributed", reason="dask.distributed (the cluster extra) not installed"
-    )
     local = _sensitivities(workers=2)
-    with distributed.LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        host="127.0.0.1",
-        dashboard_address=None,
-    ) as cluster:
-        remote = _sensitivities(scheduler=cluster.scheduler_address)
+    remote = _sensitivities(scheduler=dask_scheduler)
     assert remote.cycles == local.cycles > 0
     for mine, theirs in zip(local.scopes, remote.scopes, strict=True):
         assert mine.peaks == theirs.peaks

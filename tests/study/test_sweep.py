@@ -265,24 +265,12 @@ def test_no_scheduler_at_the_address(tmp_path, monkeypatch):
         run_sweep(_grid(), tmp_path, scheduler=f"tcp://127.0.0.1:{port}", progress=False)
 
 
-def test_dask_cluster_gives_the_table_of_the_local_run(tmp_path):
+def test_dask_cluster_gives_the_table_of_the_local_run(tmp_path, dask_scheduler):
     """The same cases through a Dask LocalCluster (two worker processes on 127.0.0.1) give the
     same table, to the last digit, as the local process pool."""
-    distributed = pytest.importorskip(
-        "distributed", reason="dask.distributed (the cluster extra) not installed"
-    )
     grid = _grid(variants=(Variant("reference"), Variant("longer", {"length_factor": 1.15})))
     local = run_sweep(grid, tmp_path / "local", progress=False)
-    with distributed.LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        host="127.0.0.1",
-        dashboard_address=None,
-    ) as cluster:
-        remote = run_sweep(
-            grid, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False
-        )
+    remote = run_sweep(grid, tmp_path / "dask", scheduler=dask_scheduler, progress=False)
     assert remote.table.read_text(encoding="utf-8") == local.table.read_text(encoding="utf-8")
 
 

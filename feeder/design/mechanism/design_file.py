@@ -35,13 +35,12 @@ reaction magnitudes), ``<element>_force`` (a force element's force), ``<closure>
 
 from __future__ import annotations
 
-import difflib
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_number
+from ...validation import check_number, did_you_mean
 from ..design_space import Variable, design_text, table_of
 from ..differentiable import DesignParameter
 from ..objectives import Objective, Term
@@ -131,8 +130,7 @@ def _target(where: str, name: str, root) -> Target:
         )
     if attribute in ("mass", "scale"):
         if owner not in links:
-            near = difflib.get_close_matches(owner, links, n=1)
-            hint = f"did you mean {near[0]!r}? " if near else ""
+            hint = did_you_mean(owner, links)
             raise InputError(
                 f"{where}: [variables] {name}: no link {owner!r} in the model; {hint}links: "
                 f"{', '.join(links)}"
@@ -142,8 +140,7 @@ def _target(where: str, name: str, root) -> Target:
         return Target(attribute, owner)
     joint = owner if owner in joints else carrier(root, owner) if owner in links else None
     if joint is None:
-        near = difflib.get_close_matches(owner, [*joints, *links], n=1)
-        hint = f"did you mean {near[0]!r}? " if near else ""
+        hint = did_you_mean(owner, [*joints, *links])
         raise InputError(
             f"{where}: [variables] {name}: no joint or frame {owner!r} in the model (or it is the "
             f"root link); {hint}joints: {', '.join(joints)}"
@@ -210,8 +207,7 @@ def _strokes(where: str, table: object, joints: list[str]) -> tuple[Stroke, ...]
     for joint, entry in table.items():
         here = f"{where}: [constraints] stroke {joint}"
         if joint not in joints:
-            near = difflib.get_close_matches(joint, joints, n=1)
-            hint = f"did you mean {near[0]!r}? " if near else ""
+            hint = did_you_mean(joint, joints)
             raise InputError(
                 f"{here}: no joint {joint!r} in the model; {hint}joints: {', '.join(joints)}"
             )
@@ -291,8 +287,7 @@ def check_peaks(design: MechanismDesign, available: dict[str, str]) -> None:
         ("limits", n) for n in design.limits
     ]:
         if name not in available:
-            near = difflib.get_close_matches(name, list(available), n=1)
-            hint = f"did you mean {near[0]!r}? " if near else ""
+            hint = did_you_mean(name, available)
             raise InputError(
                 f"{design.path}: [{key}] {name!r} names no load of the mechanism; {hint}peaks: "
                 f"{', '.join(available)}"

@@ -27,6 +27,7 @@ from feeder.chain.model.forces import Cylinder, JointSpring, Load, Spring, Table
 from feeder.exceptions import FeederWarning, InputError
 
 from ...conftest import REPO
+from .delta import rod3_angle
 
 ACCELERATION = 1e-10
 """Relative agreement of Pinocchio's constraintDynamics (proximal, accuracy 1e-13) with a
@@ -279,30 +280,6 @@ def test_projecting_every_step_keeps_the_run(four_bar):
     assert projected.energy_error() <= ENERGY
 
 
-DELTA = REPO / "examples" / "cad" / "robot_delta"
-
-
-@pytest.fixture(scope="module")
-def delta():
-    """The planar delta robot of the CAD exports, at rest at its assembled pose, undriven."""
-    from feeder.study.analyze import mount_mechanism
-
-    spec, chain, _, _, q0 = mount_mechanism(DELTA / "robot.yaml", DELTA / "robot.urdf", None)
-    return ChainDynamics(chain, spec.actuated), q0
-
-
-def _rod3_angle(chain, q: np.ndarray) -> float:
-    """The angle [rad] between the two links of the delta's third rod (free1_rod3 → free2_rod3
-    → closedloop1_A, the elbow of rod 2), in the plane of motion (y, z): zero at its dead
-    centre, where they line up."""
-    model, data = chain.model, chain.model.createData()
-    pin.forwardKinematics(model, data, q)
-    names = ("free1_rod3", "free2_rod3", "closedloop1_A")
-    a, b, c = (data.oMi[model.getJointId(name)].translation[1:] for name in names)
-    u, w = b - a, c - b
-    return math.atan2(u[0] * w[1] - u[1] * w[0], u @ w)
-
-
 def test_a_run_into_a_dead_centre_stops_there_naming_the_time(delta):
     """Released, the delta falls until the two links of its third rod line up (20° apart at
     rest, a dead centre at t ≈ 0.050 s). Its loads' condition number passes MAX_FORCE_GAIN a few
@@ -322,7 +299,7 @@ def test_a_run_into_a_dead_centre_stops_there_naming_the_time(delta):
     assert run.energy_error() <= 1e-9 * run.kinetic.max()
     rank = load_rank(dyn, q0)
     assert load_gain(dyn, run.q[-1], rank) <= MAX_FORCE_GAIN
-    angles = [abs(_rod3_angle(dyn.chain, q)) for q in (q0, run.q[-1])]
+    angles = [abs(rod3_angle(dyn.chain, q)) for q in (q0, run.q[-1])]
     assert math.radians(19.0) < angles[0] and math.radians(3.0) < angles[1] < math.radians(8.0)
 
 

@@ -18,26 +18,9 @@ from feeder.exceptions import InputError
 from feeder.study.analyze import mount_mechanism
 
 from ...conftest import REPO
+from .delta import rod3_angle
 
-DELTA = REPO / "examples" / "cad" / "robot_delta"
 FOUR_BAR = REPO / "examples" / "iftomm" / "n_four_bar_2.toml"
-
-
-@pytest.fixture(scope="module")
-def delta():
-    spec, chain, _, _, q0 = mount_mechanism(DELTA / "robot.yaml", DELTA / "robot.urdf", None)
-    return ChainDynamics(chain, spec.actuated), q0
-
-
-def _rod3_angle(chain, q: np.ndarray) -> float:
-    """The signed angle [rad] between the two links of the delta's third rod in its plane of
-    motion (y, z): zero where they line up (the same measure as test_forward's)."""
-    model, data = chain.model, chain.model.createData()
-    pin.forwardKinematics(model, data, q)
-    names = ("free1_rod3", "free2_rod3", "closedloop1_A")
-    a, b, c = (data.oMi[model.getJointId(name)].translation[1:] for name in names)
-    u, w = b - a, c - b
-    return math.atan2(u[0] * w[1] - u[1] * w[0], u @ w)
 
 
 def test_the_undriven_delta_passes_its_dead_centre(delta):
@@ -51,7 +34,7 @@ def test_the_undriven_delta_passes_its_dead_centre(delta):
     assert len(run.singular) == 1
     singular = run.singular[0]
     assert singular.rank_at < singular.rank_before == singular.rank_after
-    angles = np.array([_rod3_angle(dyn.chain, q) for q in run.q])
+    angles = np.array([rod3_angle(dyn.chain, q) for q in run.q])
     # the rod lines up once: |angle| has one minimum, at the singular instant (the angle falls
     # linearly there, so the samples' linear interpolation of |angle| finds it within ~1e-5 s:
     # the samples are 5e-4 s apart and the angle's rate changes slowly)
