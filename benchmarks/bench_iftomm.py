@@ -11,6 +11,13 @@ lean script is not told about the N-four-bar's flat poses: its error there says 
 the branch (it is given up after :data:`LEAN_EVALUATIONS` right-hand sides: error NaN). Goals
 (issue 28): N = 40 through 20 s in ≤ 10 s.
 
+A04, Bricard's mechanism, is also timed as its README command, ``feeder simulate
+examples/iftomm/bricard.urdf --closures examples/iftomm/bricard.toml --duration 10 --rtol 1e-10
+--atol 1e-12 --no-figures`` in a fresh Python (wall time from the shell, start-up included),
+beside Python's own start-up with feeder's command-line module imported: issue 28's goal is each
+command within 1.5 s of that start-up plus twice the lean integration. Its reference is
+``examples/iftomm/bricard_reference.py`` (numpy and SciPy only); the error is P3's [m].
+
 Run: ``.venv/bin/python benchmarks/bench_iftomm.py [--json FILE] [--quick]`` (``--quick``: N = 40
 over 3 s only).
 """
@@ -18,8 +25,12 @@ over 3 s only).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -30,6 +41,7 @@ import scipy.special
 
 from feeder.chain import ChainDynamics, Partition, simulate
 from feeder.study.analyze import mount_mechanism
+from feeder.study.csv import read_csv
 from feeder.study.simulate import simulate_mechanism
 
 FOLDER = Path(__file__).resolve().parents[1] / "examples" / "iftomm"
@@ -142,15 +154,84 @@ def four_bar_case(n, duration):
     return name, wall, error, lean_wall, lean_error
 
 
+def bricard_reference():
+    """examples/iftomm/bricard_reference.py, loaded from its file (it is an example, not a
+    package)."""
+    spec = importlib.util.spec_from_file_location(
+        "bricard_reference", FOLDER / "bricard_reference.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def command(*arguments: str) -> tuple[float, dict[str, np.ndarray] | None]:
+    """Wall time [s] of ``python -m feeder simulate ARGUMENTS --no-figures`` in a fresh Python,
+    and its states.csv."""
+    with tempfile.TemporaryDirectory() as out:
+        start = time.perf_counter()
+        subprocess.run(
+            [sys.executable, "-m", "feeder", "simulate", *arguments, "--no-figures", "--out", out],
+            check=True,
+            capture_output=True,
+        )
+        wall = time.perf_counter() - start
+        return wall, read_csv(Path(out) / "states.csv")
+
+
+def start_up() -> float:
+    """Wall time [s] of a fresh Python importing feeder's command-line module (the best of 3)."""
+    walls = []
+    for _ in range(3):
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-c", "import feeder.cli"], check=True)
+        walls.append(time.perf_counter() - start)
+    return min(walls)
+
+
+def bricard_case():
+    """A04 over the benchmark's 10 s: the API's run, the command's and the lean script's; their
+    P3 against the reference."""
+    t = np.linspace(0.0, 10.0, 1001)
+    path = FOLDER / "bricard.toml"
+    wall, simulation = timed(lambda: simulate_mechanism(path, 10.0, rtol=RTOL, atol=ATOL))
+    chain = simulation.chain
+    model, data = chain.model, chain.model.createData()
+    bar2 = model.getFrameId("bar2")
+    offset = np.array([0.0, -1.0, 0.0])  # P3 on bar2 (bricard.toml's [[point]])
+
+    def p3(q):
+        points = []
+        for row in q:
+            pin.framesForwardKinematics(model, data, row)
+            points.append(data.oMf[bar2].act(offset))
+        return np.array(points)
+
+    reference = bricard_reference().Reference().p3(t)
+    error = np.abs(p3(simulation.run.q) - reference).max()
+    command_wall, states = command(
+        str(FOLDER / "bricard.urdf"), "--closures", str(path), "--duration", "10",
+        "--rtol", str(RTOL), "--atol", str(ATOL),
+    )  # fmt: skip
+    run = np.c_[states["point_P3_x"], states["point_P3_y"], states["point_P3_z"]]
+    command_error = np.abs(run - reference).max()
+    lean_wall, q = timed(lambda: lean(chain, simulation.assembled, np.zeros(model.nv), t))
+    lean_error = math.nan if q is None else np.abs(p3(q) - reference).max()
+    name = "A04 Bricard, 10 s"
+    return (name, wall, error, lean_wall, lean_error), (name, command_wall, command_error)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", type=Path, help="write the figures to this file")
     parser.add_argument("--quick", action="store_true", help="N = 40 over 3 s only")
     args = parser.parse_args()
+    bricard, bricard_command = bricard_case()
     cases = [
         pendulum_case(),
         four_bar_case(2, 20.0),
         four_bar_case(40, 3.0 if args.quick else 20.0),
+        bricard,
     ]
     print(
         f"{'problem':44} {'feeder [s]':>10} {'error':>9} {'lean [s]':>9} {'error':>9} {'ratio':>6}"
@@ -160,10 +241,25 @@ def main() -> None:
             f"{name:44} {wall:10.2f} {error:9.1e} {lean_wall:9.2f} {lean_error:9.1e} "
             f"{wall / lean_wall:6.1f}"
         )
-    print(f"N = 40 wall: {cases[-1][1]:.1f} s (goal ≤ 10 s through 20 s)")
+    print(f"N = 40 wall: {cases[2][1]:.1f} s (goal ≤ 10 s through 20 s)")
+    python = start_up()
+    commands = []
+    for name, wall, error in [bricard_command]:
+        lean_wall = next(case[3] for case in cases if case[0] == name)
+        goal = python + 1.5 + 2.0 * lean_wall
+        commands.append((name, wall, error, python, goal))
+        print(
+            f"{name}: `feeder simulate --no-figures` {wall:.2f} s (error {error:.1e}), "
+            f"Python's start-up {python:.2f} s, lean {lean_wall:.2f} s: "
+            f"{wall / lean_wall:.1f} × the lean run; goal ≤ {goal:.2f} s "
+            f"({'met' if wall <= goal else 'missed'})"
+        )
     if args.json:
         keys = ("problem", "feeder_s", "feeder_error", "lean_s", "lean_error")
-        args.json.write_text(json.dumps([dict(zip(keys, case, strict=True)) for case in cases]))
+        figures = [dict(zip(keys, case, strict=True)) for case in cases]
+        keys = ("problem", "command_s", "command_error", "python_s", "goal_s")
+        figures += [dict(zip(keys, case, strict=True)) for case in commands]
+        args.json.write_text(json.dumps(figures))
 
 
 if __name__ == "__main__":
