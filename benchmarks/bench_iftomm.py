@@ -16,7 +16,9 @@ examples/iftomm/bricard.urdf --closures examples/iftomm/bricard.toml --duration 
 --atol 1e-12 --no-figures`` in a fresh Python (wall time from the shell, start-up included),
 beside Python's own start-up with feeder's command-line module imported: issue 28's goal is each
 command within 1.5 s of that start-up plus twice the lean integration. Its reference is
-``examples/iftomm/bricard_reference.py`` (numpy and SciPy only); the error is P3's [m].
+``examples/iftomm/bricard_reference.py`` (numpy and SciPy only); the error is P3's [m]. The
+spatial slider-crank (``slider_crank.*``, 5 s from the crank's 6 rad/s) is timed the same way
+against ``slider_crank_reference.py``; the error is the slider's position [m].
 
 Run: ``.venv/bin/python benchmarks/bench_iftomm.py [--json FILE] [--quick]`` (``--quick``: N = 40
 over 3 s only).
@@ -154,11 +156,11 @@ def four_bar_case(n, duration):
     return name, wall, error, lean_wall, lean_error
 
 
-def bricard_reference():
-    """examples/iftomm/bricard_reference.py, loaded from its file (it is an example, not a
+def example_reference(stem: str):
+    """examples/iftomm/STEM_reference.py, loaded from its file (it is an example, not a
     package)."""
     spec = importlib.util.spec_from_file_location(
-        "bricard_reference", FOLDER / "bricard_reference.py"
+        f"{stem}_reference", FOLDER / f"{stem}_reference.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -207,7 +209,7 @@ def bricard_case():
             points.append(data.oMf[bar2].act(offset))
         return np.array(points)
 
-    reference = bricard_reference().Reference().p3(t)
+    reference = example_reference("bricard").Reference().p3(t)
     error = np.abs(p3(simulation.run.q) - reference).max()
     command_wall, states = command(
         str(FOLDER / "bricard.urdf"), "--closures", str(path), "--duration", "10",
@@ -221,17 +223,43 @@ def bricard_case():
     return (name, wall, error, lean_wall, lean_error), (name, command_wall, command_error)
 
 
+def slider_crank_case():
+    """The spatial slider-crank over 5 s, started at the crank's 6 rad/s: the API's run, the
+    command's and the lean script's; the slider's x against the reference."""
+    t = np.linspace(0.0, 5.0, 1001)
+    path = FOLDER / "slider_crank.toml"
+    wall, simulation = timed(lambda: simulate_mechanism(path, 5.0, rtol=RTOL, atol=ATOL))
+    chain = simulation.chain
+    model = chain.model
+    slider = model.joints[model.getJointId("slider")].idx_q
+    solution = example_reference("slider_crank").Reference()
+    reference = solution.slider(solution.angle(t))
+    error = np.abs(simulation.run.q[:, slider] - reference).max()
+    command_wall, states = command(
+        str(FOLDER / "slider_crank.urdf"), "--closures", str(path), "--duration", "5",
+        "--rtol", str(RTOL), "--atol", str(ATOL),
+    )  # fmt: skip
+    command_error = np.abs(states["q_slider"] - reference).max()
+    v0 = simulation.run.v[0]  # the file's rates closed by the run's start (initial_rates)
+    lean_wall, q = timed(lambda: lean(chain, simulation.assembled, v0, t))
+    lean_error = math.nan if q is None else np.abs(q[:, slider] - reference).max()
+    name = "spatial slider-crank, 5 s"
+    return (name, wall, error, lean_wall, lean_error), (name, command_wall, command_error)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", type=Path, help="write the figures to this file")
     parser.add_argument("--quick", action="store_true", help="N = 40 over 3 s only")
     args = parser.parse_args()
     bricard, bricard_command = bricard_case()
+    slider_crank, slider_crank_command = slider_crank_case()
     cases = [
         pendulum_case(),
         four_bar_case(2, 20.0),
         four_bar_case(40, 3.0 if args.quick else 20.0),
         bricard,
+        slider_crank,
     ]
     print(
         f"{'problem':44} {'feeder [s]':>10} {'error':>9} {'lean [s]':>9} {'error':>9} {'ratio':>6}"
@@ -244,7 +272,7 @@ def main() -> None:
     print(f"N = 40 wall: {cases[2][1]:.1f} s (goal ≤ 10 s through 20 s)")
     python = start_up()
     commands = []
-    for name, wall, error in [bricard_command]:
+    for name, wall, error in [bricard_command, slider_crank_command]:
         lean_wall = next(case[3] for case in cases if case[0] == name)
         goal = python + 1.5 + 2.0 * lean_wall
         commands.append((name, wall, error, python, goal))
