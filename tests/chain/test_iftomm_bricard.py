@@ -7,60 +7,27 @@ by quadrature): the period, the release acceleration and the point P3 over the b
 
 from __future__ import annotations
 
-import importlib.util
 import math
 
 import numpy as np
 import pytest
 import scipy.interpolate
 
-from feeder.cli import main
-from feeder.study.csv import read_csv
+from .iftomm_examples import readme_states, reference_module
 
-from ..conftest import REPO
-
-FOLDER = REPO / "examples" / "iftomm"
 HIGH = 1e-3
 """The IFToMM benchmark's "high" accuracy limit [m]."""
 
 
-def _reference_module():
-    spec = importlib.util.spec_from_file_location(
-        "bricard_reference", FOLDER / "bricard_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 @pytest.fixture(scope="module")
 def reference():
-    return _reference_module().Reference()
+    return reference_module("bricard").Reference()
 
 
 @pytest.fixture(scope="module")
 def states(tmp_path_factory):
     """states.csv of the README's command (figures left out)."""
-    out = tmp_path_factory.mktemp("a04")
-    status = main(
-        [
-            "simulate",
-            str(FOLDER / "bricard.urdf"),
-            "--closures",
-            str(FOLDER / "bricard.toml"),
-            "--duration",
-            "10",
-            "--rtol",
-            "1e-10",
-            "--atol",
-            "1e-12",
-            "--no-figures",
-            "--out",
-            str(out),
-        ]
-    )
-    assert status == 0
-    return read_csv(out / "states.csv")
+    return readme_states("bricard", 10.0, tmp_path_factory.mktemp("bricard"))
 
 
 def test_the_reference_is_resolved(reference):

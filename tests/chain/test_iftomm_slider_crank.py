@@ -7,56 +7,27 @@ benchmark's "high" accuracy, 1e-3 [m, m/s], with the room measured."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
 
 import numpy as np
 import pytest
 import scipy.interpolate
 
-from feeder.cli import main
-from feeder.study.csv import read_csv
+from .iftomm_examples import readme_states, reference_module
 
-from ..conftest import REPO
-
-FOLDER = REPO / "examples" / "iftomm"
 HIGH = 1e-3
 """The IFToMM benchmark's "high" accuracy limit [m, m/s]."""
 
 
 @pytest.fixture(scope="module")
 def reference():
-    spec = importlib.util.spec_from_file_location(
-        "slider_crank_reference", FOLDER / "slider_crank_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.Reference()
+    return reference_module("slider_crank").Reference()
 
 
 @pytest.fixture(scope="module")
 def states(tmp_path_factory):
     """states.csv of the README's command (figures left out)."""
-    out = tmp_path_factory.mktemp("slider_crank")
-    status = main(
-        [
-            "simulate",
-            str(FOLDER / "slider_crank.urdf"),
-            "--closures",
-            str(FOLDER / "slider_crank.toml"),
-            "--duration",
-            "5",
-            "--rtol",
-            "1e-10",
-            "--atol",
-            "1e-12",
-            "--no-figures",
-            "--out",
-            str(out),
-        ]
-    )
-    assert status == 0
-    return read_csv(out / "states.csv")
+    return readme_states("slider_crank", 5.0, tmp_path_factory.mktemp("slider_crank"))
 
 
 def test_the_reference_is_resolved(reference):
