@@ -28,16 +28,18 @@ list (``indeterminate.txt``) of ``feeder analyze`` and ``feeder simulate`` print
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
-from ..assembly.rank import indeterminate_mask, self_stresses
+from ..assembly.rank import indeterminate_mask, self_stress_bases
+from ..blas import one_blas_thread
 from ..kinematics.rows import closure_kinematics
-from ..kinematics.tree import reach, tree_motion
+from ..kinematics.tree import TreeMotion, reach, tree_motion
 from ..model.closure import ClosedChain
-from .reactions import closure_wrenches, joint_reactions
+from .newton_euler import joint_wrenches
+from .reactions import closure_wrenches
 
 COMPONENTS = ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")
 """The wrench components a cut's or joint's entry of :class:`Indeterminacy` names (world axes;
@@ -95,13 +97,18 @@ class Indeterminacy:
         return lines
 
 
+@one_blas_thread
 def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them."""
+    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
+    (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
+    self_stress_bases`; the backward pass of every self-stress at its pose reuses the poses'
+    placements)."""
     model = chain.model
     q = q[:: max(1, q.shape[0] // SUBSAMPLE)]
-    rows = closure_kinematics(chain, tree_motion(model, q))
-    bases = [self_stresses(jacobian) for jacobian in rows.jacobian]
+    motion = tree_motion(model, q)
+    rows = closure_kinematics(chain, motion)
+    bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
         return Indeterminacy(0, (), {}, {})
@@ -109,14 +116,13 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
     labels = chain.row_labels()
     index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    still = replace(tree_motion(model, q[index]), gravity=np.zeros((index.size, 3)))
-    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still), lam)
-    joints, _ = joint_reactions(chain, still, terms)
+    still = _at(motion, index)
+    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
+    force, moment = joint_wrenches(model, still, terms)
     size = reach(model, pin.neutral(model)[None])
-    stacked = {
-        name: np.hstack([wrench.force, wrench.moment / size])
-        for name, wrench in (*wrenches.items(), *joints.items())
-    }
+    stacked = {name: np.hstack([w.force, w.moment / size]) for name, w in wrenches.items()}
+    joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
+    stacked |= {model.names[j]: np.hstack([force[j], moment[j] / size]) for j in joints}
     scale = max(float(np.abs(x).max()) for x in stacked.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
@@ -131,5 +137,16 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
         self_stresses=count,
         rows=tuple(label for label, flag in zip(labels, mask, strict=True) if flag),
         closures=changed(wrenches),
-        joints=changed(joints),
+        joints=changed(model.names[j] for j in joints),
     )
+
+
+def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
+    """The placements of a position-level ``motion`` at the samples ``index`` (M,), at rest and
+    without gravity: what the self-stresses' backward pass (:func:`~.newton_euler.
+    joint_wrenches` with the closures' wrenches) reads (the joints' columns, which it does not,
+    left empty)."""
+    zero = [np.zeros((index.size, 3))] * len(motion.origin)
+    empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
+    rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
+    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero, zero[0])
