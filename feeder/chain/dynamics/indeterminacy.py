@@ -118,7 +118,7 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
     still = _at(motion, index)
     wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
-    force, moment = joint_wrenches(model, still, terms)
+    force, moment = joint_wrenches(model, still, terms, inertia=False)
     size = reach(model, pin.neutral(model)[None])
     stacked = {name: np.hstack([w.force, w.moment / size]) for name, w in wrenches.items()}
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
@@ -142,11 +142,10 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
 
 
 def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
-    """The placements of a position-level ``motion`` at the samples ``index`` (M,), at rest and
-    without gravity: what the self-stresses' backward pass (:func:`~.newton_euler.
-    joint_wrenches` with the closures' wrenches) reads (the joints' columns, which it does not,
-    left empty)."""
+    """The placements of a position-level ``motion`` at the samples ``index`` (M,): what the
+    self-stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads
+    (the rates zero, the joints' columns, which it does not read, left empty)."""
     zero = [np.zeros((index.size, 3))] * len(motion.origin)
     empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
     rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
-    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero, zero[0])
+    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero)
