@@ -1,6 +1,6 @@
 """Time the generic closed-chain inverse dynamics (feeder.chain) per sample, in units of one bare
 ``constraintDynamics`` call on the same model (measured in the same run, so the ratio survives a
-noisy machine). Goals: issue 10, ≤ 3 calls per sample for the loads with every joint's reaction;
+noisy machine; CPU times of this process, :func:`best_time`). Goals: issue 10, ≤ 3 calls per sample for the loads with every joint's reaction;
 issue 15, ≤ 10 calls per sample for the whole analysis: ``feeder.chain.track`` (continuation)
 plus ``inverse_dynamics`` (loads, idle accelerations, every reaction). Each whole analysis says
 whether the continuation took the batched path (``Trajectory.batched``).
@@ -62,12 +62,14 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 def best_time(function, repeats: int = REPEATS) -> float:
-    """Smallest wall time [s] of one call over ``repeats`` calls."""
+    """Smallest CPU time [s] of this process for one call over ``repeats`` calls: the work is on
+    one thread (one BLAS thread, Pinocchio's serial calls), so on a free machine it is the wall
+    time, and on a shared one it leaves out the waits for a core that other processes cause."""
     times = []
     for _ in range(repeats):
-        start = time.perf_counter()
+        start = time.process_time()
         function()
-        times.append(time.perf_counter() - start)
+        times.append(time.process_time() - start)
     return min(times)
 
 

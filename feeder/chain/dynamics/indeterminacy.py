@@ -98,9 +98,11 @@ class Indeterminacy:
 
 
 @one_blas_thread
-def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
+def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
+    (N, nq) (trusted), ``size`` the mechanism's reach [m] at its neutral pose if the caller has
+    it (:attr:`~feeder.chain.assembly.partition.Partition.length`; measured here otherwise): the
+    union over the poses, computed on at most :data:`SUBSAMPLE` of them
     (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
     self_stress_bases`; the backward pass of every self-stress at its pose reuses the poses'
     placements)."""
@@ -119,7 +121,8 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
     still = _at(motion, index)
     wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
     force, moment = joint_wrenches(model, still, terms, inertia=False)
-    size = reach(model, pin.neutral(model)[None])
+    if size is None:
+        size = reach(model, pin.neutral(model)[None])
     stacked = {name: np.hstack([w.force, w.moment / size]) for name, w in wrenches.items()}
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
     stacked |= {model.names[j]: np.hstack([force[j], moment[j] / size]) for j in joints}
