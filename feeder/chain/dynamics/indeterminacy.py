@@ -100,16 +100,17 @@ class Indeterminacy:
 @one_blas_thread
 def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted), ``size`` the mechanism's reach [m] at its neutral pose if the caller has
-    it (:attr:`~feeder.chain.assembly.partition.Partition.length`; measured here otherwise): the
-    union over the poses, computed on at most :data:`SUBSAMPLE` of them
+    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
     (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
-    self_stress_bases`; the backward pass of every self-stress at its pose reuses the poses'
-    placements)."""
+    self_stress_bases`; the statics pass of every self-stress at its pose reuses the poses'
+    placements).
+
+    ``size``: the mechanism's reach [m] at its neutral pose, if the caller has it
+    (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+    """
     model = chain.model
-    q = q[:: max(1, q.shape[0] // SUBSAMPLE)]
-    motion = tree_motion(model, q)
-    rows = closure_kinematics(chain, motion)
+    poses = tree_motion(model, q[:: max(1, q.shape[0] // SUBSAMPLE)])
+    rows = closure_kinematics(chain, poses)
     bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
@@ -118,20 +119,29 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
     labels = chain.row_labels()
     index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    still = _at(motion, index)
+    still = _at(poses, index)
     wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
     force, moment = joint_wrenches(model, still, terms, inertia=False)
     if size is None:
         size = reach(model, pin.neutral(model)[None])
-    stacked = {name: np.hstack([w.force, w.moment / size]) for name, w in wrenches.items()}
+    # each cut's and joint's largest force and moment components over the self-stresses (6,)
+    largest = {
+        name: np.concatenate([np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0) / size])
+        for name, w in wrenches.items()
+    }
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
-    stacked |= {model.names[j]: np.hstack([force[j], moment[j] / size]) for j in joints}
-    scale = max(float(np.abs(x).max()) for x in stacked.values())
+    largest |= {
+        model.names[j]: np.concatenate(
+            [np.abs(force[j]).max(axis=0), np.abs(moment[j]).max(axis=0) / size]
+        )
+        for j in joints
+    }
+    scale = max(float(x.max()) for x in largest.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
         out = {}
         for name in names:
-            moved = np.abs(stacked[name]).max(axis=0) > CHANGE_TOLERANCE * scale
+            moved = largest[name] > CHANGE_TOLERANCE * scale
             if moved.any():
                 out[name] = tuple(c for c, flag in zip(COMPONENTS, moved, strict=True) if flag)
         return out
@@ -145,9 +155,9 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
 
 
 def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
-    """The placements of a position-level ``motion`` at the samples ``index`` (M,): what the
-    self-stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads
-    (the rates zero, the joints' columns, which it does not read, left empty)."""
+    """The placements of ``motion`` at the samples ``index`` (M,), at rest: what the self-
+    stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads (the
+    joints' columns, which it does not read, left empty)."""
     zero = [np.zeros((index.size, 3))] * len(motion.origin)
     empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
     rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
