@@ -1,9 +1,10 @@
 """Time the generic closed-chain inverse dynamics (feeder.chain) per sample, in units of one bare
 ``constraintDynamics`` call on the same model (measured in the same run, so the ratio survives a
-noisy machine; CPU times of this process, :func:`best_time`). Goals: issue 10, ≤ 3 calls per sample for the loads with every joint's reaction;
-issue 15, ≤ 10 calls per sample for the whole analysis: ``feeder.chain.track`` (continuation)
-plus ``inverse_dynamics`` (loads, idle accelerations, every reaction). Each whole analysis says
-whether the continuation took the batched path (``Trajectory.batched``).
+noisy machine; CPU times of this process, :func:`best_time`). Goals: issue 10, ≤ 3 calls per
+sample for the loads with every joint's reaction; issue 15, ≤ 10 calls per sample for the whole
+analysis: ``feeder.chain.track`` (continuation) plus ``inverse_dynamics`` (loads, idle
+accelerations, every reaction). Each whole analysis says whether the continuation took the
+batched path (``Trajectory.batched``).
 
 Mechanisms: the example four-bar (revolute cut, 3 joints), the example slider-crank (revolute cut,
 a prismatic slider among the dependent joints), the feeding device's open tree with its pin (point
@@ -242,13 +243,13 @@ def n_four_bar(n: int, samples: int, folder: Path):
     return chain, ["r0"], motion.q, motion.v, motion.a
 
 
-def measure_large(samples: int) -> dict:
+def measure_large(samples: int, loops: tuple[int, ...] = LOOPS) -> dict:
     """The inverse dynamics with their indeterminacy (module docstring) per sample over the bare
-    call for the N-four-bars of :data:`LOOPS`, the loads and reactions alone, and the growth
+    call for the N-four-bars of ``loops``, the loads and reactions alone, and the growth
     exponents."""
     bare, feeder, loads_only = [], [], []
     with tempfile.TemporaryDirectory() as folder:
-        for n in LOOPS:
+        for n in loops:
             chain, actuated, q, v, a = n_four_bar(n, samples, Path(folder))
             dyn = ChainDynamics(chain, actuated)
             loads = inverse_dynamics(dyn, q, v, a)
@@ -266,17 +267,17 @@ def measure_large(samples: int) -> dict:
                 f"{'PASS' if ratio <= LARGE_GOAL else 'MISS'}; without the indeterminacy "
                 f"{loads_only[-1] / bare[-1]:5.2f}"
             )
-    logs = np.log(np.array(LOOPS, dtype=float))
+    logs = np.log(np.array(loops, dtype=float))
     growth = {
         name: float(np.polyfit(logs, np.log(times), 1)[0])
         for name, times in (("bare", bare), ("inverse_dynamics", feeder))
     }
     print(
-        f"  growth exponents over N = {LOOPS[0]} … {LOOPS[-1]}: bare constraintDynamics "
+        f"  growth exponents over N = {loops[0]} … {loops[-1]}: bare constraintDynamics "
         f"N^{growth['bare']:.2f}, inverse dynamics per sample N^{growth['inverse_dynamics']:.2f}"
     )
     return {
-        "loops": list(LOOPS),
+        "loops": list(loops),
         "bare_us": [x * 1e6 for x in bare],
         "inverse_dynamics_us": [x * 1e6 for x in feeder],
         "loads_us": [x * 1e6 for x in loads_only],
