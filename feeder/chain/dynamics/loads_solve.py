@@ -16,7 +16,10 @@ stiffness, the closure columns scaled by √K); which rows and reactions those a
 Three ways answer, cheapest first (:func:`_solve`): the inverse of a square system, the normal
 equations of a well-conditioned one, and the singular value decomposition where the rank drops
 or the conditioning is doubtful; the checks that decide which may answer share the tolerances
-below.
+below. The closure rows that no joint moves at any sample (a planar loop's out-of-plane rows:
+zero columns of the equations, whose minimum-norm forces are exactly 0) are left out first,
+which often makes the system square: the N-four-bar's 2N + 1 equations in 1 + 3N unknowns become
+2N + 1 in 2N + 1.
 """
 
 from __future__ import annotations
