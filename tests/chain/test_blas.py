@@ -29,3 +29,17 @@ def test_one_blas_thread_inside_and_the_callers_limits_after():
         assert inside() == [1] * len(before)
         assert _blas_threads() == before
     assert inside.__doc__ == "What it sees."  # functools.wraps: the docs keep the function's
+
+
+def test_the_scan_of_the_libraries_is_kept_until_an_import(monkeypatch):
+    """threadpoolctl's scan (~0.3–2 ms) is done again only after an import, which may have loaded
+    another BLAS library: one made after a new entry in sys.modules is another."""
+    import sys
+    import types
+
+    from feeder.chain import blas
+
+    first = blas._controller()
+    assert blas._controller() is first
+    monkeypatch.setitem(sys.modules, "feeder_test_new_module", types.ModuleType("new"))
+    assert blas._controller() is not first

@@ -102,14 +102,72 @@ rad from where it was aimed (Bricard's linkage mounted at its symmetric pose: sh
 two rows of its cut). A share of a millionth carries a millionth of the indeterminate force."""
 
 
+GRAM_LIMIT = 1e10
+"""Largest accepted bound ‖G‖_F ‖G⁻¹‖_F (≥ cond G = cond(J')²) of the Gram matrix G = J' J'ᵀ of
+a closure Jacobian's moving rows J' for :func:`self_stress_bases` to take those rows as
+independent without a decomposition: then cond J' ≤ 1e5, so its smallest singular value is
+above 1e-5 of its largest, far above :func:`rank_tolerance` (1e-9 of the largest entry), and the
+computed inverse (relative error ≤ cond(G) ε ≈ 1e-6) cannot pass by accident: a near-singular G
+gives an inverse of huge norm (the argument of
+:func:`~feeder.chain.dynamics.loads_solve._shortcut`)."""
+
+
 def self_stresses(jac: np.ndarray) -> np.ndarray:
     """An orthonormal basis (k, nc) of the self-stresses of the closure Jacobian ``jac``
     (nc, nv): the closure forces λ with Jᵀ λ = 0, which balance each other on every body and do
     no work (k = nc − rank J, singular values at or below :func:`rank_tolerance` counting as
     zero). A rigid model cannot tell how much of them the closures carry: the forces of every row
-    they involve (:func:`indeterminate_mask`) are statically indeterminate."""
-    if jac.shape[0] == 0:
-        return np.zeros((0, 0))
+    they involve (:func:`indeterminate_mask`) are statically indeterminate. One pose of
+    :func:`self_stress_bases`."""
+    return self_stress_bases(jac[None])[0]
+
+
+def self_stress_bases(jacobians: np.ndarray) -> list[np.ndarray]:
+    """:func:`self_stresses` of each closure Jacobian of a stack (n, nc, nv): n bases (k_i, nc).
+
+    Where the rows that no joint moves (a row of norm at or below :func:`rank_tolerance`: a
+    planar loop's out-of-plane rows) are the only dependence among the rows — the other rows J'
+    independent by the margin of :data:`GRAM_LIMIT`, tested on their Gram matrices at once —
+    the basis is those rows' unit vectors: they span the null space of Jᵀ, the one the singular
+    value decomposition finds (it may return another orthonormal basis of it). The other poses
+    take the decomposition."""
+    n, nc, _ = jacobians.shape
+    if nc == 0:
+        return [np.zeros((0, 0)) for _ in range(n)]
+    scale = np.abs(jacobians).max(axis=(1, 2))
+    tolerance = RANK_TOLERANCE * np.where(scale > 0.0, scale, 1.0)
+    still = np.linalg.norm(jacobians, axis=2) <= tolerance[:, None]  # (n, nc)
+    bases: list[np.ndarray | None] = [None] * n
+    patterns, group = np.unique(still, axis=0, return_inverse=True)
+    for g, pattern in enumerate(patterns):
+        poses = np.flatnonzero(group.ravel() == g)
+        moving = jacobians[poses][:, ~pattern]
+        passed = _independent(moving)
+        unit = np.eye(nc)[pattern]
+        for k, ok in zip(poses, passed, strict=True):
+            bases[k] = unit.copy() if ok else _decomposed(jacobians[k])
+    return bases
+
+
+def _independent(rows: np.ndarray) -> np.ndarray:
+    """Which stacks of rows (n, m, nv) are certainly independent (bool (n,)): the Gram bound of
+    :data:`GRAM_LIMIT`, no decomposition."""
+    if rows.shape[1] == 0:
+        return np.ones(rows.shape[0], dtype=bool)
+    if rows.shape[1] > rows.shape[2]:  # more rows than columns: dependent
+        return np.zeros(rows.shape[0], dtype=bool)
+    gram = rows @ np.swapaxes(rows, 1, 2)
+    try:
+        inverse = np.linalg.inv(gram)
+    except np.linalg.LinAlgError:  # some pose is exactly singular: the decomposition decides
+        return np.zeros(rows.shape[0], dtype=bool)
+    with np.errstate(invalid="ignore", over="ignore"):
+        bound = np.linalg.norm(gram, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
+    return np.isfinite(bound) & (bound < GRAM_LIMIT)
+
+
+def _decomposed(jac: np.ndarray) -> np.ndarray:
+    """The self-stresses of ``jac`` (nc, nv) from its singular value decomposition."""
     u, s, _ = np.linalg.svd(jac, full_matrices=True)
     rank = int(np.sum(s > rank_tolerance(jac)))
     return u[:, rank:].T.copy()

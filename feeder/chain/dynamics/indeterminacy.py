@@ -28,16 +28,18 @@ list (``indeterminate.txt``) of ``feeder analyze`` and ``feeder simulate`` print
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
-from ..assembly.rank import indeterminate_mask, self_stresses
+from ..assembly.rank import indeterminate_mask, self_stress_bases
+from ..blas import one_blas_thread
 from ..kinematics.rows import closure_kinematics
-from ..kinematics.tree import reach, tree_motion
+from ..kinematics.tree import TreeMotion, reach, tree_motion
 from ..model.closure import ClosedChain
-from .reactions import closure_wrenches, joint_reactions
+from .newton_euler import joint_wrenches
+from .reactions import closure_wrenches
 
 COMPONENTS = ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")
 """The wrench components a cut's or joint's entry of :class:`Indeterminacy` names (world axes;
@@ -95,13 +97,21 @@ class Indeterminacy:
         return lines
 
 
-def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
+@one_blas_thread
+def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them."""
+    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
+    (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
+    self_stress_bases`; the statics pass of every self-stress at its pose reuses the poses'
+    placements).
+
+    ``size``: the mechanism's reach [m] at its neutral pose, if the caller has it
+    (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+    """
     model = chain.model
-    q = q[:: max(1, q.shape[0] // SUBSAMPLE)]
-    rows = closure_kinematics(chain, tree_motion(model, q))
-    bases = [self_stresses(jacobian) for jacobian in rows.jacobian]
+    poses = tree_motion(model, q[:: max(1, q.shape[0] // SUBSAMPLE)])
+    rows = closure_kinematics(chain, poses)
+    bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
         return Indeterminacy(0, (), {}, {})
@@ -109,20 +119,29 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
     labels = chain.row_labels()
     index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    still = replace(tree_motion(model, q[index]), gravity=np.zeros((index.size, 3)))
-    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still), lam)
-    joints, _ = joint_reactions(chain, still, terms)
-    size = reach(model, pin.neutral(model)[None])
-    stacked = {
-        name: np.hstack([wrench.force, wrench.moment / size])
-        for name, wrench in (*wrenches.items(), *joints.items())
+    still = _at(poses, index)
+    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
+    force, moment = joint_wrenches(model, still, terms, inertia=False)
+    if size is None:
+        size = reach(model, pin.neutral(model)[None])
+    # each cut's and joint's largest force and moment components over the self-stresses (6,)
+    largest = {
+        name: np.concatenate([np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0) / size])
+        for name, w in wrenches.items()
     }
-    scale = max(float(np.abs(x).max()) for x in stacked.values())
+    joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
+    largest |= {
+        model.names[j]: np.concatenate(
+            [np.abs(force[j]).max(axis=0), np.abs(moment[j]).max(axis=0) / size]
+        )
+        for j in joints
+    }
+    scale = max(float(x.max()) for x in largest.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
         out = {}
         for name in names:
-            moved = np.abs(stacked[name]).max(axis=0) > CHANGE_TOLERANCE * scale
+            moved = largest[name] > CHANGE_TOLERANCE * scale
             if moved.any():
                 out[name] = tuple(c for c, flag in zip(COMPONENTS, moved, strict=True) if flag)
         return out
@@ -131,5 +150,15 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray) -> Indeterminacy:
         self_stresses=count,
         rows=tuple(label for label, flag in zip(labels, mask, strict=True) if flag),
         closures=changed(wrenches),
-        joints=changed(joints),
+        joints=changed(model.names[j] for j in joints),
     )
+
+
+def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
+    """The placements of ``motion`` at the samples ``index`` (M,), at rest: what the self-
+    stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads (the
+    joints' columns, which it does not read, left empty)."""
+    zero = [np.zeros((index.size, 3))] * len(motion.origin)
+    empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
+    rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
+    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero)

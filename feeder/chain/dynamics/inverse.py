@@ -103,6 +103,8 @@ class ChainLoads:
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
         chain: The closed chain. q: The motion's configurations (N, nq).
+        reach: The mechanism's size [m] (:attr:`Partition.length`), the moments' scale of
+            :attr:`indeterminacy`; None: measured there.
     """
 
     actuators: dict[str, np.ndarray]
@@ -119,6 +121,7 @@ class ChainLoads:
     base: BaseState | None = None
     chain: ClosedChain | None = None
     q: np.ndarray | None = None
+    reach: float | None = None
 
     @cached_property
     def indeterminacy(self) -> Indeterminacy:
@@ -126,7 +129,7 @@ class ChainLoads:
         not determine along the motion (:func:`~.indeterminacy.indeterminacy`; their values
         follow the convention :data:`CONVENTION`), computed when first asked (a few ms, which
         the device's many cycles need not spend)."""
-        return indeterminacy(self.chain, self.q)
+        return indeterminacy(self.chain, self.q, self.reach)
 
     def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
         """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
@@ -344,6 +347,7 @@ def inverse_dynamics(
         base=base,
         chain=dyn.chain,
         q=q,
+        reach=dyn.partition.length,
     )
 
 

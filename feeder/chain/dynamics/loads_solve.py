@@ -16,7 +16,10 @@ stiffness, the closure columns scaled by √K); which rows and reactions those a
 Three ways answer, cheapest first (:func:`_solve`): the inverse of a square system, the normal
 equations of a well-conditioned one, and the singular value decomposition where the rank drops
 or the conditioning is doubtful; the checks that decide which may answer share the tolerances
-below.
+below. The closure rows that no joint moves at any sample (a planar loop's out-of-plane rows:
+zero columns of the equations, whose minimum-norm forces are exactly 0) are left out first,
+which often makes the system square: the N-four-bar's 2N + 1 equations in 1 + 3N unknowns become
+2N + 1 in 2N + 1.
 """
 
 from __future__ import annotations
@@ -108,22 +111,34 @@ def solve_loads(
     force, moment = joint_wrenches(model, motion, external)
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
-    system = load_equations(dyn, rows.jacobian)
+    # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their
+    # columns of the equations are zero, their minimum-norm forces exactly 0, and the others'
+    # solution the same without them (a square system, often: one inverse, no decomposition)
+    moved = np.any(rows.jacobian, axis=(0, 2))
+    system = load_equations(dyn, rows.jacobian, moved)
     # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
     terms = np.abs(np.concatenate(force[1:] + moment[1:], axis=1)).max(axis=1, initial=0.0)
     solution = _solve(system, tree, n_act, terms)
-    return solution[:, :n_act], solution[:, n_act:] * dyn.row_scale
+    lam = np.zeros((solution.shape[0], dyn.chain.nc))
+    lam[:, moved] = solution[:, n_act:] * dyn.row_scale[moved]
+    return solution[:, :n_act], lam
 
 
-def load_equations(dyn: LoadUnknowns, jacobian: np.ndarray) -> np.ndarray:
+def load_equations(
+    dyn: LoadUnknowns, jacobian: np.ndarray, moved: np.ndarray | None = None
+) -> np.ndarray:
     """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
     columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
-    rows' Jacobians J (N, nc, nv)."""
+    rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
+    n_act + their count columns)."""
+    if moved is not None:
+        jacobian = jacobian[:, moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
     system = np.zeros((n, nv, n_act + nc))
     system[:, dyn.columns, np.arange(n_act)] = 1.0
-    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * dyn.row_scale
+    scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
+    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * scale
     return system
 
 
@@ -155,7 +170,8 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     Where a sample's system has full rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
     (:func:`_shortcut`); the other samples, and a subsample for the structural checks (the null
-    space of the equations), go through the singular value decomposition."""
+    space of the equations), go through the singular value decomposition — unless every sample
+    is square and passed the shortcut, which leaves those checks nothing to find."""
     n = system.shape[0]
     if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
         return np.zeros((n, 0))
@@ -165,6 +181,10 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
         solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
         if system.shape[1] > system.shape[2]:  # a least-squares answer: is it a solution?
             _check_consistency(system[fast], rhs[fast], solution[fast], terms[fast])
+    if fast.all() and system.shape[1] == system.shape[2]:
+        # every sample square and invertible within MAX_FORCE_GAIN: full rank, no null space,
+        # consistent: nothing the decomposition checks can fail
+        return solution
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True

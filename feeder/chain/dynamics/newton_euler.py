@@ -27,7 +27,10 @@ from ..kinematics.tree import TreeMotion, cross, frame_placements
 
 
 def joint_wrenches(
-    model: pin.Model, motion: TreeMotion, external: list[tuple[int, np.ndarray]] = ()
+    model: pin.Model,
+    motion: TreeMotion,
+    external: list[tuple[int, np.ndarray]] = (),
+    inertia: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Backward Newton–Euler pass (module docstring): the wrench each joint transmits, parent on
     child, world axes about the joint's origin — lists by joint id of force (N, 3) [N] and
@@ -37,24 +40,26 @@ def joint_wrenches(
     Args:
         external: (frame id, world wrench (N, 6) [force, moment about the frame's origin])
             applied to the frame's body.
+        inertia: False: the bodies' rates of momentum and weights left out (a statics pass:
+            what the external wrenches alone make the joints transmit).
     """
     n, count = motion.origin[0].shape[0], model.njoints
     gravity = model.gravity.linear if motion.gravity is None else motion.gravity
     force = [np.zeros((n, 3)) for _ in range(count)]
     moment = [np.zeros((n, 3)) for _ in range(count)]
-    for j in range(count):  # 0: the base link, moving with the base
-        inertia = model.inertias[j]
+    for j in range(count if inertia else 0):  # 0: the base link, moving with the base
+        body = model.inertias[j]
         rot = motion.rotation[j]
-        lever = (rot.reshape(-1, 3) @ inertia.lever).reshape(-1, 3)  # origin → CG, world
+        lever = (rot.reshape(-1, 3) @ body.lever).reshape(-1, 3)  # origin → CG, world
         w, dw = motion.omega[j], motion.alpha[j]
         a_g = motion.acceleration[j] + cross(dw, lever) + cross(w, cross(w, lever))
-        f = inertia.mass * (a_g - gravity)
+        f = body.mass * (a_g - gravity)
         # I ω̇ + ω × I ω with I = R I_local Rᵀ, evaluated in the body's axes.
         to_body = np.swapaxes(rot, 1, 2)
         w_local = np.einsum("nij,nj->ni", to_body, w)
         dw_local = np.einsum("nij,nj->ni", to_body, dw)
-        spin = w_local @ inertia.inertia
-        n_local = dw_local @ inertia.inertia + cross(w_local, spin)
+        spin = w_local @ body.inertia
+        n_local = dw_local @ body.inertia + cross(w_local, spin)
         force[j] = f
         moment[j] = np.einsum("nij,nj->ni", rot, n_local) + cross(lever, f)
     for frame, wrench in external:

@@ -7,17 +7,24 @@ cut; a four-bar whose coupler sits on a universal joint has none; one computatio
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from feeder.chain import ChainDynamics, inverse_dynamics
+from feeder.chain.assembly.newton import RANK_TOLERANCE
+from feeder.chain.dynamics import indeterminacy as indeterminacy_module
 from feeder.chain.dynamics.indeterminacy import COMPONENTS, indeterminacy
+from feeder.chain.dynamics.newton_euler import joint_wrenches
+from feeder.chain.kinematics.tree import tree_motion
 from feeder.outputs import INDETERMINATE, write_simulation_outputs
 from feeder.study.analyze import check_mechanism, mount_mechanism
 from feeder.study.mechanism_table import indeterminate_columns
 from feeder.study.simulate import simulate_mechanism
 
 from ...conftest import REPO
+from .fast_path_cases import NAMES, motion_case
 
 BRICARD = REPO / "examples" / "bricard"
 FOUR_BAR = REPO / "examples" / "four_bar"
@@ -139,3 +146,39 @@ def test_a_determinate_four_bar_has_nothing_indeterminate(tmp_path):
     assert "statically indeterminate under" not in simulation.summary()
     paths = write_simulation_outputs(simulation, tmp_path / "out", figures=False)
     assert INDETERMINATE not in {path.name for path in paths}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_indeterminacy_equals_the_one_from_decomposed_self_stresses(
+    name, tmp_path, monkeypatch
+):
+    """The lists come out the same when every pose's self-stresses come from the singular value
+    decomposition of its closure Jacobian (the reference the unit-vector bases of
+    rank.self_stress_bases replace: another orthonormal basis of the same span)."""
+    chain, _, q, _, _ = motion_case(name, tmp_path)
+    fast = indeterminacy(chain, q)
+
+    def decomposed(jacobians):
+        bases = []
+        for jac in jacobians:
+            u, s, _ = np.linalg.svd(jac, full_matrices=True)
+            rank = int(np.sum(s > RANK_TOLERANCE * (np.abs(jac).max(initial=0.0) or 1.0)))
+            bases.append(u[:, rank:].T)
+        return bases
+
+    monkeypatch.setattr(indeterminacy_module, "self_stress_bases", decomposed)
+    assert indeterminacy(chain, q) == fast
+
+
+def test_the_statics_pass_is_the_backward_pass_at_rest_without_gravity(rng):
+    """joint_wrenches(inertia=False), which the self-stresses' pass takes, equals the whole
+    backward pass of a motion at rest without gravity: every body term is then exactly zero."""
+    chain, _, q, _, _ = motion_case("squeezer", None)
+    model = chain.model
+    rest = replace(tree_motion(model, q), gravity=np.zeros((q.shape[0], 3)))
+    frame = model.getFrameId(model.frames[-1].name)
+    external = [(frame, rng.normal(size=(q.shape[0], 6)))]
+    full = joint_wrenches(model, rest, external)
+    statics = joint_wrenches(model, rest, external, inertia=False)
+    for whole, alone in zip(full, statics, strict=True):
+        assert all(np.array_equal(x, y) for x, y in zip(whole, alone, strict=True))
