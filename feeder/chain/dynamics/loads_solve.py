@@ -146,8 +146,18 @@ def load_rank(dyn: LoadUnknowns, q: np.ndarray) -> int:
     """The rank the loads' equations have at a closed pose q (nq,) away from singular poses:
     the actuated joints' count plus the closure rows' rank there, at most nv (as
     :func:`~feeder.chain.dynamics.inverse.inverse_dynamics` expects of every sample)."""
-    rank = np.linalg.matrix_rank(dyn.chain.jacobian(q)) if dyn.chain.nc else 0
+    rank = _rank(dyn.chain.jacobian(q)[None])[0] if dyn.chain.nc else 0
     return min(dyn.chain.model.nv, len(dyn.columns) + int(rank))
+
+
+def _rank(matrices: np.ndarray) -> np.ndarray:
+    """The rank of each matrix of a stack (n, m, k), (n,): its singular values above
+    :data:`~feeder.chain.assembly.newton.RANK_TOLERANCE` of its largest — the count the
+    singular-value path of the solve uses (:func:`_solve_svd`). numpy's own default (the size
+    times ε) would count a redundant row's round-off (1e-17 … 1e-15 of the largest, Bricard's
+    sixth hinge) as rank at some samples and not at others."""
+    s = np.linalg.svd(matrices, compute_uv=False)
+    return np.sum(s > RANK_TOLERANCE * np.maximum(s[:, :1], 1e-300), axis=1)
 
 
 def load_gain(dyn: LoadUnknowns, q: np.ndarray, rank: int) -> float:
@@ -189,7 +199,7 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True
     detailed = ~fast | checked
-    structural = int(np.linalg.matrix_rank(system[checked][:, :, n_act:]).max(initial=0))
+    structural = int(_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
     indices = np.flatnonzero(detailed)
     exact = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed])
