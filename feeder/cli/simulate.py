@@ -67,7 +67,9 @@ def add(commands: argparse._SubParsersAction) -> None:
         help="TOML file of [[control]] tables, instead of the mechanism file's: each drives an "
         "actuated joint toward a reference motion table by the computed-torque law (PD gains "
         "kp [1/s²], kd [1/s] or omega, zeta; force_limit, lag or bandwidth, rate_limit, a "
-        "cylinder's area); the table gains each one's reference, error, force and flags",
+        "cylinder's area); the table gains each one's reference, error, force and flags "
+        "(default: the mechanism file's [[control]] tables; none: the actuated joints are "
+        "undriven)",
     )
     simulate.add_argument(
         "--samples",

@@ -328,3 +328,25 @@ def test_on_a_rocking_base_the_law_holds_the_joint_with_the_base_s_terms():
     drive = BOB * LENGTH**2 * -(frequency**2) * phi + BOB * G * LENGTH * np.sin(held + phi)
     # the drive is ~1 N·m; the state's 1e-9 rad offset moves it by ~1e-8 N·m
     np.testing.assert_allclose(record.force[:, 0], drive, rtol=0.0, atol=1e-7)
+
+
+def test_a_continuous_joint_s_error_is_the_short_way_round():
+    """A wheel on a continuous joint (q = (cos θ, sin θ)) at θ = 3.1 rad, its reference at
+    −3.1 rad: the error is 2π − 6.2 rad, not −6.2, and a run from there settles on the
+    reference's angle the short way (θ passes π, not 0)."""
+    model = pin.Model()
+    joint = model.addJoint(0, pin.JointModelRUBZ(), pin.SE3.Identity(), "wheel")
+    model.appendBodyToJoint(
+        joint, pin.Inertia(1.0, np.zeros(3), np.eye(3) * 0.01), pin.SE3.Identity()
+    )
+    model.gravity = pin.Motion.Zero()
+    dyn = ChainDynamics(ClosedChain(model, []), ["wheel"])
+    controller = ComputedTorque(dyn, [_spec("wheel", np.linspace(0.0, 2.0, 3), -3.1, 0.0, 0.0)])
+    q0 = np.array([math.cos(3.1), math.sin(3.1)])
+    error, _ = controller.errors(controller.reference(0.0), q0, np.zeros(1))
+    assert error[0] == pytest.approx(2.0 * math.pi - 6.2, abs=1e-14)
+    t = np.linspace(0.0, 2.0, 21)
+    run = simulate(dyn, t, q0, np.zeros(1), controller, **TIGHT)
+    angle = np.arctan2(run.q[:, 1], run.q[:, 0])
+    assert np.all(np.abs(angle) >= 3.1 - 1e-9)  # it never turned the long way, through 0
+    assert abs(controller.record(t, run.q, run.v).error[-1, 0]) <= 1e-6
