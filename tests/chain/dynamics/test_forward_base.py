@@ -419,3 +419,13 @@ def test_a_base_that_does_not_move_runs_as_a_base_at_rest():
             rtol=0,
             atol=1e-9,
         )
+
+
+def test_a_hull_table_that_does_not_cover_the_run_is_refused_before_it():
+    from feeder.chain import HullTable, Table
+
+    times = np.array([0.0, 0.5, 1.0])
+    table = HullTable(Table(times, np.zeros((3, 18)), source="hull.csv"))
+    dyn = ChainDynamics(pendulum(), [], base=BaseMotion((table,)))
+    with pytest.raises(InputError, match="hull.csv: the hull motion covers t = 0 … 1 s"):
+        simulate(dyn, np.linspace(0.0, 2.0, 3), np.array([0.3]), np.zeros(1))
