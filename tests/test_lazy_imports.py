@@ -134,6 +134,10 @@ COMMANDS = {
         ["simulate", *SQUEEZER, "--duration", "0.003", "--out", "{out}", "--no-figures"],
         PLOTTING | VIEWER,
     ),
+    "simulate": (
+        ["simulate", *SQUEEZER, "--duration", "0.003", "--samples", "31", "--out", "{out}"],
+        {"trimesh"},
+    ),
     "design sensitivities --no-figures": (
         ["design", "sensitivities", "--elevation", "30", "--parameter", "L1"]
         + ["--out", "{out}", "--no-figures"],
@@ -142,7 +146,8 @@ COMMANDS = {
 }
 """Each command as a user types it, and what it must not import: the plotting only where it
 draws in this process (``cycle`` draws in its figure workers), the viewer nowhere but ``view``
-and ``simulate``'s report page, ``scipy.integrate`` only in the generic forward runs, no SciPy
+and the report pages (and there without trimesh, which only Pinocchio's viser viewer would
+use: :mod:`feeder.viz._visualizer`), ``scipy.integrate`` only in the generic forward runs, no SciPy
 in the device's studies, and no Pinocchio where a command only prints or writes the device's
 numbers."""
 

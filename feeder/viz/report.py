@@ -2,17 +2,21 @@
 ``feeder sweep`` write) and their drawing, in worker processes while the study computes.
 
 Drawing thirteen figures takes longer than the study, and importing matplotlib about as long as
-the study: :class:`FigureWorkers` starts worker processes first (they import matplotlib while
-this process computes), then draws each figure there from :class:`FigureData` (the numbers the
-figures need, no Pinocchio objects) into PNG bytes; a writer per file puts them in place
-atomically. This module imports matplotlib only inside the functions that draw, so
-``feeder cycle --no-figures`` never loads it.
+the study: :class:`FigureWorkers` starts a worker process first (it imports matplotlib while
+this process computes), then draws the figures there from :class:`FigureData` (the numbers the
+figures need, no Pinocchio objects) into PNG bytes, sharing them with processes forked from that
+worker (they have matplotlib loaded already: it is imported once, not once per process); a
+writer per file puts them in place atomically. This module imports matplotlib only inside the
+functions that draw, so ``feeder cycle --no-figures`` never loads it.
 """
 
 from __future__ import annotations
 
 import io
+import os
+import pickle
 import re
+import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -36,6 +40,7 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
+from .png import png_file
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -43,18 +48,13 @@ if TYPE_CHECKING:
 FIGURE_DPI = 150
 """Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 1200 × 630."""
 
-PNG_COMPRESSION = 1
-"""zlib level of the PNG files (0–9): 1 encodes a figure three times faster than the default 6
-(10 ms instead of 30 ms for a time history) for a file 4 % larger: line art compresses well at
-any level."""
-
 WORKSPACE_STEP_DEG = 10.0
 """Elevation step [deg] of the ramming poses drawn in the workspace figure (Fig. 4)."""
 
 FIGURE_WORKERS = 2
-"""Default worker processes for one study's figures (fewer if there are fewer cores). Each
-worker imports matplotlib once, which costs about as much as drawing five figures (0.65 s
-against 0.12 s a figure on the 2-core machine), so more workers gain little on thirteen."""
+"""Default processes that draw one study's figures (fewer if there are fewer cores): one worker
+that imports matplotlib (about as long as drawing three figures, 0.3 s of CPU), and the others
+forked from it once it has (:class:`FigureWorkers`)."""
 
 Writer = Callable[[Path], Path]
 """Writes one file atomically at the path it is given, and returns the path."""
@@ -187,10 +187,16 @@ def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figu
 
 
 def png_bytes(fig: Figure, dpi: int = FIGURE_DPI) -> bytes:
-    """The figure as a PNG file's bytes."""
+    """The figure as a PNG file's bytes: the pixels of ``savefig`` at ``dpi``, and its
+    ``Software`` text, encoded by :func:`~feeder.viz.png.png_file`."""
+    import matplotlib
+
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESSION})
-    return buffer.getvalue()
+    fig.savefig(buffer, format="rgba", dpi=dpi)
+    width = int(fig.get_figwidth() * dpi)  # matplotlib's canvas: whole pixels, truncated
+    pixels = np.frombuffer(buffer.getbuffer(), dtype=np.uint8).reshape(-1, width, 4)
+    software = f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"
+    return png_file(pixels, dpi, {"Software": software})
 
 
 def write_png(path: str | Path, png: bytes) -> Path:
@@ -204,6 +210,60 @@ def write_png(path: str | Path, png: bytes) -> Path:
 def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
     """Draw ``names`` into PNG bytes (in a worker process)."""
     return {name: png_bytes(draw(name, data)) for name in names}
+
+
+def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[str, bytes]:
+    """Draw every share of figure names into PNG bytes: the first here (the figure worker), each
+    other in a process forked from here, which has matplotlib loaded already and sends its PNG
+    bytes back through a pipe (an error it meets is raised here)."""
+    if threading.active_count() > 1:  # forking a threaded process is not safe: draw here
+        return _render([name for share in shares for name in share], data)
+    children = [_fork_render(share, data) for share in shares[1:]]
+    try:
+        pngs = _render(shares[0], data)
+    finally:
+        answers = [_answer(pid, pipe) for pid, pipe in children]
+    for drawn, result in answers:
+        if not drawn:
+            raise result
+        pngs |= result
+    return pngs
+
+
+def _fork_render(names: Sequence[str], data: FigureData) -> tuple[int, int]:
+    """A process forked from this single-threaded worker that draws ``names``: its id and the
+    pipe it writes ``(True, PNG bytes by name)`` or ``(False, the error)`` to, pickled."""
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid:
+        os.close(write)
+        return pid, read
+    os.close(read)  # the child: it inherits the worker's signal policy (feeder.workers)
+    status = 1
+    try:
+        try:
+            answer = pickle.dumps((True, _render(names, data)))
+        except Exception as exc:  # sent to the worker, which raises it
+            try:
+                answer = pickle.dumps((False, exc))
+            except Exception:  # an error that does not pickle: its text
+                answer = pickle.dumps((False, RuntimeError(f"drawing {names}: {exc!r}")))
+        with os.fdopen(write, "wb") as pipe:
+            pipe.write(answer)
+        status = 0
+    finally:
+        os._exit(status)
+
+
+def _answer(pid: int, pipe: int) -> tuple[bool, object]:
+    """What the forked process ``pid`` sent through ``pipe``, once it has ended."""
+    with os.fdopen(pipe, "rb") as stream:
+        answer = stream.read()
+    _, status = os.waitpid(pid, 0)
+    if not answer:
+        code = os.waitstatus_to_exitcode(status)
+        return False, RuntimeError(f"a figure process ended with status {code} and no figures")
+    return pickle.loads(answer)
 
 
 def _warm_up() -> None:
@@ -223,12 +283,14 @@ def _shares(names: Sequence[str], count: int) -> list[list[str]]:
 
 
 class FigureWorkers:
-    """Worker processes that draw figures (a context manager): enter it before computing, so
-    the workers load matplotlib meanwhile; :meth:`writers` then draws in them.
+    """Processes that draw figures (a context manager): enter it before computing, so that the
+    figure worker loads matplotlib meanwhile; :meth:`writers` then draws there, in ``workers``
+    processes: the worker and processes forked from it for the drawing (matplotlib loaded once).
 
-    Workers are forked (:func:`feeder.workers.process_pool` with ``fork_only``: the sweep's start
-    and signal policy); where forking is not safe, or with ``workers=1``, figures are drawn in
-    this process when their writer runs.
+    The worker is forked (:func:`feeder.workers.process_pool` with ``fork_only``: the sweep's
+    start and signal policy) and single-threaded, so forking it is safe; where forking this
+    process is not, or with ``workers=1``, figures are drawn in this process when their writer
+    runs.
 
     Args:
         workers: Processes (default :data:`FIGURE_WORKERS`, at most one per core).
@@ -247,7 +309,7 @@ class FigureWorkers:
 
     def __enter__(self) -> FigureWorkers:
         if self.workers > 1:
-            self._pool = process_pool(self.workers, fork_only=True, warm_up=_warm_up)
+            self._pool = process_pool(1, fork_only=True, warm_up=_warm_up)
         return self
 
     def __exit__(self, kind, error, traceback) -> None:
@@ -261,11 +323,8 @@ class FigureWorkers:
         figure and writes it atomically."""
         if self._pool is None:
             return {data.file_name(name): partial(_draw_and_write, name, data) for name in names}
-        futures: dict[str, Future] = {}
-        for share in _shares(names, self.workers):
-            future = self._pool.submit(_render, share, data)
-            futures |= dict.fromkeys(share, future)
-        return {data.file_name(name): partial(_write_drawn, name, futures[name]) for name in names}
+        future = self._pool.submit(_render_shared, _shares(names, self.workers), data)
+        return {data.file_name(name): partial(_write_drawn, name, future) for name in names}
 
 
 def _draw_and_write(name: str, data: FigureData, path: Path) -> Path:

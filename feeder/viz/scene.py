@@ -30,9 +30,9 @@ import meshcat
 import meshcat.animation
 import numpy as np
 import pinocchio as pin
-from pinocchio.visualize import MeshcatVisualizer
 
 from ..chain.results import BaseState
+from ._visualizer import MeshcatVisualizer
 from .arrows import Arrows, DrawnArrows, arrow_length, draw_arrows
 from .framing import GRID_COLOR, HULL_COLOR, draw_hull, frame_scene
 from .key_frames import key_transforms

@@ -21,7 +21,6 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import meshcat
-from pinocchio.visualize import MeshcatVisualizer
 
 from ..exceptions import InputError
 from ..files import check_replaceable, write_text
@@ -29,6 +28,7 @@ from ..study.view import MechanismView
 from ._meshcat_server import MeshcatServer
 from ._offline import OfflineWindow
 from ._page import PAGE_MARKER, panels_html, static_page
+from ._visualizer import MeshcatVisualizer
 from .legend import DrawnScene
 from .model_scene import model_scene
 from .scene import MechanismScene, draw_scene

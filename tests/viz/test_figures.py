@@ -5,6 +5,8 @@ figures drawn in worker processes the same as here."""
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 import threading
 from collections.abc import Sequence
 from pathlib import Path
@@ -173,6 +175,38 @@ def test_workers_write_what_this_process_draws(data, tmp_path):
     for a, b in zip(here, there, strict=True):
         assert a.name == b.name and a.read_bytes() == b.read_bytes(), a.name
         assert a.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+FORKED = """
+import sys
+from feeder.device.feeder import load_feeder
+from feeder.exceptions import InputError
+from feeder.motion.cycle import feeding_cycle
+from feeder.motion.laws import CycleSpec
+from feeder.viz.report import FigureData, FigureWorkers
+feeder = load_feeder()
+data = FigureData.of_cycle(feeder, feeding_cycle(feeder, 0.5, CycleSpec(rate=100.0)))
+with FigureWorkers(2) as pool:
+    assert pool._pool is not None  # forked: this interpreter runs one thread
+    writers = pool.writers(data, ["fig10_{payload}_position.png", "fig99.png"])
+    png = writers["fig10_projectile_position.png"]
+    try:
+        png(sys.argv[1])
+    except InputError as error:
+        print(error)
+"""
+
+
+def test_an_error_in_a_forked_drawing_process_is_raised_by_its_writer(tmp_path):
+    """The second share is drawn in a process forked from the figure worker (in a fresh,
+    single-threaded interpreter: pytest runs threads): its error, an unknown figure, reaches the
+    writers as the worker's own would, and nothing is written."""
+    path = tmp_path / "fig10.png"
+    done = subprocess.run(
+        [sys.executable, "-c", FORKED, str(path)], capture_output=True, text=True, check=True
+    )
+    assert "no figure named 'fig99.png'" in done.stdout, done.stdout + done.stderr
+    assert not path.exists()
 
 
 def test_figure_workers_count_is_checked():
