@@ -106,7 +106,11 @@ constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
 
 METHODS = ("DOP853", "RK45", "Radau", "BDF")
 """SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
-the implicit Radau IIA (order 5) and BDF for stiff mechanisms."""
+the implicit Radau IIA (order 5) and BDF for stiff mechanisms. Through a singular position
+(``singular="pass"``) DOP853, RK45 and Radau carry the N-four-bar at the default tolerances
+(tests/chain/test_iftomm.py); BDF restarts at first order after each of the projections made
+near the pose, and its state there errs beyond the crossing's limits (1.2e-8 m against
+:data:`~feeder.chain.dynamics.singular.COAST_POSITION`): the run stops there, naming the time."""
 
 
 @one_blas_thread
@@ -322,7 +326,7 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
         y = solver.y
         tau = None if watch is None else watch.approach()
         if tau is not None:  # a singular position ahead: cross it by the motion's expansion
-            path, y = coast(equations, solver.t, y, dense, tau, t[-1], project)
+            path, y = coast(equations, solver.t, y, tau, t[-1], project)
             watch.step(path.t_min, path.t_max, path)
             while k < t.size and t[k] <= path.t_max:
                 states[k] = path(t[k])

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+import scipy.integrate
 import scipy.optimize
 
 from ...exceptions import InputError, SingularPoseError
@@ -68,9 +69,14 @@ COAST_VELOCITY = 1e-5
 """Largest correction of the velocities at a coast's end, relative to the largest rate."""
 
 FIT_POINTS = 4
-"""Points of the last step (its ends and two inner points) at which the equations give q̈ and
-the power, whose cubic through them gives their first three derivatives at the step's end (q
-is expanded to fifth order, q̇ and the work to fourth)."""
+"""Points of the stretch before a coast (its ends and two inner points) at which the equations
+give q̈ and the power, whose cubic through them gives their first three derivatives at the
+coast's start (q is expanded to fifth order, q̇ and the work to fourth)."""
+
+FIT_RTOL = 1e-12
+"""Relative tolerance of the short backward run that gives the fit points (:func:`coast`): the
+expansion's derivatives come from differences of q̈ over the stretch, so its states must be
+well below the run's own error (≥ 1e-14 relative: double precision's room)."""
 
 MODES = ("pass", "stop")
 """What a run does at a singular position: pass through it, or stop there with an
@@ -257,23 +263,37 @@ class Coast:
         return out
 
 
-def coast(equations, t0, y0, dense, tau, end, project):
+def coast(equations, t0, y0, tau, end, project):
     """The :class:`Coast` across a singular position ahead (time to it ``tau`` [s]) from the
-    step end (t0, y0), whose step's dense output is ``dense``, at most to ``end`` [s], and the
-    state at its end projected onto the constraints (``project``). The derivatives of q̇ and the
-    work at t0 come from the equations at :data:`FIT_POINTS` points of the step (where the
-    margin is still above :data:`COAST`, so that they are accurate). The coast is refused when the
-    projection's correction exceeds :data:`COAST_POSITION` or :data:`COAST_VELOCITY`.
+    step end (t0, y0), at most to ``end`` [s], and the state at its end projected onto the
+    constraints (``project``). The derivatives of q̇ and the work at t0 come from the equations
+    at :data:`FIT_POINTS` points of the stretch [t0 − tau, t0] before it (where the margin is
+    still above :data:`COAST`, so that they are accurate), its states from a short backward run
+    of SciPy's DOP853 at :data:`FIT_RTOL`: not the run's own dense output, whose accuracy and
+    span depend on its method (RK45's fourth-order interpolant, BDF's short steps near the pose
+    would make the fitted derivatives the expansion's largest error). The coast is refused when
+    the projection's correction exceeds :data:`COAST_POSITION` or :data:`COAST_VELOCITY`.
 
     Raises:
         IntegrationError: The coast errs by more.
     """
     model = equations.model
     nq, nv = model.nq, model.nv
-    span = t0 - dense.t_min
+    span = tau
     x = np.linspace(-1.0, 0.0, FIT_POINTS)
-    values = np.array([equations(t0 + span * p, dense(t0 + span * p))[nq:] for p in x[:-1]])
-    values = np.vstack([values, equations(t0, y0)[nq:]])
+    back = scipy.integrate.solve_ivp(
+        equations, (t0, t0 - span), y0, method="DOP853", t_eval=t0 + span * x[::-1],
+        rtol=FIT_RTOL, atol=FIT_RTOL * max(1.0, float(np.abs(y0).max())),
+    )  # fmt: skip
+    if not back.success:
+        raise IntegrationError(
+            f"the run cannot pass the singular position ahead of t = {t0:.6g} s: the equations "
+            f"before it cannot be integrated ({back.message}); stop there instead "
+            "(singular='stop')"
+        )
+    values = np.array([equations(time, y)[nq:] for time, y in zip(back.t, back.y.T, strict=True)])[
+        ::-1
+    ]
     c = np.polynomial.polynomial.polyfit(x, values, FIT_POINTS - 1)
     orders = np.arange(FIT_POINTS)
     factorials = np.cumprod(np.maximum(orders, 1.0))
