@@ -41,8 +41,12 @@ The work of the non-conservative forces (drives, dampers, pushes, pressures, loa
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
 
-Results: every output sample is projected onto the constraints (the drift before the projection
-is reported), its accelerations evaluated, and the inverse dynamics of the sampled motion give the
+Results: every output sample whose loops are open by more than ``drift_tolerance`` (positions,
+or velocities per second; the integrator's dense output between step ends), or whose quaternions
+are off unit length, is projected onto the constraints (the drift before the projection is
+reported), and every sample of a run that passed a singular position (where a velocity off the
+branch hides from that test: :data:`~feeder.chain.dynamics.singular.NEAR`); its accelerations are
+evaluated, and the inverse dynamics of the sampled motion give the
 closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
 every force element's force, like the tables of ``feeder analyze``.
 """
@@ -213,7 +217,7 @@ def simulate(
         )
     if watch is not None:
         watch.finish()
-    return _results(equations, t, states, steps, projections, progress, watch)
+    return _results(equations, t, states, steps, projections, progress, watch, drift_tolerance)
 
 
 def _controller_start(
@@ -378,20 +382,41 @@ def _singular(
     )
 
 
-def _results(equations, t, states, steps, projections, progress: bool, watch) -> ForwardRun:
+def _closed(equations, y: np.ndarray, drift_tolerance: float) -> bool:
+    """Whether the state y, whose loops are closed to ``drift_tolerance`` [m, rad], keeps its
+    velocities on the constraints (per second, relative to the largest rate beyond 1) and its
+    quaternions of unit length: a sample that needs no projection (:func:`_results`)."""
+    model = equations.model
+    q, v = y[: model.nq], y[model.nq : model.nq + model.nv]
+    if not pin.isNormalized(model, q, drift_tolerance):
+        return False
+    opening = np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0)
+    return bool(opening <= drift_tolerance * max(1.0, float(np.abs(v).max(initial=0.0))))
+
+
+def _results(
+    equations, t, states, steps, projections, progress: bool, watch, drift_tolerance: float
+) -> ForwardRun:
     """The run's tables from the states at the output times (module docstring); ``progress``:
     show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`);
-    ``watch``: the singular instants passed (:func:`_integrate`)."""
+    ``watch``: the singular instants passed (:func:`_integrate`); ``drift_tolerance``: the
+    closure residual [m, rad] above which a sample is projected."""
     dyn, model = equations.dyn, equations.model
     chain = dyn.chain
     nq, nv = model.nq, model.nv
     residual = np.empty(t.size)
     projected = np.empty_like(states)
     a = np.empty((t.size, nv))
+    closed = watch is None or not watch.passes  # no singular position: the test sees every drift
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            projected[k] = project(equations.dyn.chain, y)
+            keep = (
+                closed
+                and residual[k] <= drift_tolerance
+                and _closed(equations, y, drift_tolerance)
+            )
+            projected[k] = y if keep else project(chain, y)
             sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
             a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
             line.update()

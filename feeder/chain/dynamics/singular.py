@@ -21,8 +21,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-import scipy.integrate
-import scipy.optimize
 
 from ...exceptions import InputError, SingularPoseError
 from ..assembly.rank import rank_tolerance
@@ -184,6 +182,8 @@ class RankWatch:
     def _check(self, left, middle, right) -> None:
         if not (middle[1] <= right[1] and (middle[1] < left[1] or middle is right)):
             return
+        import scipy.optimize  # here: only runs that near a singular position pay its import
+
         found = scipy.optimize.minimize_scalar(
             self.margin, bounds=(left[0], right[0]), method="bounded",
             options={"xatol": BRACKET},
@@ -281,6 +281,8 @@ def coast(equations, t0, y0, tau, end, project):
     nq, nv = model.nq, model.nv
     span = tau
     x = np.linspace(-1.0, 0.0, FIT_POINTS)
+    import scipy.integrate  # here: only runs that cross a singular position pay its import
+
     back = scipy.integrate.solve_ivp(
         equations, (t0, t0 - span), y0, method="DOP853", t_eval=t0 + span * x[::-1],
         rtol=FIT_RTOL, atol=FIT_RTOL * max(1.0, float(np.abs(y0).max())),

@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-import scipy.linalg
 
 from ..assembly.newton import RANK_TOLERANCE
 from .elements import BoundElements
@@ -123,6 +122,8 @@ def element_rates(dyn: ChainDynamics, q: np.ndarray, v: np.ndarray, t: float) ->
     mass = np.triu(mass) + np.triu(mass, 1).T
     reduced_mass = free.T @ mass @ free
     d = free.shape[1]
+    import scipy.linalg  # here: only a run whose steps are held pays its import (~0.2 s)
+
     rates = {}
     for element in dyn.elements.elements:
         alone = BoundElements(chain, [element])
