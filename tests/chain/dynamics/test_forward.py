@@ -101,6 +101,23 @@ def test_a_free_swing_keeps_its_energy_and_its_loop(four_bar):
     assert np.abs(torque).max() <= 1e-8 * scale
 
 
+def test_the_samples_keep_the_loops_closed_whether_projected_or_not(four_bar):
+    """Samples are projected only where the dense output opened the loops beyond
+    drift_tolerance: at a tolerance below the dense output's error some are, at one above it
+    none; either way every sample closes the loops to the tolerance, positions and velocities
+    (the loads' inverse dynamics then read back the zero drive, as above)."""
+    chain, _, q0 = four_bar
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    t = np.linspace(0.0, 1.0, 101)
+    for tolerance in (1e-12, 1e-8):  # below and above the ~1e-10 m of the dense output
+        run = simulate(dyn, t, q0, np.zeros(3), drift_tolerance=tolerance)
+        # the projection closes to Newton's tolerance (~1e-13), far inside either tolerance
+        assert np.abs([chain.residual(q) for q in run.q]).max() <= tolerance
+        opening = [np.abs(chain.jacobian(q) @ v).max() for q, v in zip(run.q, run.v, strict=True)]
+        assert max(opening) <= tolerance * max(1.0, np.abs(run.v).max())
+    assert run.drift() <= 1e-8  # the last run's samples, none projected, within that tolerance
+
+
 def test_outputs_far_apart_are_still_integrated_finely(four_bar):
     """The step is the integrator's, never the output spacing: 1 s between outputs."""
     chain, _, q0 = four_bar
