@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
 import math
@@ -1042,3 +1043,23 @@ def test_analyze_of_a_passive_mechanism_asks_for_actuated_joints(tmp_path, capsy
     err = capsys.readouterr().err
     assert "the motion's loads need actuated joints" in err and "feeder simulate" in err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--forward", "controlled", "--no-forward"], "contradict"),
+        (["--bandwidth", "8"], "add --forward controlled"),
+        (["--drive-bandwidth", "20"], "add --forward controlled"),
+        (["--forward", "controlled", "--bandwidth", "0"], "bandwidth_hz must be a positive"),
+        (["--forward", "controlled", "--drive-bandwidth", "-3"], "actuator_hz must be a positive"),
+        (["--forward", "rule"], "invalid choice"),
+    ],
+)
+def test_controlled_run_options_are_refused_in_one_line(tmp_path, capsys, options, message):
+    """Each refused before the run, the output folder not created."""
+    out = tmp_path / "run"
+    with pytest.raises(SystemExit) if "invalid" in message else contextlib.nullcontext():
+        assert main(["cycle", "--elevation", "30", "--out", str(out), *options]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()

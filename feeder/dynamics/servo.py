@@ -20,10 +20,10 @@ and ζ its damping ratio: each joint alone is then a second-order loop of natura
 Defaults (assumed, stated here): f = 5 Hz and ζ = 1 — valve-controlled cylinders' position loops
 on mobile machines run at 2–10 Hz, limited by the oil column's hydraulic natural frequency
 (Merritt, *Hydraulic Control Systems*, ch. 7: a loop's bandwidth at most about a third of it,
-typically 10–30 Hz for such cylinders); no lag; the supply pressure 6.3 MPa (ISO 3322 nominal
-pressure series, a light-duty cylinder: 3.6 × the reference cycle's peak cap pressure); the rack
-drive's force limit 2.5 kN (assumed: 3.5 × the cycle's peak rack force at −4°, the margin the
-cylinder has).
+typically 10–30 Hz for such cylinders); no lag; the supply pressure 160 bar (the nominal
+pressure of ISO 6020-2 compact cylinders, the rating notebook 06 assumes: 9 × the reference
+cycle's peak cap pressure); the rack drive's force limit 5 kN (assumed: 2.4 × the 2.1 kN the
+rack needs on the move across a slope, notebook 06).
 """
 
 from __future__ import annotations
@@ -44,10 +44,10 @@ BANDWIDTH_HZ = 5.0
 DAMPING = 1.0
 """Default damping ratio ζ of each position loop (critically damped: no overshoot)."""
 
-SUPPLY_PRESSURE = 6.3e6
+SUPPLY_PRESSURE = 160e5
 """Default supply pressure [Pa] of the lift cylinder (module docstring: assumed)."""
 
-RACK_FORCE_LIMIT = 2.5e3
+RACK_FORCE_LIMIT = 5e3
 """Default largest rack force [N] of the rack drive (module docstring: assumed)."""
 
 
