@@ -59,7 +59,14 @@ from .budget import (
     sample_progress,
     step_cap_message,
 )
-from .forward_equations import BAUMGARTE_RATE, Actuation, ForwardEquations, IntegrationError
+from .forward_equations import (
+    BAUMGARTE_RATE,
+    EMPTY,
+    Actuation,
+    Controller,
+    ForwardEquations,
+    IntegrationError,
+)
 from .forward_run import ForwardRun
 from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
@@ -153,16 +160,13 @@ def simulate(
     """
     check_dynamics(dyn)
     chain = dyn.chain
-    if dyn.base is not None:
-        raise InputError(
-            "forward runs are on a base at rest: this mechanism's base moves or is tilted "
-            "([base]); its inverse dynamics (feeder analyze) take the base's motion, and a "
-            "slope alone is a tilted gravity ([mechanism] gravity)"
-        )
     t = _check_times(t, chain.model.nv)
     q, v = chain.check_q(q0), chain.check_v("v0", v0)
     if actuation is not None and not callable(actuation):
-        raise InputError(f"actuation must be a function u(t, q, v) or None, got {actuation!r}")
+        raise InputError(
+            f"actuation must be a function u(t, q, v), a Controller or None, got {actuation!r}"
+        )
+    x0 = _controller_start(actuation, float(t[0]), q, v)
     if method not in METHODS:
         raise InputError(f"method must be one of {list(METHODS)}, got {method!r}")
     if singular is None:
@@ -185,7 +189,7 @@ def simulate(
         )
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
     equations = ForwardEquations(dyn, actuation, rate)
-    y0 = np.concatenate([q, v, [0.0]])
+    y0 = np.concatenate([q, v, [0.0], x0, [0.0] if equations.moving else []])
     with Progress(float(t[0]), float(t[-1]), progress) as line:
         watch = RankWatch(chain, q, chain.model.nq) if singular == "pass" else None
         states, steps, projections = _integrate(
@@ -194,6 +198,24 @@ def simulate(
     if watch is not None:
         watch.finish()
     return _results(equations, t, states, steps, projections, progress, watch)
+
+
+def _controller_start(
+    actuation: Actuation | Controller | None, t0: float, q0: np.ndarray, v0: np.ndarray
+) -> np.ndarray:
+    """A :class:`Controller`'s states at the start (n_states,), checked (none for an actuation
+    without states)."""
+    if not isinstance(actuation, Controller):
+        return EMPTY
+    n = actuation.n_states
+    if not (isinstance(n, int | np.integer) and not isinstance(n, bool) and n >= 0):
+        raise InputError(f"a controller's n_states must be a whole number ≥ 0, got {n!r}")
+    x0 = check_finite("the controller's initial states", actuation.start(t0, q0.copy(), v0.copy()))
+    if x0.shape != (n,):
+        raise InputError(
+            f"the controller's initial states must be {n} finite numbers (n_states), got {x0!r}"
+        )
+    return x0
 
 
 def _check_times(t: np.ndarray, nv: int) -> np.ndarray:
@@ -354,9 +376,15 @@ def _results(equations, t, states, steps, projections, progress: bool, watch) ->
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
             projected[k] = project(equations.dyn.chain, y)
-            a[k] = equations.accelerations(t[k], projected[k, :nq], projected[k, nq : nq + nv])[0]
+            sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
+            a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
             line.update()
-    q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, -1]
+    q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
+    held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
+    u = np.zeros((t.size, len(dyn.columns)))
+    if equations.actuation is not None:
+        samples = zip(t, q, v, held, strict=True)
+        u[:] = [equations.drive(*sample)[0] for sample in samples]
     indeterminate = np.zeros(t.size, dtype=bool)
     try:
         if watch is not None and watch.passes:
@@ -375,12 +403,15 @@ def _results(equations, t, states, steps, projections, progress: bool, watch) ->
             ) from exc
     except InputError as exc:
         raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
-    data = equations.data
-    pairs = zip(q, v, strict=True)
-    kinetic = np.array([pin.computeKineticEnergy(model, data, x, y) for x, y in pairs])
-    potential = np.array(
-        [pin.computePotentialEnergy(model, data, x) + dyn.elements.energy(x) for x in q]
-    )
+    data, elastic = equations.data, np.array([dyn.elements.energy(x) for x in q])
+    if equations.moving is None:
+        pairs = zip(q, v, strict=True)
+        kinetic = np.array([pin.computeKineticEnergy(model, data, x, y) for x, y in pairs])
+        pairs = zip(q, elastic, strict=True)
+        potential = np.array([pin.computePotentialEnergy(model, data, x) + e for x, e in pairs])
+    else:  # the absolute motion's (forward_base)
+        kinetic, potential = equations.moving.energies(t, q, v)
+        potential = potential + elastic
     return ForwardRun(
         t=t,
         q=q,
@@ -396,4 +427,7 @@ def _results(equations, t, states, steps, projections, progress: bool, watch) ->
         projections=projections,
         singular=() if watch is None else tuple(watch.passes),
         indeterminate=indeterminate,
+        controller=held,
+        actuation=u,
+        base_work=None if equations.moving is None else projected[:, -1],
     )

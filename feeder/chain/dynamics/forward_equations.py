@@ -19,6 +19,7 @@ component, so that their work is integrated with the state.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import pinocchio as pin
@@ -26,6 +27,7 @@ import pinocchio as pin
 from ...exceptions import FeederError, InputError
 from ...validation import check_finite
 from ..kinematics.joints import ConfigurationRate
+from .forward_base import MovingBase
 from .inverse import ChainDynamics
 
 BAUMGARTE_RATE = 20.0
@@ -43,6 +45,31 @@ Actuation = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 """u(t, q, q̇): the actuated joints' generalized forces [N or N·m] at time t [s], (n_actuated,)."""
 
 
+@runtime_checkable
+class Controller(Protocol):
+    """An actuation with states of its own (an actuator's lag, a controller's integrator): the
+    run integrates its states x with the mechanism's, y = (q, q̇, W, x).
+
+    Attributes:
+        n_states: Number of its states (≥ 0).
+    """
+
+    n_states: int
+
+    def start(self, t0: float, q0: np.ndarray, v0: np.ndarray) -> np.ndarray:
+        """The states at the start of the run (n_states,), from the start time [s] and state."""
+
+    def __call__(
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(u, ẋ): the actuated joints' generalized forces [N or N·m] (n_actuated,) and the
+        states' rates (n_states,) at time t [s], state (q, q̇) and states x."""
+
+
+EMPTY = np.zeros(0)
+"""The states of an actuation without any."""
+
+
 class IntegrationError(FeederError):
     """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
     unbounded acceleration), the run reached a singular pose where its loads cannot be computed,
@@ -51,12 +78,15 @@ class IntegrationError(FeederError):
 
 class ForwardEquations:
     """The right-hand side of a run (module docstring) on one pinocchio.Data: called as
-    f(t, y) with y = (q, q̇, W) of size nq + nv + 1, it returns the rate of q (nq,), q̈ (nv,) and
-    the power [W]; ``count``: the calls so far."""
+    f(t, y) with y = (q, q̇, W, x[, W_B]) — the configuration (nq), velocities (nv), the work of
+    the non-conservative forces [J], a :class:`Controller`'s states (n_states) and, on a moving
+    base, the base's work [J] — it returns their rates; ``count``: the calls so far."""
 
-    def __init__(self, dyn: ChainDynamics, actuation: Actuation | None, rate: float):
+    def __init__(self, dyn: ChainDynamics, actuation: Actuation | Controller | None, rate: float):
         chain, model = dyn.chain, dyn.chain.model
         self.model, self.dyn, self.actuation = model, dyn, actuation
+        self.controller = actuation if isinstance(actuation, Controller) else None
+        self.n_states = 0 if self.controller is None else self.controller.n_states
         self.data = model.createData()
         self.constraints = pin.StdVec_RigidConstraintModel()
         for constraint in chain.constraint_models:
@@ -72,51 +102,97 @@ class ForwardEquations:
         self.rate = None if model.nq == model.nv else ConfigurationRate(model)
         self.columns = np.array(dyn.columns, dtype=int)
         self.zero = np.zeros(model.nv)
+        self.moving = None if dyn.base is None else MovingBase(model, dyn.base)
+        self.size = self.nq + self.nv + 1 + self.n_states + (self.moving is not None)
         self.count = 0
 
-    def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
-        """τ (nv,) and the power [W] of the non-conservative forces."""
-        elements = self.dyn.elements
-        if self.actuation is None:
-            return elements.generalized(q, v, t) if elements else (self.zero, 0.0)
-        tau = np.zeros(self.model.nv)
-        u = self.actuation(t, q, v)
+    def states(self, y: np.ndarray) -> np.ndarray:
+        """The controller's states x of a state y (n_states,)."""
+        first = self.nq + self.nv + 1
+        return y[first : first + self.n_states]
+
+    def drive(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
+        """u (n_actuated,) and ẋ (n_states,) of the actuation at (t, q, q̇, x), checked."""
+        if self.controller is None:
+            u = self.actuation(t, q, v)
+            return self._checked("actuation", "[N or N·m]", t, u, self.columns.size), EMPTY
+        out = self.controller(t, q, v, x)
+        if not (isinstance(out, tuple) and len(out) == 2):
+            raise InputError(f"the controller must return (u, xdot) at t = {t:.6g} s, got {out!r}")
+        u = self._checked("actuation", "[N or N·m]", t, out[0], self.columns.size)
+        return u, self._checked("controller state rates", "", t, out[1], self.n_states)
+
+    @staticmethod
+    def _checked(what: str, unit: str, t: float, u: object, size: int) -> np.ndarray:
+        """``u`` if it is ``size`` finite floats, else converted or refused (``unit`` for the
+        message)."""
         if not (type(u) is np.ndarray and u.dtype == np.float64 and np.isfinite(u).all()):
             # anything but finite floats (or not an array): converted or refused, the message
             # built only here (each evaluation of the right-hand side passes this way)
-            u = check_finite(f"actuation at t = {t:.6g} s [N or N·m]", u)
-        if u.shape != self.columns.shape:
+            u = check_finite(f"{what} at t = {t:.6g} s {unit}".rstrip(), u)
+        if u.shape != (size,):
             raise InputError(
-                f"actuation at t = {t:.6g} s must be {self.columns.size} finite numbers "
-                f"[N or N·m], got {u!r}"
+                f"{what} at t = {t:.6g} s must be {size} finite numbers {unit}".rstrip()
+                + f", got {u!r}"
             )
+        return u
+
+    def forces(
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY
+    ) -> tuple[np.ndarray, float, np.ndarray]:
+        """τ (nv,), the power [W] of the non-conservative forces and ẋ (n_states,)."""
+        elements = self.dyn.elements
+        if self.actuation is None:
+            tau, power = elements.generalized(q, v, t) if elements else (self.zero, 0.0)
+            return tau, power, EMPTY
+        tau = np.zeros(self.model.nv)
+        u, xdot = self.drive(t, q, v, x)
         tau[self.columns] = u
         power = float(u @ v[self.columns])
         if elements:
             generalized, element_power = elements.generalized(q, v, t)
             tau += generalized
             power += element_power
-        return tau, power
+        return tau, power, xdot
 
-    def accelerations(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float]:
-        tau, power = self.forces(t, q, v)
+    def evaluate(
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY
+    ) -> tuple[np.ndarray, float, np.ndarray, float]:
+        """q̈ (nv,), the power [W] of the non-conservative forces, ẋ (n_states,) and the base's
+        power [W] (0 on a base at rest) at (t, q, q̇, x)."""
+        tau, power, xdot = self.forces(t, q, v, x)
+        if self.moving is None:
+            a = pin.constraintDynamics(
+                self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
+            )
+            return a, power, xdot, 0.0
+        correction, rooted = self.moving.bias(self.data, t, q, v)
         a = pin.constraintDynamics(
-            self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
+            self.model, self.data, q, v, tau + correction, self.constraints, self.datas, PROXIMAL
         )
-        return a, power
+        return a, power, xdot, self.moving.power(rooted, a)
+
+    def accelerations(
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY
+    ) -> tuple[np.ndarray, float]:
+        """q̈ (nv,) and the power [W] of the non-conservative forces at (t, q, q̇, x)."""
+        return self.evaluate(t, q, v, x)[:2]
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         self.count += 1
         nq, nv = self.nq, self.nv
         q, v = y[:nq], y[nq : nq + nv]
-        a, power = self.accelerations(t, q, v)
+        a, power, xdot, base_power = self.evaluate(t, q, v, self.states(y))
         if not np.all(np.abs(a) < 1e154):  # NaN, inf, or as meaningless (a @ a would overflow)
             raise IntegrationError(
                 f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "
                 "that are not finite)"
             )
-        out = np.empty(nq + nv + 1)
+        out = np.empty(self.size)
         out[:nq] = v if self.rate is None else self.rate(q, v)
-        out[nq:-1] = a
-        out[-1] = power
+        out[nq : nq + nv] = a
+        out[nq + nv] = power
+        out[nq + nv + 1 : nq + nv + 1 + self.n_states] = xdot
+        if self.moving is not None:
+            out[-1] = base_power
         return out

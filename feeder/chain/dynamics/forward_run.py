@@ -29,7 +29,8 @@ class ForwardRun:
         residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
         energy: Kinetic, gravitational and elastic energy [J], (N,).
         kinetic: Kinetic energy [J], (N,).
-        work: Work of the non-conservative forces since t[0] [J], (N,).
+        work: Work of the non-conservative forces since t[0] [J], (N,) (their power relative
+            to the base on a moving base).
         steps: Accepted integration steps. evaluations: Right-hand sides evaluated.
         projections: Steps projected back onto the constraints.
         singular: The singular positions the run passed (closure rank drops,
@@ -39,6 +40,14 @@ class ForwardRun:
             singular position, where the loads' equations have a condition number above
             :data:`~feeder.chain.dynamics.loads_solve.MAX_FORCE_GAIN`; their loads in
             :attr:`loads` are zero, not values.
+        controller: A :class:`~.forward_equations.Controller`'s states x at the samples,
+            (N, n_states); (N, 0) for an actuation without states.
+        actuation: The applied actuation u, the actuated joints' generalized forces [N or N·m],
+            (N, n_actuated) (zero without actuation).
+        base_work: On a moving base, the work [J] the base's motion has done on the mechanism
+            since t[0], (N,) (:mod:`~feeder.chain.dynamics.forward_base`); None on a base at
+            rest. :attr:`energy` and :attr:`kinetic` are then the absolute motion's, and
+            :attr:`loads` ``.mount`` the base's support on the mechanism at every sample.
     """
 
     t: np.ndarray
@@ -55,14 +64,19 @@ class ForwardRun:
     projections: int
     singular: tuple[SingularPass, ...] = ()
     indeterminate: np.ndarray | None = None
+    controller: np.ndarray | None = None
+    actuation: np.ndarray | None = None
+    base_work: np.ndarray | None = None
 
     def drift(self) -> float:
         """Largest closure residual over the run before projection [m, rad]."""
         return float(self.residual.max())
 
     def balance(self) -> np.ndarray:
-        """E(t) − E(t₀) − W(t) [J], (N,): zero for an exact run."""
-        return self.energy - self.energy[0] - self.work
+        """E(t) − E(t₀) − W(t) [J], (N,), less the base's work W_B(t) on a moving base: zero
+        for an exact run."""
+        balance = self.energy - self.energy[0] - self.work
+        return balance if self.base_work is None else balance - self.base_work
 
     def energy_error(self) -> float:
         """Largest |E(t) − E(t₀) − W(t)| [J] (:meth:`balance`)."""
@@ -76,6 +90,11 @@ class ForwardRun:
         return {
             "kinetic energy": float(self.kinetic.max()),
             "|work|": float(np.abs(self.work).max()),
+            **(
+                {}
+                if self.base_work is None
+                else {"|base's work|": float(np.abs(self.base_work).max())}
+            ),
             "|change of potential energy|": float(np.abs(potential - potential[0]).max()),
             "round-off of the energy": float(np.finfo(float).eps * np.abs(self.energy).max()),
         }

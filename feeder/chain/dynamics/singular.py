@@ -201,8 +201,8 @@ def spread(loads: ChainLoads, keep: np.ndarray) -> ChainLoads:
     """The loads ``loads`` of the samples ``keep`` (bool (N,), its True samples) on all N
     samples, zero at the others (whose loads are indeterminate: the run's
     :attr:`~feeder.chain.dynamics.forward_run.ForwardRun.indeterminate` flags them): every
-    per-sample array of the loads, their wrenches and their tree motion; gravity and the base
-    (none in a forward run) are kept."""
+    per-sample array of the loads, their wrenches and their tree motion, and on a moving base
+    its state and gravity (zero at the others too)."""
     count = int(keep.sum())
 
     def grow(value):
@@ -222,7 +222,9 @@ def spread(loads: ChainLoads, keep: np.ndarray) -> ChainLoads:
             )
         return value
 
-    fields = {f.name for f in dataclasses.fields(loads)} - {"gravity", "base"}
+    fields = {f.name for f in dataclasses.fields(loads)}
+    if loads.base is None:  # the model's gravity (3,), not per sample
+        fields -= {"gravity", "base"}
     return dataclasses.replace(loads, **{name: grow(getattr(loads, name)) for name in fields})
 
 
@@ -234,8 +236,8 @@ class Coast:
     Args:
         model: The Pinocchio model.
         t0, h: Start [s] and length [s].
-        y0: The state (q, q̇, W) at t0.
-        rates: The time derivatives of (q̇, W) at t0 from the first on, (k, nv + 1).
+        y0: The state (q, q̇, W, …) at t0 (:class:`~.forward_equations.ForwardEquations`).
+        rates: The time derivatives of (q̇, W, …) at t0 from the first on, (k, y0.size − nq).
     """
 
     def __init__(self, model, t0: float, h: float, y0: np.ndarray, rates: np.ndarray):
@@ -250,7 +252,7 @@ class Coast:
         powers = s ** np.arange(1, len(self.rates) + 2) / self.factorials
         out = np.empty_like(self.y0)
         step = v0 * s + powers[1:] @ self.rates
-        out[:nq] = pin.integrate(self.model, self.y0[:nq], step[:-1])
+        out[:nq] = pin.integrate(self.model, self.y0[:nq], step[: self.model.nv])
         out[nq:] = v0 + powers[:-1] @ self.rates
         return out
 

@@ -399,7 +399,11 @@ def test_bad_dynamics_are_refused_in_one_line(four_bar, call, message):
         (("dyn",), {}, "dyn must be a ChainDynamics"),
         ((None, lambda t, q, v: "0.5"), {}, "actuation at t = 0 s [N or N·m] must be numeric"),
         ((None, lambda t, q, v: [True]), {}, "must be numeric, got the truth value"),
-        ((None, 0.5), {}, "actuation must be a function u(t, q, v) or None, got 0.5"),
+        (
+            (None, 0.5),
+            {},
+            "actuation must be a function u(t, q, v), a Controller or None, got 0.5",
+        ),
         ((None,), {"rate": 1e300}, "rate (Baumgarte's) must be ≥ 0 and ≤ 1e+06"),
         ((None,), {"max_step": True}, "max_step [s] must be a number"),
         ((None,), {"t": np.array([-1e308, 1e308])}, "its length is not a finite number"),

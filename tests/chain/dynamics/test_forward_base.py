@@ -1,0 +1,291 @@
+"""Forward runs on a moving base (feeder.chain.dynamics.forward_base) and the Controller hook.
+
+Independent checks: a point pendulum on a heaving or rocking base against its hand-written
+equation integrated by SciPy (the relative angle, the absolute energy and the base's work), the
+parametric resonance of Mathieu's equation, MuJoCo's equations of the device on a hull with six
+joints at every sample of a run, the inverse dynamics of the run's samples (the drives read
+back), and a controller with a first-order lag against its hand-written ODE.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from scipy.integrate import solve_ivp
+
+from feeder.chain import BaseMotion, ChainDynamics, ClosedChain, simulate
+from feeder.chain.dynamics import Controller
+from feeder.chain.model.channels import Channels
+from feeder.exceptions import InputError
+
+G, LENGTH, MASS = 9.81, 0.5, 2.0
+"""The pendulum: gravity [m/s²], length [m] and point mass [kg]."""
+
+OMEGA0 = math.sqrt(G / LENGTH)
+"""Its small-oscillation frequency [rad/s]."""
+
+TIGHT = dict(rtol=1e-12, atol=1e-14)
+"""Both integrations at tolerances near round-off: their difference is then the error of the
+looser one, a few 1e-11 rad over the periods run (measured 1e-11 to 4e-11)."""
+
+CLOSED_FORM = 1e-8
+"""The brief's bound on the difference from the hand-written equation [rad, rad/s, J]."""
+
+
+@dataclass(frozen=True)
+class Harmonic:
+    """A hull channel moving as A cos(Ωt): ``channel`` 0–5 (x, y, z in the vehicle axes, roll,
+    pitch, yaw), amplitude A [m or rad], frequency Ω [rad/s]. A programmer's profile
+    (``channels`` and ``describe``)."""
+
+    channel: int
+    amplitude: float
+    frequency: float
+
+    def channels(self, t: np.ndarray) -> Channels:
+        out = [np.zeros((t.size, 6)) for _ in range(3)]
+        w, a = self.frequency, self.amplitude
+        out[0][:, self.channel] = a * np.cos(w * t)
+        out[1][:, self.channel] = -a * w * np.sin(w * t)
+        out[2][:, self.channel] = -a * w**2 * np.cos(w * t)
+        return Channels(*out)
+
+    def describe(self) -> str:
+        return f"channel {self.channel}: {self.amplitude:g} cos({self.frequency:g} t)"
+
+
+def pendulum() -> ClosedChain:
+    """A point mass on a massless rod, hinged at the model's origin about the forward axis x;
+    up is z; θ = 0 hangs down, θ > 0 swings it towards +y."""
+    model = pin.Model()
+    model.gravity = pin.Motion(np.array([0.0, 0.0, -G, 0.0, 0.0, 0.0]))
+    joint = model.addJoint(0, pin.JointModelRX(), pin.SE3.Identity(), "swing")
+    model.appendBodyToJoint(
+        joint,
+        pin.Inertia(MASS, np.array([0.0, 0.0, -LENGTH]), np.zeros((3, 3))),
+        pin.SE3.Identity(),
+    )
+    return ClosedChain(model, [])
+
+
+def heave(amplitude: float, frequency: float) -> BaseMotion:
+    """The base heaving: its height −A cos Ωt, its upward acceleration a(t) = A Ω² cos Ωt."""
+    return BaseMotion((Harmonic(2, -amplitude, frequency),))
+
+
+def heaving_reference(t, y0, amplitude, frequency):
+    """The hand ODE of the heaving pendulum, θ̈ = −(g + a(t))/L sin θ, with the base's power
+    P_B = ż · m (z̈_G + g) (the support's vertical force on the pendulum times the pivot's
+    velocity; z_G = z − L cos θ the mass's height), integrated with the state."""
+    w, amp = frequency, amplitude
+
+    def rhs(s, y):
+        theta, rate, _ = y
+        lift = amp * w**2 * math.cos(w * s)  # a(t)
+        speed = amp * w * math.sin(w * s)  # ż, z = −A cos Ωt
+        accel = -(G + lift) / LENGTH * math.sin(theta)
+        height_accel = lift + LENGTH * (accel * math.sin(theta) + rate**2 * math.cos(theta))
+        return [rate, accel, speed * MASS * (height_accel + G)]
+
+    return solve_ivp(rhs, (t[0], t[-1]), [*y0, 0.0], t_eval=t, method="DOP853", **TIGHT).y
+
+
+def heaving_energy(t, theta, rate, amplitude, frequency):
+    """The absolute motion's kinetic and gravitational energy [J] of the heaving pendulum."""
+    speed = amplitude * frequency * np.sin(frequency * t)
+    height = -amplitude * np.cos(frequency * t) - LENGTH * np.cos(theta)
+    vy, vz = LENGTH * rate * np.cos(theta), speed + LENGTH * rate * np.sin(theta)
+    return 0.5 * MASS * (vy**2 + vz**2), MASS * G * height
+
+
+def test_a_pendulum_on_a_heaving_base_follows_its_hand_written_equation():
+    amplitude, frequency = 0.03, 7.0  # a(t) peaks at 1.47 m/s², 0.15 g
+    chain = pendulum()
+    dyn = ChainDynamics(chain, [], base=heave(amplitude, frequency))
+    t = np.linspace(0.0, 5.0, 501)  # 3.5 periods of the pendulum, 5.6 of the base
+    run = simulate(dyn, t, np.array([0.4]), np.array([0.3]), **TIGHT)
+    theta, rate, base_work = heaving_reference(t, [0.4, 0.3], amplitude, frequency)
+    assert np.abs(run.q[:, 0] - theta).max() < CLOSED_FORM
+    assert np.abs(run.v[:, 0] - rate).max() < CLOSED_FORM
+    # the absolute energy and the base's work, by hand
+    kinetic, potential = heaving_energy(t, theta, rate, amplitude, frequency)
+    assert np.abs(run.kinetic - kinetic).max() < CLOSED_FORM
+    assert np.abs(run.energy - (kinetic + potential)).max() < CLOSED_FORM
+    assert np.abs(run.base_work - base_work).max() < CLOSED_FORM
+    assert np.abs(run.base_work).max() > 0.1  # the base does work: the check is not empty
+    assert np.abs(run.work).max() == 0.0  # nothing else does
+    assert run.energy_error() < CLOSED_FORM
+    # the mount's wrench: the support's force in the base's axes, m (a_G − g) by hand
+    accel = np.gradient(np.gradient(-LENGTH * np.cos(theta), t), t)  # only a loose check
+    lift = amplitude * frequency**2 * np.cos(frequency * t)
+    vertical = MASS * (
+        lift + run.a[:, 0] * LENGTH * np.sin(theta) + rate**2 * LENGTH * np.cos(theta) + G
+    )
+    assert np.abs(run.loads.mount.force[:, 2] - vertical).max() < 1e-6 * MASS * G
+    assert np.abs(vertical - MASS * (lift + accel + G))[2:-2].max() < 1e-2 * MASS * G
+
+
+def test_a_pendulum_on_a_rocking_base_follows_its_hand_written_equation():
+    """The base rolls about the pendulum's own axis, φ = Φ cos Ωt: the absolute angle θ + φ
+    obeys the standing pendulum's equation, θ̈ = −φ̈ − g/L sin(θ + φ)."""
+    roll, frequency = 0.1, 5.0
+    dyn = ChainDynamics(pendulum(), [], base=BaseMotion((Harmonic(3, roll, frequency),)))
+    t = np.linspace(0.0, 5.0, 401)
+    run = simulate(dyn, t, np.array([0.2]), np.array([0.0]), **TIGHT)
+
+    def rhs(s, y):
+        phi = roll * math.cos(frequency * s)
+        phi_accel = -roll * frequency**2 * math.cos(frequency * s)
+        return [y[1], -phi_accel - G / LENGTH * math.sin(y[0] + phi)]
+
+    theta, rate = solve_ivp(rhs, (0.0, 5.0), [0.2, 0.0], t_eval=t, method="DOP853", **TIGHT).y
+    assert np.abs(run.q[:, 0] - theta).max() < CLOSED_FORM
+    assert np.abs(run.v[:, 0] - rate).max() < CLOSED_FORM
+    # the absolute motion is the standing pendulum's at θ + φ: its energy by hand
+    phi = roll * np.cos(frequency * t)
+    phi_rate = -roll * frequency * np.sin(frequency * t)
+    energy = 0.5 * MASS * (LENGTH * (rate + phi_rate)) ** 2 - MASS * G * LENGTH * np.cos(
+        theta + phi
+    )
+    assert np.abs(run.energy - energy).max() < CLOSED_FORM
+    assert run.energy_error() < CLOSED_FORM
+    # the rocking base's work is the moment it applies times its rate (the mount's moment
+    # about the pivot along x): W_B(t) = E(t) − E(0), nothing else acting
+    np.testing.assert_allclose(run.base_work, energy - energy[0], rtol=0.0, atol=CLOSED_FORM)
+
+
+def _growth(frequency: float) -> float:
+    """Largest |θ| over 15 s of a pendulum started at 0.01 rad on a base heaving with a(t)
+    peaking at 0.2 g, at the base frequency ``frequency`` [rad/s]."""
+    amplitude = 0.2 * G / frequency**2
+    dyn = ChainDynamics(pendulum(), [], base=heave(amplitude, frequency))
+    run = simulate(dyn, np.linspace(0.0, 15.0, 751), np.array([0.01]), np.array([0.0]))
+    return float(np.abs(run.q[:, 0]).max()) / 0.01
+
+
+def test_heaving_at_twice_the_pendulum_frequency_is_parametric_resonance():
+    """Mathieu's equation θ̈ + ω₀² (1 + h cos Ωt) θ = 0, h = 0.2: at Ω = 2ω₀ (inside the first
+    zone of instability, |Ω − 2ω₀| < h ω₀ / 2) a small angle grows like e^(h ω₀ t / 4)
+    (e^3.3 ≈ 27 over 15 s, less as the swing grows and its frequency falls); at Ω = 3ω₀,
+    between the zones, it stays of its initial size."""
+    assert _growth(2.0 * OMEGA0) > 10.0
+    assert _growth(3.0 * OMEGA0) < 2.0
+
+
+def test_a_base_at_rest_runs_as_before():
+    """dyn.base None: the run has no base's work, and a Controller without states gives the
+    plain actuation's run bit for bit (the hook does not change the arithmetic)."""
+    dyn = ChainDynamics(pendulum(), ["swing"])
+    t = np.linspace(0.0, 1.0, 51)
+
+    class Constant:
+        n_states = 0
+
+        def start(self, t0, q0, v0):
+            return np.zeros(0)
+
+        def __call__(self, t, q, v, x):
+            return np.array([0.4]), np.zeros(0)
+
+    plain = simulate(dyn, t, np.array([0.2]), np.array([0.0]), lambda t, q, v: np.array([0.4]))
+    hooked = simulate(dyn, t, np.array([0.2]), np.array([0.0]), Constant())
+    assert plain.base_work is None
+    for name in ("q", "v", "a", "energy", "kinetic", "work", "residual", "actuation"):
+        assert np.array_equal(getattr(plain, name), getattr(hooked, name)), name
+    assert plain.controller.shape == (51, 0)
+    assert np.all(plain.actuation == 0.4)
+
+
+@dataclass
+class Lag:
+    """A PD law through a first-order lag (a servo's bandwidth): the drive u = s follows the
+    command −k θ − c θ̇ with time constant T, ṡ = (−k θ − c θ̇ − s) / T."""
+
+    gain: float = 8.0  # [N·m/rad]
+    damping: float = 0.5  # [N·m·s/rad]
+    lag: float = 0.05  # [s]
+    n_states: int = 1
+
+    def start(self, t0, q0, v0):
+        return np.array([0.0])
+
+    def __call__(self, t, q, v, x):
+        command = -self.gain * q[0] - self.damping * v[0]
+        return x.copy(), np.array([(command - x[0]) / self.lag])
+
+
+@pytest.mark.parametrize("lift", [0.0, 0.03])
+def test_a_controller_with_a_lag_follows_its_hand_written_equation(lift):
+    """m L² θ̈ = s − m (g + a(t)) L sin θ and the lag's ṡ, by SciPy, standing (lift 0: no base)
+    and on a heaving base (A = 3 cm at 7 rad/s); the controller's states and the applied
+    actuation are reported, and the inverse dynamics of the samples read the drive back."""
+    frequency, law = 7.0, Lag()
+    base = heave(lift, frequency) if lift else None
+    dyn = ChainDynamics(pendulum(), ["swing"], base=base)
+    t = np.linspace(0.0, 3.0, 301)
+    run = simulate(dyn, t, np.array([0.3]), np.array([0.0]), law, **TIGHT)
+
+    def rhs(s, y):
+        theta, rate, drive = y
+        accel = lift * frequency**2 * math.cos(frequency * s)
+        command = -law.gain * theta - law.damping * rate
+        angular = (drive - MASS * (G + accel) * LENGTH * math.sin(theta)) / (MASS * LENGTH**2)
+        return [rate, angular, (command - drive) / law.lag]
+
+    theta, rate, drive = solve_ivp(
+        rhs, (0.0, 3.0), [0.3, 0.0, 0.0], t_eval=t, method="DOP853", **TIGHT
+    ).y
+    assert np.abs(run.q[:, 0] - theta).max() < CLOSED_FORM
+    assert np.abs(run.v[:, 0] - rate).max() < CLOSED_FORM
+    assert np.abs(run.controller[:, 0] - drive).max() < CLOSED_FORM
+    assert np.array_equal(run.actuation, run.controller)  # u = s
+    assert np.abs(drive).max() > 1.0  # the drive acts: the checks are not empty
+    # the inverse dynamics of the samples read the applied drive back (round-off of M q̈ + b)
+    read = run.loads.actuators["swing"]
+    assert np.abs(read - run.actuation[:, 0]).max() < 1e-12 * np.abs(drive).max() * 1e2
+    # the work W includes the drive's power: the balance closes (with the base's work)
+    assert run.energy_error() < CLOSED_FORM
+
+
+class Bad:
+    n_states = 1
+
+    def __init__(self, states=1, start=(0.0,), out=None):
+        self.n_states, self.first, self.out = states, np.array(start), out
+
+    def start(self, t0, q0, v0):
+        return self.first
+
+    def __call__(self, t, q, v, x):
+        return self.out if self.out is not None else (np.zeros(1), np.zeros(1))
+
+
+@pytest.mark.parametrize(
+    ("controller", "message"),
+    [
+        (Bad(states=-1), "n_states must be a whole number ≥ 0"),
+        (Bad(start=(0.0, 1.0)), "initial states must be 1 finite numbers"),
+        (Bad(start=(math.nan,)), "initial states"),
+        (Bad(out=np.zeros(1)), "must return \\(u, xdot\\)"),
+        (Bad(out=(np.zeros(1), np.zeros(2))), "controller state rates at t = 0 s must be 1"),
+        (Bad(out=(np.zeros(2), np.zeros(1))), "actuation at t = 0 s must be 1 finite"),
+    ],
+)
+def test_bad_controllers_are_refused_in_one_line(controller, message):
+    assert isinstance(controller, Controller)
+    dyn = ChainDynamics(pendulum(), ["swing"])
+    with pytest.raises(InputError, match=message):
+        simulate(dyn, np.linspace(0.0, 0.1, 3), np.array([0.3]), np.array([0.0]), controller)
+
+
+def test_hybrid_runs_still_refuse_a_moving_base():
+    from feeder.chain import hybrid_run
+
+    dyn = ChainDynamics(pendulum(), ["swing"], base=heave(0.03, 7.0))
+    t = np.linspace(0.0, 0.1, 3)
+    with pytest.raises(InputError, match="hybrid runs are on a base at rest"):
+        hybrid_run(dyn, t, *(np.zeros((3, 1)) for _ in range(3)), np.zeros(1))
