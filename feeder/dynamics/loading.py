@@ -27,10 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..chain.dynamics.forward import ATOL, RTOL
 from ..motion.cycle import CycleKinematics, payload_kinematics
 from .drives import CylinderPressures, cylinder_pressures, rack_force
 from .integrator import ADAMS_ORDER, lagrange_weights
-from .models import ACTUATED_JOINTS, FeederDynamics
+from .models import FeederDynamics
 from .servo import CycleServo, ServoGains
 
 HOLD = 0.5
@@ -47,11 +48,6 @@ ANGLE_TOLERANCE = 1e-3
 
 INERTIA_SAMPLES = 41
 """Poses along the cycle at which the reduced inertia of the gains is evaluated (its largest)."""
-
-RTOL, ATOL = 1e-9, 1e-11
-"""The integrator's tolerances (per step, on q [rad, m], q̇ and the work [J]): two orders finer
-than the engine's defaults, so that the integration error (~1e-9 rad) stays far below the
-errors the hull causes and below the 1e-4 rad the standing cycle must hold."""
 
 
 @dataclass(frozen=True)
@@ -84,7 +80,8 @@ class ControlledRun:
 
     Attributes:
         t: Times [s], (M,). cycle_samples: N, the samples that are the cycle's.
-        q, v: [φ1, r2, φ3, φ4] and their rates, (M, 4). reference: The reference's q, (M, 4).
+        q, v, a: [φ1, r2, φ3, φ4], their rates and accelerations, (M, 4). reference: The
+            reference's q, (M, 4).
         applied: The drives' forces [piston N, forearm N·m], (M, 2).
         command: The commanded forces before the limits [N, N·m], (M, 2).
         saturated: Where the command passes a limit, bool (M, 2).
@@ -103,6 +100,7 @@ class ControlledRun:
     cycle_samples: int
     q: np.ndarray
     v: np.ndarray
+    a: np.ndarray
     reference: np.ndarray
     applied: np.ndarray
     command: np.ndarray
@@ -189,6 +187,8 @@ def controlled_cycle(
     feedforward: np.ndarray,
     gains: ServoGains,
     hold: float = HOLD,
+    rtol: float = RTOL,
+    atol: float = ATOL,
 ) -> ControlledRun:
     """Run the cycle forward with the drives under control (module docstring).
 
@@ -200,6 +200,8 @@ def controlled_cycle(
             the hull).
         gains: The position loops.
         hold: Time [s] the loading pose is held after stage 3.
+        rtol, atol: The integrator's tolerances (:func:`feeder.chain.simulate`; its defaults:
+            the standing cycle then holds to ~5e-11 rad).
 
     Raises:
         IntegrationError: The run failed (a singular pose, unbounded accelerations).
@@ -225,7 +227,7 @@ def controlled_cycle(
     )  # fmt: skip
     q0, v0 = dyn.to_pinocchio(k.q[0]), dyn.to_pinocchio(k.v[0])
     x0 = None
-    times, qs, vs, applied, commands, residuals = [], [], [], [], [], []
+    times, qs, vs, accelerations, applied, commands, residuals = [], [], [], [], [], [], []
     for t, q, v, a, u, flag, grip in segments:
         if grip:  # the loads' left limit at the grip: extrapolated from the piece (quartic)
             u = u.copy()
@@ -237,22 +239,22 @@ def controlled_cycle(
             t, q[:, [1, 3]], v[:, [1, 3]], a[:, [1, 3]], u, actuated, kp, kd, low, high,
             gains.actuator_hz, x0,
         )  # fmt: skip
-        run = simulate(dyn.cases[flag].dynamics, t, q0, v0, servo, rtol=RTOL, atol=ATOL)
+        run = simulate(dyn.cases[flag].dynamics, t, q0, v0, servo, rtol=rtol, atol=atol)
         q0, v0 = run.q[-1], run.v[-1]
         if servo.n_states:
             x0 = run.controller[-1]
-        force = np.column_stack([run.loads.actuators[name] for name in ACTUATED_JOINTS])
+        force = run.actuation
         command = np.array([servo.command(*row) for row in zip(t, run.q, run.v, strict=True)])
         for store, value in zip(
-            (times, qs, vs, applied, commands, residuals),
-            (t, run.q, run.v, force, command, run.residual),
+            (times, qs, vs, accelerations, applied, commands, residuals),
+            (t, run.q, run.v, run.a, force, command, run.residual),
             strict=True,
         ):
             if store:  # the boundary sample belongs to the piece it starts
                 store[-1] = store[-1][:-1]
             store.append(value)
     t = np.concatenate(times)
-    q, v = dyn.to_paper(np.concatenate(qs)), dyn.to_paper(np.concatenate(vs))
+    q, v, a = (dyn.to_paper(np.concatenate(x)) for x in (qs, vs, accelerations))
     applied, command = np.concatenate(applied), np.concatenate(commands)
     reference = np.concatenate([k.q, np.tile(k.q[-1], (hold_t.size - 1, 1))])
     position, _, axis, _ = payload_kinematics(dyn.feeder, q, v)
@@ -269,6 +271,7 @@ def controlled_cycle(
         cycle_samples=k.t.size,
         q=q,
         v=v,
+        a=a,
         reference=reference,
         applied=applied,
         command=command,
