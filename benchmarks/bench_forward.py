@@ -8,7 +8,10 @@ Figures (issue 16):
   a scan that reaches it (goal ≤ 50 ms);
 * the cost of one right-hand side in bare ``constraintDynamics`` calls on the same model and
   state, on the four-bar, the Cassie-like leg and the squeezer (goal ≤ 2), and the lean
-  reference's on the squeezer.
+  reference's on the squeezer;
+* the cost of one right-hand side on a moving base (the four-bar on a terrain ride:
+  :mod:`feeder.chain.dynamics.forward_base`, the base's state evaluated at each call) against
+  the same mechanism's standing one (no goal: a measurement, issue 31).
 
 Run: ``.venv/bin/python benchmarks/bench_forward.py [--json FILE]``.
 """
@@ -27,9 +30,11 @@ import scipy.integrate
 from bench_chain import best_time  # the script's folder is on the path
 
 from feeder.chain import (
+    BaseMotion,
     ChainDynamics,
     Closure,
     Partition,
+    Terrain,
     load_closed_chain,
     load_mechanism,
     read_spec,
@@ -143,6 +148,14 @@ def rhs_ratio(name, dyn, q, v) -> float:
     return ratio
 
 
+def base_ratio(name, dyn, moving, q, v) -> float:
+    """One right-hand side on the moving base ``moving`` over the standing ``dyn``'s."""
+    standing = rhs_time(ForwardEquations(dyn, None, RATE), np.concatenate([q, v, [0.0]]))
+    rolling = rhs_time(ForwardEquations(moving, None, RATE), np.concatenate([q, v, [0.0, 0.0]]))
+    print(f"  {name:34s} {rolling / standing:5.2f} standing right-hand sides")
+    return rolling / standing
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--json", help="also write the figures to this JSON file")
@@ -174,7 +187,7 @@ def main(argv: list[str] | None = None) -> None:
     four_bar = load_closed_chain(
         EXAMPLES / "four_bar" / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
     )
-    partition = Partition(four_bar, ["crank_joint"])
+    partition = partition_four_bar = Partition(four_bar, ["crank_joint"])
     q = partition.mount(np.zeros(3))
     ratios["four_bar"] = rhs_ratio(
         "four-bar", ChainDynamics(four_bar, ["crank_joint"]), q,
@@ -192,6 +205,14 @@ def main(argv: list[str] | None = None) -> None:
         partition.velocity(q, speeds),
     )  # fmt: skip
     figures["rhs_calls"] = ratios
+    print("one right-hand side on a moving base, in standing ones:")
+    terrain = BaseMotion((Terrain(),))
+    q = partition_four_bar.mount(np.zeros(3))
+    v = partition_four_bar.velocity(q, np.array([3.0]))
+    figures["moving_base_rhs"] = base_ratio(
+        "four-bar on a terrain ride", ChainDynamics(four_bar, ["crank_joint"]),
+        ChainDynamics(four_bar, ["crank_joint"], base=terrain), q, v,
+    )  # fmt: skip
     if args.json:
         Path(args.json).write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
 

@@ -116,8 +116,7 @@ class Analysis:
             "the assembled pose by continuation"
         )
         lines.append(f"  {gravity_text(self.spec, self.chain)}")
-        base = self.spec.base.describe() if self.spec.base else "standing level"
-        lines.append(f"  base: {base}")
+        lines.append(f"  {base_text(self.spec)}")
         if self.loads.idle_motions:
             lines.append(
                 f"  {self.loads.idle_motions} idle motion(s): kept at minimum norm by the "
@@ -152,6 +151,11 @@ def gravity_text(spec: MechanismSpec, chain: ClosedChain) -> str:
         else "from the mechanism file"
     )
     return f"gravity {value} m/s² ({source})"
+
+
+def base_text(spec: MechanismSpec) -> str:
+    """The base's motion the mechanism file gives (its ``[base]``), as text."""
+    return f"base: {spec.base.describe() if spec.base else 'standing level'}"
 
 
 def warn_if_gravity_idle(spec: MechanismSpec, chain: ClosedChain, q: np.ndarray) -> None:

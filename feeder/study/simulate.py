@@ -32,7 +32,13 @@ from ..chain.readers.forces import read_force_file
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederWarning, InputError
 from ..validation import check_number
-from .analyze import gravity_text, mount_lines, mount_mechanism, warn_if_gravity_idle
+from .analyze import (
+    base_text,
+    gravity_text,
+    mount_lines,
+    mount_mechanism,
+    warn_if_gravity_idle,
+)
 from .mechanism_table import (
     joint_columns,
     load_columns,
@@ -86,11 +92,13 @@ class Simulation:
         (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — zero
         here, nothing drives them — the closure forces, every joint's reaction and every force
         element's force); ``drift`` (the closure residual before projection [m, rad]),
-        ``energy`` (kinetic, gravitational and elastic [J]), ``work`` (of the non-conservative
-        forces since t = 0 [J]), ``energy_balance`` (energy − energy(0) − work [J], zero for
-        an exact run) and ``loads_indeterminate`` (1 where the sample is so near a singular
-        position that its loads are unbounded or indeterminate: they read 0 there, not a
-        value; 0 elsewhere)."""
+        ``energy`` (kinetic, gravitational and elastic [J]; on a moving base the absolute
+        motion's), ``work`` (of the non-conservative forces since t = 0 [J]), on a moving base
+        ``base_work`` (the work of the base's motion on the mechanism since t = 0 [J],
+        :mod:`~feeder.chain.dynamics.forward_base`), ``energy_balance`` (energy − energy(0) −
+        work − base_work [J], zero for an exact run) and ``loads_indeterminate`` (1 where the
+        sample is so near a singular position that its loads are unbounded or indeterminate:
+        they read 0 there, not a value; 0 elsewhere)."""
         run = self.run
         points = point_motion(self.chain, self.spec.points, run.q, run.v, run.a)
         cols = merge_columns(
@@ -102,6 +110,8 @@ class Simulation:
         cols["drift"] = run.residual
         cols["energy"] = run.energy
         cols["work"] = run.work
+        if run.base_work is not None:
+            cols["base_work"] = run.base_work
         cols["energy_balance"] = run.balance()
         cols["loads_indeterminate"] = run.indeterminate.astype(float)
         return cols
@@ -125,6 +135,7 @@ class Simulation:
             + (", ".join(element.name for element in self.elements) or "none")
             + f"; {gravity_text(self.spec, self.chain)}"
         )  # fmt: skip
+        lines.append(f"  {base_text(self.spec)}")
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
         lines += self.singular_lines()
         lines.append(self.energy_line())
@@ -163,6 +174,11 @@ class Simulation:
         run = self.run
         error = run.energy_error()
         text = f"  energy balance: max |E − E(0) − W| = {error:.3g} J"
+        if run.base_work is not None:
+            text = (
+                "  energy balance of the absolute motion (E its kinetic, gravitational and "
+                f"elastic energy, W_B the base's work): max |E − E(0) − W − W_B| = {error:.3g} J"
+            )
         moved = run.displacement(self.chain.model)
         resolution = self.atol + self.rtol * float(np.abs(run.q).max())
         if moved <= resolution:

@@ -4,6 +4,14 @@ The state (q, q̇) and the work of the non-conservative forces follow the closed
 equations with Baumgarte's corrector (:mod:`~feeder.chain.dynamics.forward_equations`); the
 result is a :class:`~feeder.chain.dynamics.forward_run.ForwardRun`.
 
+On a moving base (a :class:`ChainDynamics` with a ``base``) q, q̇, q̈ are the motion relative to
+the base, as in the inverse dynamics, and the hull enters as a moving root whose fictitious
+forces change the equations' bias (:mod:`~feeder.chain.dynamics.forward_base`); the state gains
+the base's work, the energies are the absolute motion's, and the loads' mount wrench is the
+base's support on the mechanism at every sample. An actuation may be a
+:class:`~feeder.chain.dynamics.forward_equations.Controller`, whose states are integrated with
+the run's (y = (q, q̇, W, x[, W_B])).
+
 Integration: SciPy's adaptive Runge–Kutta or implicit methods (``DOP853`` by default, ``Radau``
 or ``BDF`` for stiff mechanisms — stiff springs), stepped one step at a time with the user's
 ``rtol`` / ``atol``; the results on the caller's time grid come from each step's dense output.
@@ -134,7 +142,9 @@ def simulate(
         t: Increasing output times [s], (N,), N ≥ 2; the run starts at t[0].
         q0, v0: Initial state (nq,), (nv,), closed (e.g. Partition.mount; v0 from given joint
             rates: :func:`~feeder.chain.assembly.rates.initial_rates`).
-        actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), or None.
+        actuation: u(t, q, q̇) → the actuated joints' forces (n_actuated,), a
+            :class:`~.forward_equations.Controller` (an actuation with states of its own,
+            integrated with the run's), or None.
         method: One of :data:`METHODS`.
         rtol, atol: The integrator's tolerances (> 0; rtol ≥ :data:`SMALLEST_RTOL`).
         rate: Baumgarte rate ω [1/s] (0 ≤ ω ≤ :data:`MAX_BAUMGARTE_RATE`; 0 turns the
@@ -152,8 +162,8 @@ def simulate(
     Raises:
         InputError: Bad dynamics, times, state, actuation or settings, more output times than
             the cap, an initial velocity that opens the loops, a force table that does not
-            cover the run, actuation values that are not finite numbers, a chain on a moving or
-            tilted base (:class:`ChainDynamics` with a base).
+            cover the run, a hull table that does not, actuation values that are not finite
+            numbers, a controller whose states or rates are not its n_states finite numbers.
         UnreachablePoseError: An initial configuration that does not close the loops.
         IntegrationError: The integrator failed (unbounded accelerations), the run reached a
             singular pose (module docstring) or the step cap; the message names the time.
@@ -188,6 +198,8 @@ def simulate(
             "feeder.chain.initial_rates (or Partition.velocity)"
         )
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
+    if dyn.base is not None:  # a hull table that does not cover the run: refused before it
+        dyn.base.state(t[[0, -1]], chain.model.gravity.linear)
     equations = ForwardEquations(dyn, actuation, rate)
     y0 = np.concatenate([q, v, [0.0], x0, [0.0] if equations.moving else []])
     with Progress(float(t[0]), float(t[-1]), progress) as line:

@@ -30,7 +30,10 @@ absolute power is their relative power. Hence the balance of the absolute motion
     T_abs(t) + V(t) − T_abs(t₀) − V(t₀) = W(t) + W_B(t),     W_B = ∫ P_B dt,
 
 T_abs the kinetic energy of the absolute motion (the base link's included), V the gravitational
-energy in the level axes (−Σ m g · x_G) plus the elastic energy.
+energy in the level axes (−Σ m g · x_G) plus the elastic energy. It holds for a base motion
+whose channels are consistent (each value's rate its rate column, each rate's its acceleration):
+the profiles' are; a hull table interpolated linearly between its rows is only as consistent as
+its rows are dense.
 """
 
 from __future__ import annotations
@@ -86,7 +89,11 @@ class MovingBase:
         base's (module docstring), and the rooted tree's state at time t [s] with q̈ = 0 (for
         :meth:`power`)."""
         q0, v0, a0 = self.root(self.states(np.array([t])))
-        state = (np.concatenate([q0, q]), np.concatenate([v0, v]), np.concatenate([a0, 0.0 * v]))
+        state = (
+            np.concatenate([q0, q]),
+            np.concatenate([v0, v]),
+            np.concatenate([a0, np.zeros_like(v)]),
+        )
         moving = pin.rnea(self.rooted, self.data, *state)[6:]
         return pin.nonLinearEffects(self.model, data, q, v) - moving, state
 

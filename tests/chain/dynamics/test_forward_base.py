@@ -289,3 +289,143 @@ def test_hybrid_runs_still_refuse_a_moving_base():
     t = np.linspace(0.0, 0.1, 3)
     with pytest.raises(InputError, match="hybrid runs are on a base at rest"):
         hybrid_run(dyn, t, *(np.zeros((3, 1)) for _ in range(3)), np.zeros(1))
+
+
+MUJOCO = 1e-8
+"""Largest gap between feeder's accelerations and MuJoCo's (relative to the largest q̈ of the
+sample), and between the absolute energies (relative to the largest). MuJoCo's M and bias are
+exact Newton–Euler on the absolute motion; the gap is the forward equations' own: the proximal
+solver's accuracy (1e-13) and Baumgarte's corrector on the sample's residual (ω² × 1e-13 m,
+ω = 20/s: 4e-11 m/s²) — measured ≤ 1e-14 (accelerations) and 2e-16 (energies)."""
+
+
+def test_the_device_on_a_rocking_hull_moves_as_in_mujoco(feeder):
+    """The device (its base link given a bracket's inertia, as in test_base_mujoco) on the hull
+    weaving in all six channels over terrain, held by constant drives (the standing loads of its
+    start): at every sample of the run MuJoCo's equations on a hull with six joints driven by
+    the same motion give the same accelerations, and MuJoCo's energies (``mj_energyPos``,
+    ``mj_energyVel`` of hull and device) are the run's absolute ones.
+
+    MuJoCo's constrained accelerations at a sample: the closure's acceleration rows are
+    kinematics (the run meets them: its loads' inverse dynamics check them to 1e-9); along the
+    directions they leave free (N: a basis of the null space of the loop's Jacobian J_d, the
+    device's columns) MuJoCo's equations Nᵀ (M_dd q̈_d + M_dh q̈_h + b_d − τ_d) = 0 fix q̈; the
+    part of feeder's q̈ that violates them is N (Nᵀ M_dd N)⁻¹ Nᵀ r, r the residual."""
+    mujoco = pytest.importorskip("mujoco")
+    from feeder.chain.dynamics.inverse import inverse_dynamics
+    from feeder.dynamics.models import ACTUATED_JOINTS
+    from feeder.motion.cycle import feeding_cycle
+
+    from .test_base_mujoco import ANGLES, BASE_JOINTS, BRACKET, FORWARD, Weave, mjcf
+
+    model = pin.Model(feeder.chain.model)
+    model.inertias[0] = BRACKET
+    chain = ClosedChain(model, feeder.chain.closures)
+    from feeder.chain.model.profiles import Terrain
+
+    base = BaseMotion((Terrain(), Weave()), forward=FORWARD)
+    cycle = feeding_cycle(feeder, math.radians(30.0))
+    start = int(np.flatnonzero(cycle.gripped == 1)[0]) + 10
+    q0, v0 = (
+        feeder.to_pinocchio(getattr(cycle, name)[start : start + 1])[0] for name in ("q", "v")
+    )
+    t = cycle.t[start] + np.linspace(0.0, 0.4, 21)
+    standing = inverse_dynamics(
+        ChainDynamics(chain, ACTUATED_JOINTS), q0[None], v0[None], 0 * v0[None]
+    )
+    hold = np.array([standing.actuators[name][0] for name in ACTUATED_JOINTS])
+    dyn = ChainDynamics(chain, ACTUATED_JOINTS, base=base)
+    run = simulate(dyn, t, q0, v0, lambda s, q, v: hold)
+    assert run.displacement(model) > 1e-3  # the hull shakes it: the comparison is not at rest
+
+    m = mujoco.MjModel.from_xml_string(mjcf(model))
+    m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+    d = mujoco.MjData(m)
+    channels = sum((p.channels(t) for p in base.profiles[1:]), base.profiles[0].channels(t))
+    axes = base.vehicle_axes(model.gravity.linear)
+    hull = [
+        np.hstack([x[:, :3] @ axes.T, x[:, ANGLES]])
+        for x in (channels.value, channels.rate, channels.acceleration)
+    ]
+    hull_dofs = [m.joint(name).dofadr[0] for name, _, _ in BASE_JOINTS]
+    hull_q = [m.joint(name).qposadr[0] for name, _, _ in BASE_JOINTS]
+    dofs = np.array([m.joint(model.names[j]).dofadr[0] for j in range(1, model.njoints)])
+    qpos = [m.joint(model.names[j]).qposadr[0] for j in range(1, model.njoints)]
+    frames = [model.frames[i] for i in chain.frame_ids[0]]
+    bodies = [m.body(model.names[frame.parentJoint]).id for frame in frames]
+    columns = [model.joints[j].idx_v for j in range(1, model.njoints)]
+    drive = np.zeros(model.nv)
+    drive[dyn.columns] = hold
+    full = np.zeros((m.nv, m.nv))
+    for k in range(t.size):
+        d.qpos[hull_q], d.qvel[hull_dofs] = hull[0][k], hull[1][k]
+        d.qpos[qpos], d.qvel[dofs] = run.q[k, columns], run.v[k, columns]
+        mujoco.mj_forward(m, d)
+        column = np.zeros(m.nv)
+        for i, unit in enumerate(np.eye(m.nv)):  # M column by column (mj_fullM's signature
+            mujoco.mj_mulM(m, d, column, unit)  # changed in MuJoCo 3.x)
+            full[:, i] = column
+        jac = []
+        for frame, body in zip(frames, bodies, strict=True):
+            point = d.xpos[body] + d.xmat[body].reshape(3, 3) @ frame.placement.translation
+            one = np.zeros((3, m.nv))
+            mujoco.mj_jac(m, d, one, None, point, body)
+            jac.append(one[:, dofs])
+        _, values, rows = np.linalg.svd(jac[0] - jac[1])
+        free = rows[np.sum(values > 1e-9 * values[0]) :].T  # N, (n_device, n_free)
+        a = run.a[k, columns]
+        residual = (
+            full[np.ix_(dofs, dofs)] @ a
+            + full[np.ix_(dofs, hull_dofs)] @ hull[2][k]
+            + d.qfrc_bias[dofs]
+            - drive[columns]
+        )
+        reduced = free.T @ full[np.ix_(dofs, dofs)] @ free
+        gap = free @ np.linalg.solve(reduced, free.T @ residual)
+        assert np.abs(gap).max() <= MUJOCO * np.abs(a).max(), (k, np.abs(gap).max())
+        assert abs(run.kinetic[k] - d.energy[1]) <= MUJOCO * np.abs(run.energy).max()
+        assert abs(run.energy[k] - d.energy.sum()) <= MUJOCO * np.abs(run.energy).max()
+    # the drives read back, and the balance with the base's work closes to the integrator's
+    # tolerance (rtol 1e-8 on energies of some 1e3 J: ~1e-5 J over the run)
+    for i, name in enumerate(ACTUATED_JOINTS):
+        assert (
+            np.abs(run.loads.actuators[name] - run.actuation[:, i]).max() <= 1e-9 * abs(hold).max()
+        )
+    assert np.abs(run.base_work).max() > 1.0
+    assert run.energy_error() <= 1e-7 * max(run.energy_scales().values())
+
+
+def test_a_base_that_does_not_move_runs_as_a_base_at_rest():
+    """A base whose channels are all zero takes the moving-base path (the moving root, its
+    bias, the base's work) and gives the standing run: the bias b − b_B is zero to round-off,
+    but the state's extra component (W_B) changes the integrator's error norm and so its
+    steps, and the two runs differ by their integration errors: both at :data:`TIGHT`, each
+    within a few 1e-11 of the exact motion (the closed-form tests), 1e-10 bounds their gap.
+    The base's work is exactly zero (its velocity is)."""
+    drive = lambda t, q, v: np.array([0.3 * math.sin(3.0 * t)])  # noqa: E731
+    t = np.linspace(0.0, 2.0, 41)
+    still = BaseMotion((Harmonic(2, 0.0, 7.0),))
+    dyns = [ChainDynamics(pendulum(), ["swing"], base=base) for base in (None, still)]
+    runs = [simulate(dyn, t, np.array([0.3]), np.zeros(1), drive, **TIGHT) for dyn in dyns]
+    assert runs[0].base_work is None and np.all(runs[1].base_work == 0.0)
+    for name in ("q", "v", "a", "energy", "work"):
+        np.testing.assert_allclose(
+            getattr(runs[1], name), getattr(runs[0], name), rtol=0, atol=1e-10
+        )
+    for what in ("force", "moment"):
+        np.testing.assert_allclose(
+            getattr(runs[1].loads.mount, what),
+            getattr(runs[0].loads.mount, what),
+            rtol=0,
+            atol=1e-9,
+        )
+
+
+def test_a_hull_table_that_does_not_cover_the_run_is_refused_before_it():
+    from feeder.chain import HullTable, Table
+
+    times = np.array([0.0, 0.5, 1.0])
+    table = HullTable(Table(times, np.zeros((3, 18)), source="hull.csv"))
+    dyn = ChainDynamics(pendulum(), [], base=BaseMotion((table,)))
+    with pytest.raises(InputError, match="hull.csv: the hull motion covers t = 0 … 1 s"):
+        simulate(dyn, np.linspace(0.0, 2.0, 3), np.array([0.3]), np.zeros(1))
