@@ -7,6 +7,8 @@
 * :class:`ForwardRun` — :func:`~feeder.chain.simulate` (:mod:`feeder.chain.dynamics.forward_run`),
   with the singular positions it passed (:class:`SingularPass`,
   :mod:`feeder.chain.dynamics.singular`);
+* :class:`ControlRecord` — what a computed-torque controller did at a run's samples
+  (:mod:`feeder.chain.dynamics.control`);
 * :class:`HybridRun` — :func:`~feeder.chain.hybrid_run` (:mod:`feeder.chain.dynamics.hybrid`);
 * :class:`Trajectory` — :func:`~feeder.chain.track`, and :class:`PoseCheck` — a pose checked by
   a :class:`~feeder.chain.Partition` (:mod:`feeder.chain.assembly`);
@@ -28,6 +30,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .assembly.check import PoseCheck
     from .assembly.rates import InitialRates
     from .assembly.trajectory import Trajectory
+    from .dynamics.control import ControlRecord
     from .dynamics.forward_run import ForwardRun
     from .dynamics.hybrid import HybridRun
     from .dynamics.inverse import ChainLoads
@@ -43,6 +46,7 @@ _SOURCES = {
     "ChainLoads": ".dynamics.inverse",
     "ChainPose": ".kinematics.pose",
     "ClosureWrench": ".dynamics.reactions",
+    "ControlRecord": ".dynamics.control",
     "ForwardRun": ".dynamics.forward_run",
     "FrameMotion": ".kinematics.frames",
     "HybridRun": ".dynamics.hybrid",
@@ -61,6 +65,7 @@ __all__ = [
     "ChainLoads",
     "ChainPose",
     "ClosureWrench",
+    "ControlRecord",
     "ForwardRun",
     "FrameMotion",
     "HybridRun",

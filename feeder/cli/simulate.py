@@ -1,6 +1,6 @@
 """``feeder simulate``: a user's closed-chain mechanism run forward from its assembled pose, at
-rest or at given joint rates (``--rate JOINT=VALUE``): states.csv, summary, figures,
-report.html."""
+rest or at given joint rates (``--rate JOINT=VALUE``), its ``[[control]]`` joints (or a
+``--control`` file's) under control: states.csv, summary, figures, report.html."""
 
 from __future__ import annotations
 
@@ -58,6 +58,18 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=path_argument,
         metavar="FILE",
         help="TOML file of more [[force]] elements (default: the mechanism file's only)",
+    )
+    simulate.add_argument(
+        "--control",
+        action=Once,
+        type=path_argument,
+        metavar="FILE",
+        help="TOML file of [[control]] tables, instead of the mechanism file's: each drives an "
+        "actuated joint toward a reference motion table by the computed-torque law (PD gains "
+        "kp [1/s²], kd [1/s] or omega, zeta; force_limit, lag or bandwidth, rate_limit, a "
+        "cylinder's area); the table gains each one's reference, error, force and flags "
+        "(default: the mechanism file's [[control]] tables; none: the actuated joints are "
+        "undriven)",
     )
     simulate.add_argument(
         "--samples",
@@ -140,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
         progress=True,
         rates=rates,
         singular=args.singular,
+        control=args.control,
     )
     with folder:
         paths = write_simulation_outputs(

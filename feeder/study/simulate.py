@@ -7,7 +7,9 @@ and those of an optional ``--forces`` file) → :class:`~feeder.chain.ClosedChai
 pose nearest to the reference pose (the side-file's ``pose``, a pose file, or the model's zero)
 → the initial rates there (the side-file's ``rates`` and ``--rate``, closed or projected onto the
 closure: :func:`~feeder.chain.initial_rates`) → mobility report there →
-:func:`~feeder.chain.simulate` → the table (:meth:`Simulation.columns`) and its summary.
+:func:`~feeder.chain.simulate`, the actuated joints of the side-file's ``[[control]]`` tables (or
+a ``--control`` file's) driven by a computed-torque controller
+(:mod:`feeder.chain.dynamics.control`) → the table (:meth:`Simulation.columns`) and its summary.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import numpy as np
 
 from ..chain.assembly.rates import InitialRates, initial_rates
 from ..chain.dynamics.budget import check_sample_count
+from ..chain.dynamics.control import ComputedTorque, ControlRecord
 from ..chain.dynamics.forward import ATOL, RTOL, simulate
 from ..chain.dynamics.forward_run import ForwardRun
 from ..chain.dynamics.inverse import ChainDynamics
@@ -28,6 +31,7 @@ from ..chain.kinematics.frames import point_motion
 from ..chain.mobility import MobilityReport, mobility
 from ..chain.model.closure import ClosedChain
 from ..chain.model.forces import ForceElement
+from ..chain.readers.control import read_control_file
 from ..chain.readers.forces import read_force_file
 from ..chain.readers.spec import MechanismSpec
 from ..exceptions import FeederWarning, InputError
@@ -68,6 +72,7 @@ class Simulation:
         start: The initial rates: given, used (closed) and how they changed.
         singular: What the run did at singular positions: ``"pass"`` or ``"stop"``
             (:func:`~feeder.chain.simulate`).
+        control: What the controller of the controlled joints did, or None (none).
     """
 
     spec: MechanismSpec
@@ -82,6 +87,7 @@ class Simulation:
     atol: float
     start: InitialRates
     singular: str = "stop"
+    control: ControlRecord | None = None
 
     def columns(self) -> dict[str, np.ndarray]:
         """The state table, each column (N,), SI units, world axes: ``t``; every joint's
@@ -89,16 +95,17 @@ class Simulation:
         (:func:`~feeder.study.mechanism_table.joint_columns`); the mechanism file's points'
         positions, velocities and accelerations
         (:func:`~feeder.study.mechanism_table.point_columns`); the loads
-        (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — zero
-        here, nothing drives them — the closure forces, every joint's reaction and every force
-        element's force); ``drift`` (the closure residual before projection [m, rad]),
-        ``energy`` (kinetic, gravitational and elastic [J]; on a moving base the absolute
-        motion's), ``work`` (of the non-conservative forces since t = 0 [J]), on a moving base
-        ``base_work`` (the work of the base's motion on the mechanism since t = 0 [J],
-        :mod:`~feeder.chain.dynamics.forward_base`), ``energy_balance`` (energy − energy(0) −
-        work − base_work [J], zero for an exact run) and ``loads_indeterminate`` (1 where the
-        sample is so near a singular position that its loads are unbounded or indeterminate:
-        they read 0 there, not a value; 0 elsewhere)."""
+        (:func:`~feeder.study.mechanism_table.load_columns`: the actuated joints' drive — the
+        controller's, zero for those it does not drive — the closure forces, every joint's
+        reaction and every force element's force); per controlled joint its reference, error,
+        the law's force and the limits' flags (:meth:`control_columns`); ``drift`` (the
+        closure residual before projection [m, rad]), ``energy`` (kinetic, gravitational and
+        elastic [J]; on a moving base the absolute motion's), ``work`` (of the non-conservative
+        forces since t = 0 [J]), on a moving base ``base_work`` (the work of the base's motion
+        on the mechanism since t = 0 [J], :mod:`~feeder.chain.dynamics.forward_base`),
+        ``energy_balance`` (energy − energy(0) − work − base_work [J], zero for an exact run)
+        and ``loads_indeterminate`` (1 where the sample is so near a singular position that its
+        loads are unbounded or indeterminate: they read 0 there, not a value; 0 elsewhere)."""
         run = self.run
         points = point_motion(self.chain, self.spec.points, run.q, run.v, run.a)
         cols = merge_columns(
@@ -114,6 +121,27 @@ class Simulation:
             cols["base_work"] = run.base_work
         cols["energy_balance"] = run.balance()
         cols["loads_indeterminate"] = run.indeterminate.astype(float)
+        return merge_columns(cols, self.control_columns())
+
+    def control_columns(self) -> dict[str, np.ndarray]:
+        """Per controlled joint J: ``q_ref_J``, ``v_ref_J`` (the reference [rad or m, per s]),
+        ``error_J``, ``error_rate_J`` (reference − state), ``demand_J`` (the law's force before
+        the limits [N or N·m]), ``command_J`` (within them), ``saturated_J`` (1 where the demand
+        is beyond them), ``rate_limited_J`` (1 where a lagged actuator's force rate is at its
+        limit) and, for a joint with a piston area, ``pressure_J`` (its force / the area [Pa]);
+        none without control (:class:`~feeder.chain.results.ControlRecord`)."""
+        record, cols = self.control, {}
+        for j, joint in enumerate(() if record is None else record.joints):
+            cols[f"q_ref_{joint}"] = record.reference[:, j]
+            cols[f"v_ref_{joint}"] = record.reference_rate[:, j]
+            cols[f"error_{joint}"] = record.error[:, j]
+            cols[f"error_rate_{joint}"] = record.error_rate[:, j]
+            cols[f"demand_{joint}"] = record.demand[:, j]
+            cols[f"command_{joint}"] = record.command[:, j]
+            cols[f"saturated_{joint}"] = record.saturated[:, j].astype(float)
+            cols[f"rate_limited_{joint}"] = record.rate_limited[:, j].astype(float)
+            if joint in record.pressure:
+                cols[f"pressure_{joint}"] = record.pressure[joint]
         return cols
 
     def summary(self) -> str:
@@ -139,14 +167,23 @@ class Simulation:
         lines.append(f"  largest drift (closure residual before projection): {run.drift():.3g}")
         lines += self.singular_lines()
         lines.append(self.energy_line())
-        if run.loads.actuators:
-            worst = max(float(np.abs(x).max()) for x in run.loads.actuators.values())
+        free = [name for name in run.loads.actuators if name not in self.controlled]
+        if free:
+            worst = max(float(np.abs(run.loads.actuators[name]).max()) for name in free)
             lines.append(
-                f"  actuated joints {list(run.loads.actuators)}: not driven (the inverse dynamics "
-                f"of the run give them {worst:.2g}: a check of the run)"
+                f"  actuated joints {free}: not driven (the inverse dynamics of the run give them "
+                f"{worst:.2g}: a check of the run)"
             )
-        peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=False)
+        if self.control is not None:
+            lines += self.control.lines()
+        drives = self.control is not None
+        peaks = load_peaks(self.chain.model, t, run.loads, self.elements, drives=drives)
         return "\n".join(lines + peaks)
+
+    @property
+    def controlled(self) -> tuple[str, ...]:
+        """The joints under control (none without)."""
+        return () if self.control is None else self.control.joints
 
     def singular_lines(self) -> list[str]:
         """The singular positions the run passed (closure rank before → at → after, the time to
@@ -208,6 +245,7 @@ def simulate_mechanism(
     progress: bool = False,
     rates: Mapping[str, float] | None = None,
     singular: str | None = None,
+    control: str | Path | None = None,
 ) -> Simulation:
     """Run the mechanism forward from its assembled pose, at rest or at the initial rates of the
     side-file's ``rates`` and ``rates``.
@@ -227,8 +265,13 @@ def simulate_mechanism(
             that joint; rates of the independent joints are closed by the closure, rates of
             more joints projected onto it (:func:`~feeder.chain.initial_rates`, a
             :class:`~feeder.exceptions.FeederWarning` when that changes them beyond round-off).
-        singular: ``"pass"`` through singular positions or ``"stop"`` there (default: pass,
-            the run being undriven; :func:`~feeder.chain.simulate`).
+        singular: ``"pass"`` through singular positions or ``"stop"`` there (default: pass;
+            :func:`~feeder.chain.simulate`).
+        control: A TOML file of ``[[control]]`` tables (:func:`~feeder.chain.readers.
+            read_control_file`), instead of the side-file's: the joints they name are driven
+            toward their references by a computed-torque controller
+            (:class:`~feeder.chain.dynamics.control.ComputedTorque`); the run must lie within
+            every reference's times.
 
     Raises:
         FeederError: Bad files or settings, an unreachable pose, an integration that fails
@@ -257,11 +300,16 @@ def simulate_mechanism(
     )
     if start.projected():
         warnings.warn("; ".join(x.strip() for x in start.lines()), FeederWarning, stacklevel=2)
+    specs = read_control_file(control) if control is not None else spec.control
+    controller = ComputedTorque(dyn, specs) if specs else None
+    if controller is not None:
+        controller.check_covers(0.0, duration)
     run = simulate(
         dyn,
         t,
         assembled,
         start.v,
+        controller,
         method=method,
         rtol=rtol,
         atol=atol,
@@ -270,6 +318,9 @@ def simulate_mechanism(
     )
     warn_if_gravity_idle(spec, chain, run.q)
     report = mobility(chain, assembled, spec.independent)
+    record = None
+    if controller is not None:
+        record = controller.record(run.t, run.q, run.v, run.controller)
     return Simulation(
         spec,
         elements,
@@ -283,4 +334,5 @@ def simulate_mechanism(
         float(atol),
         start,
         singular,
+        record,
     )

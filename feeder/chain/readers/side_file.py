@@ -30,6 +30,12 @@ The side-file (TOML, read with the standard library's ``tomllib``: no extra depe
     name = "P1"                     # (feeder.chain.readers.points)
     frame = "rocker_tip"
 
+    [[control]]                     # optional: a joint under control (readers.control)
+    joint = "crank_joint"
+    reference = "motion.csv"
+    kp = 400.0                      # [1/s²]
+    kd = 40.0                       # [1/s]
+
     [[force]]                       # optional: force elements (feeder.chain.readers.forces)
     type = "spring"
     frames = ["coupler_tip", "ground_pin"]
@@ -47,6 +53,7 @@ from ...validation import check_finite, check_number, check_path
 from ..model.closure import Closure, repeated_cut
 from ..model.cuts import KINDS
 from .base_motion import read_base
+from .control import read_control
 from .forces import read_forces
 from .joint_types import joint_model
 from .points import read_points
@@ -145,11 +152,11 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
     except RecursionError:  # tomllib parses nested arrays and tables by recursion
         raise InputError(too_deep(path)) from None
     check_depth(document, path)
-    unknown = set(document) - {"mechanism", "closure", "force", "base", "point"}
+    unknown = set(document) - {"mechanism", "closure", "force", "base", "point", "control"}
     if unknown:
         raise InputError(
             f"{path}: unknown sections {sorted(unknown)} (expected [mechanism], [[closure]], "
-            "[[force]], [base], [[point]])"
+            "[[force]], [base], [[point]], [[control]])"
         )
     mechanism = document.get("mechanism")
     if not isinstance(mechanism, dict):
@@ -228,5 +235,6 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
         pose=tuple((name, value, f"{where} pose") for name, value in pose.items()),
         rates=rates,
         points=read_points(document.get("point", []), str(path)),
+        control=read_control(document.get("control", []), path.parent, str(path)),
         base=read_base(document["base"], path.parent, str(path)) if "base" in document else None,
     )

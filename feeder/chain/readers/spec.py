@@ -10,8 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
+from ...validation import did_you_mean
 from ..model.base import BaseMotion
 from ..model.closure import Closure
+from ..model.control import ControlSpec
 from ..model.forces import ForceElement
 from ..model.points import Point
 
@@ -51,6 +53,8 @@ class MechanismSpec:
             Extended-URDF YAML gives none); empty: at rest.
         points: The points whose motion the tables report (``[[point]]``,
             :mod:`~feeder.chain.readers.points`; TOML only).
+        control: The joints under control (``[[control]]``,
+            :mod:`~feeder.chain.readers.control`; TOML only).
     """
 
     model: Path
@@ -66,6 +70,7 @@ class MechanismSpec:
     base: BaseMotion | None = None
     rates: tuple[tuple[str, float, str], ...] = ()
     points: tuple[Point, ...] = ()
+    control: tuple[ControlSpec, ...] = ()
 
 
 def format_of(path: Path) -> str:
@@ -119,7 +124,7 @@ def table_entries(
     read (``where [[section]] #k``, for the messages), checked to be tables with only ``keys``.
 
     Raises:
-        InputError: Not a list of tables, an unknown key (named).
+        InputError: Not a list of tables, an unknown key (named, with the nearest known one).
     """
     if not isinstance(entries, list):
         raise InputError(f"{where}: {section} must be [[{section}]] tables, got {entries!r}")
@@ -127,8 +132,10 @@ def table_entries(
         here = f"{where} [[{section}]] #{i + 1}"
         if not isinstance(entry, dict):
             raise InputError(f"{here}: must be a table")
-        if set(entry) - keys:
-            raise InputError(f"{here}: unknown keys {sorted(set(entry) - keys)}")
+        unknown = sorted(set(entry) - keys)
+        if unknown:
+            hint = did_you_mean(unknown[0], keys).strip()
+            raise InputError(f"{here}: unknown keys {unknown}" + (f"; {hint}" if hint else ""))
         yield here, entry
 
 

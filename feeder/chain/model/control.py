@@ -1,0 +1,42 @@
+"""A joint under control: what a ``[[control]]`` table says (:mod:`feeder.chain.readers.control`),
+the settings of the computed-torque controller (:mod:`feeder.chain.dynamics.control`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass(frozen=True, eq=False)
+class ControlSpec:
+    """One controlled joint (:mod:`feeder.chain.readers.control`: the table's keys).
+
+    Attributes:
+        joint: The actuated joint.
+        reference: The reference motion table's path.
+        t: The table's times [s], (N,). q, v, a: The joint's reference position [rad or m], rate
+            and acceleration, (N,) each.
+        kp: Position gain K_p [1/s²]. kd: Rate gain K_d [1/s].
+        force_limit: (low, high) bounds of the force [N or N·m] (±inf: none).
+        rate_limit: Largest |du/dt| [N/s or N·m/s] (inf: none; finite only with a lag).
+        lag: The actuator's time constant T [s] (0: none).
+        area: Piston area [m²] of a hydraulic cylinder (None: not one).
+        where: Where it was read (the file and table), for the messages.
+    """
+
+    joint: str
+    reference: Path
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    kp: float
+    kd: float
+    force_limit: tuple[float, float] = (-math.inf, math.inf)
+    rate_limit: float = math.inf
+    lag: float = 0.0
+    area: float | None = None
+    where: str = ""
