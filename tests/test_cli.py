@@ -1123,3 +1123,27 @@ def test_controlled_run_options_are_refused_in_one_line(tmp_path, capsys, option
         assert main(["cycle", "--elevation", "30", "--out", str(out), *options]) == 2
     assert message in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_controlled_cycle_on_a_rocking_hull(tmp_path, capsys):
+    """``--forward controlled`` on a moving base: the table gains the controlled_* columns (the
+    force-rule's forward_* are not there: one forward run), the figure of the loading error is
+    written, the summary gives the loading pose and the gains, the manifest the servo."""
+    argv = ["cycle", "--elevation", "70", "--rate", "100", "--forward", "controlled"]
+    argv += ["--base-motion", "recoil:start=3", "--bandwidth", "8", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    table = read_csv(tmp_path / "cycle.csv")
+    assert not any(name.startswith("forward_") for name in table)
+    # the run follows the prescribed cycle closely but not exactly: the hull rocks
+    error = np.abs(table["controlled_q_phi3"] - table["q_phi3"]).max()
+    assert 0.0 < error < 1e-2
+    assert table["controlled_cylinder_saturated"].max() == 0
+    cap = table["controlled_piston_force"] / (math.pi * 0.05**2 / 4.0)  # the 50 mm bore
+    np.testing.assert_allclose(
+        table["controlled_cylinder_cap_pressure"], np.maximum(cap, 0.0), rtol=1e-12
+    )
+    assert (tmp_path / "loading_error.png").stat().st_size > 10_000
+    out = capsys.readouterr().out
+    assert "controlled run (position loops 8 Hz" in out and "rammer's line" in out
+    manifest = json.loads((tmp_path / "feeder-run.json").read_text(encoding="utf-8"))
+    assert "8 Hz" in json.dumps(manifest)

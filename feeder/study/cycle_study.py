@@ -82,10 +82,10 @@ class CycleStudy:
         pairs = self.against_level()
         if pairs is not None:
             lines += growth_lines(pairs)
-        if d.forward is None:
+        if d.forward is None and d.controlled is None:
             reason = " (the base moves)" if d.base is not None and d.base.timed else ""
             lines.append(f"  forward run (force rule): skipped{reason}")
-        else:
+        elif d.forward is not None:
             phi3, phi4 = d.tracking_error()
             lines.append(
                 f"  forward run (force rule): |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad, "

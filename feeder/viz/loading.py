@@ -8,9 +8,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from .axes import log_curves
+from .axes import STYLES, log_curves
 from .catalog import elevation_text
-from .figures import LEGEND_WIDTH, finish, mark_stages
+from .figures import finish, mark_stages
 
 
 def loading_error_figure(
@@ -34,7 +34,7 @@ def loading_error_figure(
         base: The base's description, for the title.
     """
     t = run["t"]
-    fig = Figure(figsize=(8.0, 6.4))
+    fig = Figure(figsize=(10.0, 7.6))
     top, bottom = fig.subplots(2, 1, sharex=True)
     end = boundaries[-1]
     hold, whole = t >= end, np.ones(t.size, dtype=bool)
@@ -65,7 +65,8 @@ def loading_error_figure(
         kept = [(label, values[mask], mask) for label, values, mask in series]
         curves = log_curves([(label, values) for label, values, _ in kept], unit, tolerance)
         for k, (curve, (_, _, mask)) in enumerate(zip(curves, kept, strict=True)):
-            ax.semilogy(t[mask], curve.values, label=curve.label, color=f"C{k}", linewidth=1.2)
+            style = STYLES[k % len(STYLES)]
+            ax.semilogy(t[mask], curve.values, label=curve.label, color=f"C{k}", linestyle=style)
         ax.axhline(
             tolerance,
             color="k",
@@ -80,9 +81,10 @@ def loading_error_figure(
         ax.set_xlim(t[0], t[-1])
         ax.set_ylabel(f"{quantity} [{unit}]")
         ax.grid(True, which="major", linewidth=0.4, alpha=0.6)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0.0)
+        below = -0.2 if ax is bottom else -0.08  # clear of the time axis's label
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, below), ncol=2, fontsize=7)
     bottom.set_xlabel("time t [s]")
     fig.suptitle(f"Controlled run: loading error, {elevation_text(elevation)}", fontsize=11)
     top.set_title(base, fontsize=8, pad=16)
-    finish(fig, right=LEGEND_WIDTH + 1.2, top=0.9)
+    finish(fig, top=0.9, bottom=1.3, hspace=1.5)
     return fig
