@@ -13,6 +13,13 @@ force), and optionally passed through a first-order lag of the drive (a servo-va
 feedforward the reference is a solution of the closed loop, so the run reproduces it to the
 integration and interpolation errors (:class:`CycleServo`).
 
+Why not the engine's :class:`~feeder.chain.dynamics.control.ComputedTorque`: that law meets its
+commanded accelerations through the run's own equations, the moving base's terms included, so it
+cancels the hull's motion exactly (a controller that measures the hull's accelerations and holds
+the device's whole model), and the loading pose would be exact by construction. The device's
+hydraulic loops do not sense the hull: their feedforward is fixed in advance (the prescribed
+cycle's loads standing level), and the hull is a disturbance their PD terms reject.
+
 Gains (:meth:`ServoGains.gains`): K_p = m ω², K_d = 2 ζ m ω per joint, where m is the largest
 diagonal of the closed chain's inertia reduced to the actuated coordinates (Gᵀ M G, G the
 velocity map from the actuated rates) over the cycle, ω = 2π f the position loop's bandwidth
