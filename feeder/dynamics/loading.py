@@ -27,7 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..exceptions import InputError
 from ..motion.cycle import CycleKinematics, payload_kinematics
+from ..validation import check_finite, check_number
 from .drives import CylinderPressures, cylinder_pressures, rack_force
 from .integrator import ADAMS_ORDER, lagrange_weights
 from .models import FeederDynamics
@@ -52,6 +54,10 @@ amplifying it (unlike the force rule), so at ε = −4° and 70°, standing, ove
 rocking after a shot, the loading pose's distance from the rammer's line moves by at most
 2.4e-9 m against rtol 1e-9 (the tolerance is 1e-3 m) and the standing cycle holds to 8.5e-8 rad
 (the requirement is 1e-4), in a third of the time (measured)."""
+
+MIN_STAGE_SAMPLES = ADAMS_ORDER + 1
+"""Fewest steps in a stage: the feedforward's left limit at the grip is extrapolated (quartic)
+from the stage's last five samples, as the force-rule run does."""
 
 INERTIA_SAMPLES = 41
 """Poses along the cycle at which the reduced inertia of the gains is evaluated (its largest)."""
@@ -211,11 +217,28 @@ def controlled_cycle(
             :data:`RTOL`, :data:`ATOL`).
 
     Raises:
+        InputError: Feedforward not finite or not (N, 2), a stage of fewer than
+            :data:`MIN_STAGE_SAMPLES` samples, a hold that is not a positive time.
         IntegrationError: The run failed (a singular pose, unbounded accelerations).
     """
     from ..chain import simulate  # here: a cycle without this run skips the engine's import
 
     k = kinematics
+    feedforward = check_finite("the controlled run's feedforward [N, N·m]", feedforward)
+    if feedforward.shape != (k.t.size, 2):
+        raise InputError(
+            f"the controlled run's feedforward must be (N, 2) = ({k.t.size}, 2) [piston force "
+            f"N, forearm moment N·m], got {feedforward.shape}"
+        )
+    if not check_number("the hold [s]", hold) > 0.0:
+        raise InputError(f"the hold must be a positive time [s], got {hold!r}")
+    shortest = min(b - a for a, b in _pieces(k))
+    if shortest < MIN_STAGE_SAMPLES:
+        raise InputError(
+            f"the controlled run needs at least {MIN_STAGE_SAMPLES} steps a stage (the "
+            f"feedforward's value before the grip is extrapolated from them), got {shortest} at "
+            f"{k.spec.rate:g} Hz: sample faster"
+        )
     actuated = [int(i) for i in dyn.index[[1, 3]]]  # r2, φ4 in Pinocchio's v
     inertia = reduced_inertia(dyn, k.q[np.linspace(0, k.t.size - 1, INERTIA_SAMPLES).astype(int)])
     kp, kd = gains.gains(inertia)

@@ -23,6 +23,7 @@ from feeder.dynamics.loading import (
 )
 from feeder.dynamics.models import FeederDynamics
 from feeder.dynamics.servo import ServoGains
+from feeder.exceptions import FeederWarning, InputError
 
 RATE = 250.0
 """[Hz] The runs' samples: the engine's steps are its own, the samples only where it reports
@@ -149,3 +150,23 @@ def test_terrain_moves_the_payload_off_the_line_and_the_drives_work_harder(stand
     assert run.pressures.peak()[:n].max() > d.pressures.peak().max()
     assert np.abs(run.rack_force[:n]).max() > np.abs(d.rack_force).max()
     assert run.closure_residual.max() < 1e-9
+
+
+def test_bad_inputs_are_refused_in_one_line(feeder, standing):
+    d, feedforward = standing
+    dyn, k = FeederDynamics(feeder), d.kinematics
+    with pytest.raises(InputError, match=r"must be \(N, 2\)"):
+        controlled_cycle(dyn, k, feedforward[:, :1], ServoGains())
+    with pytest.raises(InputError, match="feedforward"):
+        controlled_cycle(dyn, k, np.full_like(feedforward, np.nan), ServoGains())
+    with pytest.raises(InputError, match="hold"):
+        controlled_cycle(dyn, k, feedforward, ServoGains(), hold=0.0)
+    coarse = cycle_dynamics(feeder, math.radians(30.0), _coarse_spec(4.0), forward=False)
+    ff = np.column_stack([coarse.loads.piston_force, coarse.loads.forearm_torque])
+    with pytest.raises(InputError, match="sample faster"):
+        controlled_cycle(dyn, coarse.kinematics, ff, ServoGains())
+
+
+def _coarse_spec(rate: float) -> feeder.CycleSpec:
+    with pytest.warns(FeederWarning):  # the spec itself warns of the peaks it may miss
+        return feeder.CycleSpec(rate=rate)
