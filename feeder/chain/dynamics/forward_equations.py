@@ -12,8 +12,10 @@ r (critically damped: an error decays like e^(−ω t)). The accelerations come 
 ``constraintDynamics`` on the chain's own constraint models (its proximal solver takes the
 redundant rows of a planar loop); q̇ from q̇ (the rotations' and the unit circles' rates for the
 joints whose q is not a vector: :class:`~feeder.chain.kinematics.joints.ConfigurationRate`). The
-power of the non-conservative forces (drives, dampers, pushes, pressures, loads) is the last
-component, so that their work is integrated with the state.
+power of the non-conservative forces (drives, dampers, pushes, pressures, loads) follows, so that
+their work is integrated with the state; then a :class:`Controller`'s states (an actuation with
+states of its own: u and ẋ from (t, q, q̇, x)) and, on a moving base, the base's power
+(:mod:`~feeder.chain.dynamics.forward_base`, which also gives b there: the moving base's).
 """
 
 from __future__ import annotations
