@@ -166,7 +166,10 @@ def read_control(entries: object, folder: Path, where: str) -> tuple[ControlSpec
     specs = []
     for path in dict.fromkeys(path for _, path, _ in tables):
         joints = tuple(joint for joint, other, _ in tables if other == path)
-        motion = read_motion(path, joints)
+        try:
+            motion = read_motion(path, joints)
+        except InputError as exc:  # its message names the file; say which tables read it
+            raise InputError(f"{where} [[control]] of {list(joints)}: {exc}") from None
         for i, joint in enumerate(joints):
             settings = next(s for name, _, s in tables if name == joint)
             columns = motion.x[:, i], motion.dx[:, i], motion.ddx[:, i]

@@ -124,3 +124,12 @@ def test_a_control_file_holds_control_tables_only(tmp_path):
         read_control_file(path)
     with pytest.raises(InputError, match="not a readable TOML file"):
         read_control_file(tmp_path / "missing.toml")
+
+
+def test_a_bad_reference_names_the_tables_that_read_it(tmp_path):
+    (tmp_path / "ref.csv").write_text("t,q_a,q_other\n0,0,1\n0.5,0.5,2\n1,1,3\n")
+    (tmp_path / "control.toml").write_text(
+        '[[control]]\njoint = "a"\nreference = "ref.csv"\nkp = 1\nkd = 1\n', encoding="utf-8"
+    )
+    with pytest.raises(InputError, match=r"\[\[control\]\] of \['a'\]: .*'q_other'"):
+        read_control_file(tmp_path / "control.toml")
