@@ -274,7 +274,7 @@ def controlled_cycle(
         if servo.n_states:
             x0 = run.controller[-1]
         force = run.actuation
-        command = np.array([servo.command(*row) for row in zip(t, run.q, run.v, strict=True)])
+        command = servo.command(t, run.q, run.v)
         for store, value in zip(
             (times, qs, vs, accelerations, applied, commands, residuals),
             (t, run.q, run.v, run.a, force, command, run.residual),

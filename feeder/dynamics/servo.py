@@ -175,11 +175,16 @@ class CycleServo:
         self.x0 = x0
         self._none = np.zeros(0)
 
-    def command(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """The unclipped command u (2,) [N, N·m] at time t [s] and state q, q̇."""
+    def command(self, t, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The unclipped command [N, N·m] at time t [s] and state q, q̇: (2,) for one instant
+        (q, v (nv,)), (n, 2) for n (t (n,), q, v (n, nv))."""
         r = self.reference(t)
         columns = self.columns
-        return r[4:] + self.kp * (r[:2] - q[columns]) + self.kd * (r[2:4] - v[columns])
+        return (
+            r[..., 4:]
+            + self.kp * (r[..., :2] - q[..., columns])
+            + self.kd * (r[..., 2:4] - v[..., columns])
+        )
 
     def start(self, t0: float, q0: np.ndarray, v0: np.ndarray) -> np.ndarray:
         """The drives' forces at the start (2,), or no state without a lag."""

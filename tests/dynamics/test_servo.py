@@ -103,3 +103,11 @@ def test_the_law_clips_at_the_limits_and_lags_the_drives():
     np.testing.assert_allclose(xdot, 2.0 * math.pi * 10.0 * (command - x), rtol=1e-12)
     np.testing.assert_allclose(lagged.start(0.0, q, v), command, rtol=1e-12)
     np.testing.assert_array_equal(_servo(10.0, x0=[1.0, 2.0]).start(0.0, q, v), [1.0, 2.0])
+
+
+def test_the_command_of_many_instants_is_each_instants(rng):
+    servo = _servo()
+    t = rng.uniform(0.0, 1.0, 7)
+    q, v = rng.normal(size=(7, 4)), rng.normal(size=(7, 4))
+    each = np.array([servo.command(*row) for row in zip(t, q, v, strict=True)])
+    np.testing.assert_array_equal(servo.command(t, q, v), each)
