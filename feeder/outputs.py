@@ -90,6 +90,9 @@ def write_cycle_outputs(
         outputs |= drawing.writers(data, data.figure_names())
     record = run_record(study.feeder, kinematics, command)
     record["forward_run"] = study.dynamics.forward is not None
+    controlled = study.dynamics.controlled
+    if controlled is not None:
+        record["controlled_run"] = controlled.gains.describe()
     base = study.dynamics.base
     record["base"] = "standing level" if base is None else base.describe()
     return _write(directory, outputs, record)

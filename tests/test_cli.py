@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
 import math
@@ -1102,3 +1103,47 @@ def test_analyze_of_a_passive_mechanism_asks_for_actuated_joints(tmp_path, capsy
     err = capsys.readouterr().err
     assert "the motion's loads need actuated joints" in err and "feeder simulate" in err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--forward", "controlled", "--no-forward"], "contradict"),
+        (["--bandwidth", "8"], "add --forward controlled"),
+        (["--drive-bandwidth", "20"], "add --forward controlled"),
+        (["--forward", "controlled", "--bandwidth", "0"], "bandwidth_hz must be a positive"),
+        (["--forward", "controlled", "--drive-bandwidth", "-3"], "actuator_hz must be a positive"),
+        (["--forward", "rule"], "invalid choice"),
+    ],
+)
+def test_controlled_run_options_are_refused_in_one_line(tmp_path, capsys, options, message):
+    """Each refused before the run, the output folder not created."""
+    out = tmp_path / "run"
+    with pytest.raises(SystemExit) if "invalid" in message else contextlib.nullcontext():
+        assert main(["cycle", "--elevation", "30", "--out", str(out), *options]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_controlled_cycle_on_a_rocking_hull(tmp_path, capsys):
+    """``--forward controlled`` on a moving base: the table gains the controlled_* columns (the
+    force-rule's forward_* are not there: one forward run), the figure of the loading error is
+    written, the summary gives the loading pose and the gains, the manifest the servo."""
+    argv = ["cycle", "--elevation", "70", "--rate", "100", "--forward", "controlled"]
+    argv += ["--base-motion", "recoil:start=3", "--bandwidth", "8", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    table = read_csv(tmp_path / "cycle.csv")
+    assert not any(name.startswith("forward_") for name in table)
+    # the run follows the prescribed cycle closely but not exactly: the hull rocks
+    error = np.abs(table["controlled_q_phi3"] - table["q_phi3"]).max()
+    assert 0.0 < error < 1e-2
+    assert table["controlled_cylinder_saturated"].max() == 0
+    cap = table["controlled_piston_force"] / (math.pi * 0.05**2 / 4.0)  # the 50 mm bore
+    np.testing.assert_allclose(
+        table["controlled_cylinder_cap_pressure"], np.maximum(cap, 0.0), rtol=1e-12
+    )
+    assert (tmp_path / "loading_error.png").stat().st_size > 10_000
+    out = capsys.readouterr().out
+    assert "controlled run (position loops 8 Hz" in out and "rammer's line" in out
+    manifest = json.loads((tmp_path / "feeder-run.json").read_text(encoding="utf-8"))
+    assert "8 Hz" in json.dumps(manifest)

@@ -4,7 +4,8 @@ the force-rule forward run; :func:`cycle_dynamics` runs them all over one loadin
 
 Data flow: :mod:`.models` (the models with and without payload) → :mod:`.inverse` (actuator
 loads) → :mod:`.reactions` → :mod:`.drives` → :mod:`.forward` (the force-rule run) →
-:mod:`.cycle` (all of them over one cycle).
+:mod:`.servo` and :mod:`.loading` (the run under position control on any base, the loading pose)
+→ :mod:`.cycle` (all of them over one cycle).
 """
 
 from typing import TYPE_CHECKING
@@ -15,12 +16,16 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .cycle import FORWARD_TOLERANCE, CycleDynamics, cycle_dynamics
     from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate_feeder
     from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_cycle_motion
+    from .loading import ControlledRun, LoadingPose, controlled_cycle
     from .models import FeederDynamics
     from .reactions import JOINT_NAMES, JointReactions, JointWrench, pin_reactions
+    from .servo import CycleServo, ServoGains
 
 _SOURCES = {
     "ActuatorLoads": ".inverse",
+    "ControlledRun": ".loading",
     "CycleDynamics": ".cycle",
+    "CycleServo": ".servo",
     "FORWARD_TOLERANCE": ".cycle",
     "FeederDynamics": ".models",
     "ForceRule": ".forward",
@@ -28,10 +33,13 @@ _SOURCES = {
     "JOINT_NAMES": ".reactions",
     "JointReactions": ".reactions",
     "JointWrench": ".reactions",
+    "LoadingPose": ".loading",
     "SampledMotion": ".inverse",
+    "ServoGains": ".servo",
     "actuator_loads": ".inverse",
     "check_cycle_motion": ".inverse",
     "constrained_dynamics": ".forward",
+    "controlled_cycle": ".loading",
     "cycle_dynamics": ".cycle",
     "pin_reactions": ".reactions",
     "simulate_feeder": ".forward",
@@ -42,16 +50,21 @@ __all__ = [
     "FORWARD_TOLERANCE",
     "JOINT_NAMES",
     "ActuatorLoads",
+    "ControlledRun",
     "CycleDynamics",
+    "CycleServo",
     "FeederDynamics",
     "ForceRule",
     "ForwardMotion",
     "JointReactions",
     "JointWrench",
+    "LoadingPose",
     "SampledMotion",
+    "ServoGains",
     "actuator_loads",
     "check_cycle_motion",
     "constrained_dynamics",
+    "controlled_cycle",
     "cycle_dynamics",
     "pin_reactions",
     "simulate_feeder",

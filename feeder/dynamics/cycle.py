@@ -28,6 +28,7 @@ reactions are exact at each sample and need no minimum rate.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from tqdm import tqdm
@@ -43,6 +44,10 @@ from .forward import ForceRule, ForwardMotion, simulate_feeder
 from .inverse import ActuatorLoads, SampledMotion, actuator_loads
 from .models import FeederDynamics
 from .reactions import JointReactions, pin_reactions
+from .servo import ServoGains
+
+if TYPE_CHECKING:
+    from .loading import ControlledRun
 
 FORWARD_TOLERANCE = 1e-4
 """Largest accepted |forward − prescribed| of φ3 and φ4 [rad] (issue 3's requirement). The
@@ -62,6 +67,8 @@ class CycleDynamics:
         forward: Motion integrated from the piston force and forearm moment, or None if the
             forward run was skipped (``cycle_dynamics(..., forward=False)``, or a moving base).
         base: The vehicle's motion, None for standing level.
+        controlled: The cycle run forward with the drives under position control
+            (:mod:`feeder.dynamics.loading`), or None if not asked for.
     """
 
     kinematics: CycleKinematics
@@ -71,6 +78,7 @@ class CycleDynamics:
     rack_force: np.ndarray
     forward: ForwardMotion | None
     base: BaseMotion | None = None
+    controlled: ControlledRun | None = None
 
     def _forward_run(self) -> ForwardMotion:
         if self.forward is None:
@@ -116,6 +124,7 @@ def cycle_dynamics(
     base: BaseMotion | None = None,
     progress: bool = False,
     forward: bool = True,
+    controlled: ServoGains | None = None,
 ) -> CycleDynamics:
     """Loads, joint reactions, drives and force-rule simulation of one loading cycle.
 
@@ -133,12 +142,16 @@ def cycle_dynamics(
             check); False skips it (``CycleDynamics.forward`` is then None). It runs on a
             standing or tilted base only: on a moving one it is skipped (the base's motion is
             not a force the run can take).
+        controlled: Run the cycle forward with the cylinder and the rack drive under these
+            position loops (:func:`~feeder.dynamics.loading.controlled_cycle`, on any base;
+            the feedforward is the cycle's loads standing level), None to skip it.
 
     Raises:
-        ElevationError, InputError: Bad elevation or timing.
+        ElevationError, InputError: Bad elevation or timing, ``controlled`` not a ServoGains.
         SingularPoseError: A pose within 5° of the toggle.
         ForwardDivergenceError: The forward run left the joints' end stops, or ended farther
             than :data:`FORWARD_TOLERANCE` from the prescribed motion.
+        IntegrationError: The controlled run failed (a singular pose on the way).
     """
     spec = spec or CycleSpec()
     if base is not None and not isinstance(base, BaseMotion):
@@ -148,10 +161,14 @@ def cycle_dynamics(
             f"the device's vehicle faces {list(VEHICLE_FORWARD)} (the turret at 0° azimuth): "
             f"BaseMotion(..., forward=VEHICLE_FORWARD), got forward {list(base.forward)}"
         )
+    if controlled is not None and not isinstance(controlled, ServoGains):
+        raise InputError(f"controlled must be a ServoGains or None, got {controlled!r}")
     forward = forward and (base is None or not base.timed)
     steps = ["kinematics", "inverse dynamics", "joint reactions"]
     if forward:
         steps.append("forward simulation")
+    if controlled is not None:
+        steps.append("controlled run")
     quiet = None if progress else True  # None: tqdm shows the bar only on a terminal
     with tqdm(total=len(steps), desc="cycle", disable=quiet) as bar:
         bar.set_postfix_str(steps[0])
@@ -180,6 +197,15 @@ def cycle_dynamics(
             run = simulate_feeder(dyn, rule, kinematics.q[0], kinematics.v[0])
             _check_tracking(run, kinematics)
             bar.update()
+        servo_run = None
+        if controlled is not None:
+            from .loading import controlled_cycle  # here: only this run imports the engine's
+
+            bar.set_postfix_str(steps[-1])
+            standing = loads if base is None else actuator_loads(FeederDynamics(feeder), motion)
+            feedforward = np.column_stack([standing.piston_force, standing.forearm_torque])
+            servo_run = controlled_cycle(dyn, kinematics, feedforward, controlled)
+            bar.update()
     return CycleDynamics(
         kinematics=kinematics,
         loads=loads,
@@ -188,4 +214,5 @@ def cycle_dynamics(
         rack_force=rack_force(feeder.params, loads.forearm_torque),
         forward=run,
         base=base,
+        controlled=servo_run,
     )

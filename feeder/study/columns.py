@@ -181,6 +181,31 @@ def _columns() -> tuple[Column, ...]:
         Column("forward_q_phi3", "rad", "arm angle of the force-rule forward run"),
         Column("forward_q_phi4", "rad", "forearm angle of the force-rule forward run"),
         Column("forward_closure_residual", "m", "pin gap of the forward run"),
+        Column("controlled_q_phi3", "rad", "arm angle of the controlled forward run"),
+        Column("controlled_q_phi4", "rad", "forearm angle of the controlled forward run"),
+        Column("controlled_piston_force", "N", "piston force the controlled cylinder applies"),
+        Column(
+            "controlled_forearm_torque", "N·m", "forearm moment the controlled rack drive applies"
+        ),
+        Column("controlled_cylinder_cap_pressure", "Pa", "cap-end pressure of the controlled run"),
+        Column("controlled_cylinder_rod_pressure", "Pa", "rod-end pressure of the controlled run"),
+        Column("controlled_rack_force", "N", "rack force of the controlled run"),
+        Column(
+            "controlled_payload_error",
+            "m",
+            "distance of the payload's centre of gravity from where the cycle prescribes it",
+        ),
+        Column(
+            "controlled_axis_error",
+            "rad",
+            "angle between the payload's axis and the axis the cycle prescribes",
+        ),
+        Column(
+            "controlled_cylinder_saturated", "", "1 where the cylinder's command passes its limit"
+        ),
+        Column(
+            "controlled_rack_saturated", "", "1 where the rack drive's command passes its limit"
+        ),
         Column(
             "lagrange_piston_force",
             "N",
@@ -199,7 +224,8 @@ def _columns() -> tuple[Column, ...]:
 
 COLUMNS: tuple[Column, ...] = _columns()
 """Every column of ``cycle.csv``, in file order. A run without the forward simulation omits the
-``forward_*`` columns; ``feeder kinematics`` writes the columns up to ``closure_residual``."""
+``forward_*`` columns, one without the controlled run the ``controlled_*`` columns; ``feeder
+kinematics`` writes the columns up to ``closure_residual``."""
 
 KINEMATIC_COLUMNS = tuple(
     c.name for c in COLUMNS[: [c.name for c in COLUMNS].index("piston_force")]
@@ -229,7 +255,8 @@ def vector_quantities(d: CycleDynamics) -> dict[str, tuple[np.ndarray, str]]:
 
 
 def cycle_columns(d: CycleDynamics, lagrange: LagrangeLoads) -> dict[str, np.ndarray]:
-    """Every column of :data:`COLUMNS` (the ``forward_*`` ones only if the run was made)."""
+    """Every column of :data:`COLUMNS` (the ``forward_*`` and ``controlled_*`` ones only if
+    those runs were made; the controlled run's at the cycle's samples, its hold left out)."""
     cols = kinematic_columns(d.kinematics)
     cols["piston_force"] = d.loads.piston_force
     cols["forearm_torque"] = d.loads.forearm_torque
@@ -244,6 +271,19 @@ def cycle_columns(d: CycleDynamics, lagrange: LagrangeLoads) -> dict[str, np.nda
         cols["forward_q_phi3"] = d.forward.q[:, 2]
         cols["forward_q_phi4"] = d.forward.q[:, 3]
         cols["forward_closure_residual"] = d.forward.closure_residual
+    if d.controlled is not None:
+        run, n = d.controlled, d.kinematics.t.size
+        cols["controlled_q_phi3"] = run.q[:n, 2]
+        cols["controlled_q_phi4"] = run.q[:n, 3]
+        cols["controlled_piston_force"] = run.applied[:n, 0]
+        cols["controlled_forearm_torque"] = run.applied[:n, 1]
+        cols["controlled_cylinder_cap_pressure"] = run.pressures.cap[:n]
+        cols["controlled_cylinder_rod_pressure"] = run.pressures.rod[:n]
+        cols["controlled_rack_force"] = run.rack_force[:n]
+        cols["controlled_payload_error"] = run.payload_error[:n]
+        cols["controlled_axis_error"] = run.axis_error[:n]
+        cols["controlled_cylinder_saturated"] = run.saturated[:n, 0].astype(int)
+        cols["controlled_rack_saturated"] = run.saturated[:n, 1].astype(int)
     cols["lagrange_piston_force"] = lagrange.piston_force
     cols["lagrange_forearm_torque"] = lagrange.forearm_torque
     cols["lagrange_lambda1"] = lagrange.lambdas[:, 0]

@@ -11,11 +11,12 @@ import numpy as np
 from ..chain import BaseMotion
 from ..device.feeder import Feeder
 from ..dynamics.cycle import CycleDynamics, cycle_dynamics
+from ..dynamics.servo import ServoGains
 from ..motion.laws import CycleSpec
 from ..paper.lagrange import LagrangeLoads, lagrange_loads
 from .columns import cycle_columns
 from .peaks import Peak, cycle_peaks
-from .summary import growth_lines, peak_lines, peak_notes
+from .summary import controlled_lines, growth_lines, peak_lines, peak_notes
 
 
 @dataclass(frozen=True)
@@ -81,15 +82,17 @@ class CycleStudy:
         pairs = self.against_level()
         if pairs is not None:
             lines += growth_lines(pairs)
-        if d.forward is None:
+        if d.forward is None and d.controlled is None:
             reason = " (the base moves)" if d.base is not None and d.base.timed else ""
             lines.append(f"  forward run (force rule): skipped{reason}")
-        else:
+        elif d.forward is not None:
             phi3, phi4 = d.tracking_error()
             lines.append(
                 f"  forward run (force rule): |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad, "
                 f"pin gap ≤ {d.closure_residual():.2e} m"
             )
+        if d.controlled is not None:
+            lines += controlled_lines(d.controlled, d)
         force, torque = self.cross_check()
         level = "" if self.standing is None else " (the cycle standing level)"
         lines.append(
@@ -106,6 +109,7 @@ def run_cycle_study(
     progress: bool = False,
     forward: bool = True,
     base: BaseMotion | None = None,
+    controlled: ServoGains | None = None,
 ) -> CycleStudy:
     """Dynamics of one cycle at ``elevation`` [rad] by Pinocchio and by the Lagrange equations.
 
@@ -118,13 +122,22 @@ def run_cycle_study(
             columns).
         base: The vehicle's motion (:func:`~feeder.dynamics.cycle.cycle_dynamics`); the cycle
             standing level is computed too, for the cross-check and the comparison.
+        controlled: Run the cycle forward with the drives under these position loops
+            (:func:`~feeder.dynamics.cycle.cycle_dynamics`), None to skip it.
 
     Raises:
         ElevationError, InputError: Bad elevation or timing.
         ForwardDivergenceError: The forward run drifted (sample faster, or ``forward=False``).
+        IntegrationError: The controlled run failed.
     """
     dynamics = cycle_dynamics(
-        feeder, elevation, spec, base=base, progress=progress, forward=forward
+        feeder,
+        elevation,
+        spec,
+        base=base,
+        progress=progress,
+        forward=forward,
+        controlled=controlled,
     )
     standing = None
     if base is not None:

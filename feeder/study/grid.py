@@ -23,6 +23,7 @@ from ..chain import BaseMotion, HullTable
 from ..device.builtin import DEVICES
 from ..device.loop import check_device
 from ..device.parameters import VEHICLE_FORWARD, FeederParameters
+from ..dynamics.servo import ServoGains
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
 from ..validation import check_elevations_deg, check_number
@@ -63,11 +64,15 @@ class Variant:
             mapping or as (name, value) pairs; kept as pairs of floats.
         base: The vehicle's motion (forward axis
             :data:`~feeder.device.parameters.VEHICLE_FORWARD`), None for standing level.
+        servo: The drives' position loops of the controlled forward run
+            (:mod:`feeder.dynamics.loading`: the loading pose against the rammer's line), None
+            for no forward run.
     """
 
     name: str
     changes: tuple[tuple[str, float], ...] = ()
     base: BaseMotion | None = None
+    servo: ServoGains | None = None
 
     def __post_init__(self) -> None:
         """Check the name and every change, and keep the values as floats.
@@ -98,6 +103,8 @@ class Variant:
                 f"variant {self.name!r}: base must be a BaseMotion with the device's forward "
                 f"axis {list(VEHICLE_FORWARD)}"
             )
+        if self.servo is not None and not isinstance(self.servo, ServoGains):
+            raise InputError(f"variant {self.name!r}: servo must be a ServoGains or None")
 
     def apply(self, params: FeederParameters) -> FeederParameters:
         """``params`` with this variant's changes (retrofit first, then the named numbers)."""
@@ -120,6 +127,7 @@ class SweepCase:
         params: The device's parameters with the variant applied.
         spec: Stage durations and sample rate.
         base: The variant's vehicle motion, None for standing level.
+        servo: The variant's controlled forward run, None for none.
     """
 
     device: str
@@ -129,6 +137,7 @@ class SweepCase:
     params: FeederParameters
     spec: CycleSpec
     base: BaseMotion | None = None
+    servo: ServoGains | None = None
 
     @property
     def key(self) -> tuple[str, str, float]:
@@ -138,18 +147,20 @@ class SweepCase:
     @property
     def sha256(self) -> str:
         """SHA-256 of what defines the case's computation: its key, its elevation [rad], and
-        its parameters and timing (:func:`fingerprint`), its vehicle's motion. A table row of
-        this case carries it."""
-        text = json.dumps(
-            [
-                self.device,
-                self.variant,
-                repr(self.elevation_deg),
-                repr(self.elevation),
-                fingerprint(self.params, self.spec),
-                base_fingerprint(self.base),
-            ]
-        )
+        its parameters and timing (:func:`fingerprint`), its vehicle's motion, and its
+        controlled run's settings if it has one (a case without keeps its earlier hash). A table
+        row of this case carries it."""
+        parts = [
+            self.device,
+            self.variant,
+            repr(self.elevation_deg),
+            repr(self.elevation),
+            fingerprint(self.params, self.spec),
+            base_fingerprint(self.base),
+        ]
+        if self.servo is not None:
+            parts.append(repr(self.servo))
+        text = json.dumps(parts)
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
@@ -237,6 +248,7 @@ class SweepGrid:
                             changed,
                             self.spec,
                             variant.base,
+                            variant.servo,
                         )
                     )
         return cases

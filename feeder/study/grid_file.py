@@ -27,12 +27,20 @@ Every key is optional::
     [[variants.base.profile]]              # profiles (feeder.chain.readers.base_motion)
     type = "terrain"
 
+    [[variants]]                           # the loading run under control on that base: the
+    name = "terrain_controlled"            # loading pose against the rammer's line (the
+    forward = "controlled"                 # table's loading_* and controlled_* columns)
+    servo = {bandwidth_hz = 8.0}           # optional: feeder.dynamics.servo.ServoGains' fields
+    [[variants.base.profile]]
+    type = "terrain"
+
 Each variant applies to every device (:mod:`feeder.study.grid` makes the grid and its cases, and
 checks it before any cycle is computed).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from pathlib import Path
 
@@ -40,6 +48,7 @@ import numpy as np
 
 from ..chain.readers import read_base
 from ..device.parameters import VEHICLE_FORWARD
+from ..dynamics.servo import ServoGains
 from ..exceptions import FeederError, InputError
 from ..motion.laws import CycleSpec
 from ..validation import check_elevations_deg
@@ -52,8 +61,31 @@ def _variant(entry: object, index: int, folder: Path) -> Variant:
     base = None
     if "base" in entry:
         base = read_base(entry["base"], folder, f"variants[{index}]", VEHICLE_FORWARD)
-    changes = tuple((k, v) for k, v in entry.items() if k not in ("name", "base"))
-    return Variant(entry["name"], changes, base)
+    forward = entry.get("forward")
+    if forward not in (None, "controlled"):
+        raise InputError(
+            f"variants[{index}]: forward = {forward!r}; a sweep's forward run is "
+            '"controlled" (the force-rule run is a check of one cycle: feeder cycle)'
+        )
+    settings = entry.get("servo", {})
+    if not isinstance(settings, dict):
+        raise InputError(f"variants[{index}]: servo must be a table, got {settings!r}")
+    if settings and forward is None:
+        raise InputError(
+            f'variants[{index}]: servo sets the controlled run: add forward = "controlled"'
+        )
+    names = {field.name for field in dataclasses.fields(ServoGains)}
+    unknown = sorted(set(settings) - names)
+    if unknown:
+        keys = ", ".join(sorted(names))
+        raise InputError(f"variants[{index}]: unknown servo keys {unknown}; a servo has {keys}")
+    servo = None if forward is None else ServoGains(**settings)
+    changes = tuple((k, v) for k, v in entry.items() if k not in VARIANT_KEYS)
+    return Variant(entry["name"], changes, base, servo)
+
+
+VARIANT_KEYS = ("name", "base", "forward", "servo")
+"""A variant's keys besides the parameter changes."""
 
 
 def _elevations(value: object) -> np.ndarray:

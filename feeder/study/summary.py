@@ -4,6 +4,7 @@ notes on those that look implausible but follow from the parameters."""
 from __future__ import annotations
 
 import textwrap
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +14,10 @@ from ..device.parameters import FeederParameters
 from ..motion.cycle import CycleKinematics
 from .columns import VECTORS
 from .peaks import Peak
+
+if TYPE_CHECKING:
+    from ..dynamics.cycle import CycleDynamics
+    from ..dynamics.loading import ControlledRun
 
 
 def kinematics_summary(feeder: Feeder, cycle: CycleKinematics) -> str:
@@ -117,3 +122,40 @@ def _wrapped(text: str, indent: str) -> list[str]:
 
 def _sign(value: float) -> str:
     return "positive" if value > 0.0 else "negative" if value < 0.0 else "zero"
+
+
+def controlled_lines(run: ControlledRun, dynamics: CycleDynamics) -> list[str]:
+    """The controlled run (:mod:`feeder.dynamics.loading`): its gains, tracking, the loading
+    pose against the rammer's line, the settling, the drives' peaks against the prescribed
+    cycle's (the inverse dynamics on the same base) and where a drive saturates."""
+    phi3, phi4 = run.tracking_error()
+    pose = run.loading_pose()
+    n = run.cycle_samples
+    settle = (
+        f"settles within {pose.position_tolerance * 1e3:g} mm and "
+        f"{pose.angle_tolerance * 1e3:g} mrad in {pose.settle_time:.3f} s"
+        if pose.settle_time is not None
+        else f"does not settle within {pose.position_tolerance * 1e3:g} mm and "
+        f"{pose.angle_tolerance * 1e3:g} mrad in the {run.t[-1] - run.end:g} s hold"
+    )
+    pressure, prescribed = run.pressures.peak()[:n].max(), dynamics.pressures.peak().max()
+    rack, rack_prescribed = np.abs(run.rack_force[:n]).max(), np.abs(dynamics.rack_force).max()
+    spans = run.saturation()
+    saturation = (
+        "none"
+        if not spans
+        else ", ".join(f"{name} {first:.3f}–{last:.3f} s" for name, first, last in spans)
+    )
+    return [
+        f"  controlled run ({run.gains.describe()}):",
+        f"    gains: piston Kp = {run.kp[0]:.4g} N/m, Kd = {run.kd[0]:.4g} N·s/m; forearm "
+        f"Kp = {run.kp[1]:.4g} N·m/rad, Kd = {run.kd[1]:.4g} N·m·s/rad",
+        f"    tracking over the cycle: |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad",
+        f"    loading pose at t = {pose.time:g} s: {pose.off_line * 1e3:.3f} mm off the "
+        f"rammer's line, {pose.along_line * 1e3:+.3f} mm along it, axis {pose.angle * 1e3:.3f} "
+        f"mrad off; {settle}",
+        f"    peak cylinder pressure {pressure / 1e5:.3f} bar (prescribed cycle "
+        f"{prescribed / 1e5:.3f} bar), peak rack force {rack:.1f} N (prescribed "
+        f"{rack_prescribed:.1f} N)",
+        f"    drives saturated: {saturation}",
+    ]

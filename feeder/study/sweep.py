@@ -1,10 +1,11 @@
 """Sweep cases run: one case's peaks, and many cases in batches on every core of this machine
 or on a Dask cluster.
 
-A case (:class:`~feeder.study.grid.SweepCase`) is one cycle's dynamics without the forward run
-(:func:`~feeder.dynamics.cycle.cycle_dynamics` with ``forward=False``: loads, every joint
+A case (:class:`~feeder.study.grid.SweepCase`) is one cycle's dynamics without the force-rule
+run (:func:`~feeder.dynamics.cycle.cycle_dynamics` with ``forward=False``: loads, every joint
 reaction, drives; the peaks need no forward run, hence no minimum sample rate) reduced to its
-peaks (:func:`~feeder.study.peaks.cycle_peaks`): :func:`case_peaks`. Cases run in batches
+peaks (:func:`~feeder.study.peaks.cycle_peaks`), with the controlled forward run's loading pose
+when its variant asks for it (``servo``): :func:`case_peaks`. Cases run in batches
 (:func:`run_cases`) on a :class:`concurrent.futures.Executor` (:func:`sweep_executor`): a
 process pool here (all cores by default), or a Dask cluster's (``scheduler="tcp://HOST:PORT"``,
 through ``Client.get_executor()``, the optional ``cluster`` extra); both take the same batches
@@ -34,7 +35,7 @@ from ..exceptions import InputError
 from ..workers import check_workers, local_workers, process_pool
 from .grid import SweepCase
 from .peaks import cycle_peaks
-from .sweep_table import Row
+from .sweep_table import LOADING_COLUMNS, Row
 
 BATCHES_PER_WORKER = 8
 """Batches per worker: small enough that the last ones finish together (the load balances),
@@ -60,9 +61,16 @@ def cached_feeder(params: FeederParameters) -> Feeder:
 
 
 def case_peaks(case: SweepCase) -> Row:
-    """One case's row of the sweep table: its key, its hash, and every peak with its time."""
+    """One case's row of the sweep table: its key, its hash, every peak with its time, and the
+    controlled run's loading pose, settling, peaks and saturation (``nan`` without that run:
+    :data:`~feeder.study.sweep_table.LOADING_COLUMNS`)."""
     dynamics = cycle_dynamics(
-        cached_feeder(case.params), case.elevation, case.spec, base=case.base, forward=False
+        cached_feeder(case.params),
+        case.elevation,
+        case.spec,
+        base=case.base,
+        forward=False,
+        controlled=case.servo,
     )
     row: Row = {
         "device": case.device,
@@ -73,6 +81,20 @@ def case_peaks(case: SweepCase) -> Row:
     for peak in cycle_peaks(dynamics):
         row[peak.name] = peak.value
         row[f"{peak.name}_time"] = peak.time
+    row |= dict.fromkeys(LOADING_COLUMNS, math.nan)
+    run = dynamics.controlled
+    if run is not None:
+        pose, n = run.loading_pose(), run.cycle_samples
+        step = 1.0 / case.spec.rate
+        row |= {
+            "loading_off_line": pose.off_line,
+            "loading_along_line": pose.along_line,
+            "loading_angle": pose.angle,
+            "loading_settling": math.nan if pose.settle_time is None else pose.settle_time,
+            "controlled_peak_pressure": float(run.pressures.peak()[:n].max()),
+            "controlled_peak_rack_force": float(abs(run.rack_force[:n]).max()),
+            "controlled_saturated_duration": float(run.saturated[:n].any(axis=1).sum() * step),
+        }
     return row
 
 

@@ -11,6 +11,8 @@ Tidy: a row is one case (device, variant, elevation), a column one variable. Col
 * for each quantity of :data:`QUANTITIES` (a ``cycle.csv`` column: its unit is the column's, SI,
   docs/REFERENCE.md): ``<name>``, the value where |value| peaks (signed for the actuator loads
   and pressures, a magnitude for a reaction), and ``<name>_time`` [s], when;
+* the controlled forward run's results (:data:`LOADING_COLUMNS`; ``nan`` in the rows of
+  variants without it, and ``loading_settling`` ``nan`` where it does not settle);
 * ``row_sha256``: SHA-256 of the row's other cells as written (:func:`row_sha256`): a row edited
   or damaged after it was written no longer matches it.
 
@@ -52,10 +54,26 @@ QUANTITIES = (
 KEY_COLUMNS = ("device", "variant", "elevation_deg")
 """The columns that identify a case."""
 
+LOADING_COLUMNS = (
+    "loading_off_line",
+    "loading_along_line",
+    "loading_angle",
+    "loading_settling",
+    "controlled_peak_pressure",
+    "controlled_peak_rack_force",
+    "controlled_saturated_duration",
+)
+"""The controlled run's columns (:mod:`feeder.dynamics.loading`): at the end of stage 3 the
+payload's distance from the rammer's line [m], its offset along it [m] and its axis's angle to it
+[rad]; the time to settle within the tolerances [s]; the largest chamber pressure [Pa] and
+|rack force| [N] over the cycle; how long a drive's command passes its limit [s]. ``nan`` where
+there is no such run (or no settling within the hold)."""
+
 TABLE_COLUMNS = (
     *KEY_COLUMNS,
     "case_sha256",
     *(column for name in QUANTITIES for column in (name, f"{name}_time")),
+    *LOADING_COLUMNS,
     "row_sha256",
 )
 """Every column of the table, in file order."""
@@ -178,7 +196,7 @@ def _parse(cells: Sequence[str]) -> tuple[Row | None, str]:
             row[name] = float(cell)
         except ValueError:
             return None, "unreadable"
-        if not math.isfinite(row[name]):
+        if not math.isfinite(row[name]) and not (name in LOADING_COLUMNS and cell == "nan"):
             return None, "non-finite value"
     return row, ""
 

@@ -71,6 +71,8 @@ class FigureData:
         columns: The cycle's ``cycle.csv`` columns (all, or the kinematic ones), each (N,).
         base: On a moving or tilted base, its description and every peak against the cycle
             standing level: (name, peak here, peak standing, SI unit), magnitudes; else None.
+        controlled: The controlled run's errors over the cycle and the hold (the series of
+            :func:`~feeder.viz.loading.loading_error_figure`), or None without that run.
     """
 
     params: FeederParameters
@@ -78,6 +80,7 @@ class FigureData:
     spec: CycleSpec
     columns: dict[str, np.ndarray]
     base: tuple[str, tuple[tuple[str, float, float, str], ...]] | None = None
+    controlled: dict[str, np.ndarray] | None = None
 
     @classmethod
     def of_study(cls, study: CycleStudy) -> FigureData:
@@ -89,12 +92,26 @@ class FigureData:
                 (peak.name, abs(peak.value), abs(level.value), peak.unit) for peak, level in pairs
             )
             base = (study.dynamics.base.describe(), rows)
-        return cls(study.feeder.params, k.elevation, k.spec, study.columns(), base)
+        run, controlled = study.dynamics.controlled, None
+        if run is not None:
+            pose = run.loading_pose()
+            controlled = {
+                "t": run.t,
+                "payload_error": run.payload_error,
+                "off_line": run.off_line,
+                "axis_error": run.axis_error,
+                "phi3_error": np.abs(run.q[:, 2] - run.reference[:, 2]),
+                "phi4_error": np.abs(run.q[:, 3] - run.reference[:, 3]),
+                "position_tolerance": np.array([pose.position_tolerance]),
+                "angle_tolerance": np.array([pose.angle_tolerance]),
+            }
+        return cls(study.feeder.params, k.elevation, k.spec, study.columns(), base, controlled)
 
     def figure_names(self) -> tuple[str, ...]:
-        """The figures of this study (:func:`study_figure_names`, and ``base_peaks.png`` on a
-        moving or tilted base)."""
-        return study_figure_names() + (() if self.base is None else (BASE_FIGURE,))
+        """The figures of this study (:func:`study_figure_names`, ``base_peaks.png`` on a
+        moving or tilted base, ``loading_error.png`` with the controlled run)."""
+        names = study_figure_names() + (() if self.base is None else (BASE_FIGURE,))
+        return names + (() if self.controlled is None else (LOADING_FIGURE,))
 
     @classmethod
     def of_cycle(cls, feeder: Feeder, cycle: CycleKinematics) -> FigureData:
@@ -112,6 +129,10 @@ class FigureData:
 
 BASE_FIGURE = "base_peaks.png"
 """The figure of every peak on a moving or tilted base against the cycle standing level."""
+
+LOADING_FIGURE = "loading_error.png"
+"""The controlled run's errors over the cycle and the hold
+(:func:`~feeder.viz.loading.loading_error_figure`)."""
 
 KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
@@ -159,6 +180,11 @@ def draw(name: str, data: FigureData) -> Figure:
             return cross_check(data.params, data.columns, boundaries)
         if name == BASE_FIGURE and data.base is not None:
             return base_peaks_figure(data.base[1], data.base[0], data.elevation)
+        if name == LOADING_FIGURE and data.controlled is not None:
+            from .loading import loading_error_figure
+
+            base = "standing level" if data.base is None else data.base[0]
+            return loading_error_figure(data.controlled, boundaries, data.elevation, base)
     except KeyError as exc:
         raise InputError(
             f"figure {data.file_name(name)} needs the column {exc}: draw it from a full study"

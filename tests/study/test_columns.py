@@ -14,6 +14,7 @@ from feeder.study.cycle_study import run_cycle_study
 
 NAMES = [column.name for column in COLUMNS]
 FORWARD_PREFIX = "forward_"
+CONTROLLED_PREFIX = "controlled_"
 LAGRANGE_COLUMNS = (
     "lagrange_piston_force",
     "lagrange_forearm_torque",
@@ -39,10 +40,16 @@ def test_names_are_unique_and_documented():
 
 def test_study_fills_every_column_in_file_order(study):
     """With the forward run every column of COLUMNS, in order; without it the same but the
-    forward_* columns."""
+    forward_* columns (and without the controlled run, which this study lacks, its
+    controlled_* columns)."""
     columns = study.columns()
     forward = study.dynamics.forward is not None
-    expected = [n for n in NAMES if forward or not n.startswith(FORWARD_PREFIX)]
+    assert study.dynamics.controlled is None
+    expected = [
+        n
+        for n in NAMES
+        if (forward or not n.startswith(FORWARD_PREFIX)) and not n.startswith(CONTROLLED_PREFIX)
+    ]
     assert list(columns) == expected
     assert forward or not any(name.startswith(FORWARD_PREFIX) for name in columns)
     samples = study.dynamics.kinematics.t.size

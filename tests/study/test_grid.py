@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from feeder.device import CHARGE_FEEDER, PROJECTILE_FEEDER
+from feeder.dynamics.servo import ServoGains
 from feeder.exceptions import ElevationError, FeederError, InputError
 from feeder.motion.laws import CycleSpec
 from feeder.study.grid import Variant, elevation_range, fingerprint, make_grid
@@ -110,6 +111,11 @@ def test_fingerprint_tells_parameters_and_timing_apart():
         ("[[variants]]\nname = 'x'\nL2 = 'high'", "L2"),
         ("[[variants]]\nname = 'x'\n[[variants]]\nname = 'x'", "unique"),
         ("elevations = [\n", "not a TOML"),
+        ("[[variants]]\nname = 'x'\nforward = 'force-rule'", 'is "controlled"'),
+        ("[[variants]]\nname = 'x'\nservo = {bandwidth_hz = 8.0}", "add forward"),
+        ("[[variants]]\nname = 'x'\nforward = 'controlled'\nservo = 3", "servo must be a table"),
+        ("[[variants]]\nname = 'x'\nforward = 'controlled'\nservo = {gain = 1}", "unknown servo"),
+        ("[[variants]]\nname = 'x'\nforward = 'controlled'\nservo = {damping = 0}", "damping"),
     ],
 )
 def test_bad_grid_files_name_the_file_and_the_fault(tmp_path, text, message):
@@ -142,3 +148,18 @@ def test_variant_keeps_floats_and_refuses_text():
         Variant("x", {"L2": "0.3"})
     with pytest.raises(InputError, match="unknown key"):
         Variant("x", {"name": "y"})
+
+
+def test_a_controlled_variant_carries_its_servo_into_its_cases(tmp_path):
+    """forward = "controlled" with a servo table: the cases carry those position loops, and
+    their hash differs from the same variant's without the run (a resumed table tells them
+    apart); a variant without the run keeps the hash it had before the key existed."""
+    text = (
+        "elevations = [30]\n[[variants]]\nname = 'plain'\n"
+        "[[variants]]\nname = 'loop'\nforward = 'controlled'\nservo = {bandwidth_hz = 8.0}\n"
+    )
+    plain, loop = read_grid(_grid_file(tmp_path, text)).cases()
+    assert plain.servo is None
+    assert loop.servo == ServoGains(bandwidth_hz=8.0)
+    assert replace(loop, variant="plain").sha256 != plain.sha256
+    assert replace(loop, variant="plain", servo=None).sha256 == plain.sha256

@@ -16,7 +16,11 @@ from functools import partial
 import numpy as np
 import pytest
 
+from feeder.chain import BaseMotion, Recoil
+from feeder.device.feeder import load_feeder
+from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.dynamics.cycle import cycle_dynamics
+from feeder.dynamics.servo import ServoGains
 from feeder.exceptions import ElevationError, InputError, OutputBusyError
 from feeder.files import LOCK, MANIFEST, OutputFolder, exclusive_lock
 from feeder.motion.laws import CycleSpec
@@ -27,6 +31,7 @@ from feeder.study.grid import Variant, elevation_range, make_grid
 from feeder.study.peaks import cycle_peaks
 from feeder.study.sweep_folder import run_sweep
 from feeder.study.sweep_table import (
+    LOADING_COLUMNS,
     PARQUET,
     QUANTITIES,
     TABLE,
@@ -207,8 +212,12 @@ def test_parquet_copy_holds_the_same_table(tmp_path):
     rows, _ = read_sweep_table(tmp_path / TABLE)
     table = pq.read_table(tmp_path / PARQUET).to_pydict()
     assert list(table) == list(TABLE_COLUMNS)
-    for name in TABLE_COLUMNS[:-1]:
-        assert table[name] == [row[name] for row in rows], name
+    for name in TABLE_COLUMNS[:-1]:  # nan: the controlled run's columns, none in this grid
+        same = [
+            a == b or (a != a and b != b)
+            for a, b in zip(table[name], [r[name] for r in rows], strict=True)
+        ]
+        assert len(table[name]) == len(rows) and all(same), name
     written = list(csv.reader((tmp_path / TABLE).open(encoding="utf-8")))[1:]
     assert table["row_sha256"] == [cells[-1] for cells in written]
 
@@ -417,3 +426,45 @@ def test_workers_leave_ctrl_c_to_the_sweep():
         assert executor.submit(signal.getsignal, signal.SIGINT).result() == signal.SIG_IGN
         held = executor.submit(signal.pthread_sigmask, signal.SIG_BLOCK, set()).result()
         assert signal.SIGINT not in held
+
+
+def test_a_controlled_variant_adds_its_loading_pose_on_every_executor(tmp_path, dask_scheduler):
+    """A variant with the controlled run (the hull rocking after a shot at t = 3 s): its rows
+    hold the loading pose, settling, peaks and saturation of that run (the numbers of the run
+    made directly), the other variant's rows nan there; the Dask cluster gives the same table,
+    to the last digit."""
+    spec = CycleSpec(rate=100.0)
+    servo = ServoGains(bandwidth_hz=8.0)
+    base = BaseMotion((Recoil(start=3.0),), VEHICLE_FORWARD)
+    grid = make_grid(
+        ("projectile",),
+        (70.0,),
+        (Variant("reference"), Variant("loop", base=base, servo=servo)),
+        spec,
+    )
+    local = run_sweep(grid, tmp_path / "local", workers=1, progress=False)
+    rows = {
+        row["variant"]: row
+        for row in read_sweep_table(local.table)[0]
+        if row["device"] == "projectile"
+    }
+    assert all(math.isnan(rows["reference"][name]) for name in LOADING_COLUMNS)
+    direct = cycle_dynamics(
+        load_feeder(), math.radians(70.0), spec, base=base, forward=False, controlled=servo
+    )
+    run = direct.controlled
+    pose = run.loading_pose()
+    expected = {
+        "loading_off_line": pose.off_line,
+        "loading_along_line": pose.along_line,
+        "loading_angle": pose.angle,
+        "loading_settling": pose.settle_time,
+        "controlled_peak_pressure": run.pressures.peak()[: run.cycle_samples].max(),
+        "controlled_peak_rack_force": np.abs(run.rack_force[: run.cycle_samples]).max(),
+    }
+    for name, value in expected.items():
+        assert rows["loop"][name] == value, name
+    assert pose.off_line > 1e-6  # the hull moves the payload: the numbers are not round-off
+    assert rows["loop"]["controlled_saturated_duration"] == 0.0
+    remote = run_sweep(grid, tmp_path / "dask", scheduler=dask_scheduler, progress=False)
+    assert remote.table.read_text(encoding="utf-8") == local.table.read_text(encoding="utf-8")
