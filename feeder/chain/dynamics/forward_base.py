@@ -56,6 +56,7 @@ class MovingBase:
     def __init__(self, model: pin.Model, base: BaseMotion):
         self.model, self.base = model, base
         self.gravity = np.array(model.gravity.linear)
+        self.axes = base.vehicle_axes(self.gravity)
         rooted = pin.Model()
         rooted.gravity = model.gravity
         root = rooted.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "base")
@@ -69,13 +70,15 @@ class MovingBase:
 
     def states(self, t: np.ndarray) -> BaseState:
         """The base's motion at the times t [s], (N,)."""
-        return self.base.state(np.asarray(t, dtype=float), self.gravity)
+        return self.base.state(np.asarray(t, dtype=float), self.gravity, self.axes)
 
     def root(self, base: BaseState, k: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The moving root's q (7,), q̇ and q̈ (6,) at sample k of ``base``."""
         turn = pin.Quaternion(base.rotation[k]).coeffs()
         omega, velocity = base.omega[k], base.velocity[k]
-        rate = base.acceleration[k] - np.cross(omega, velocity)  # body-axes rate of v₀
+        (wx, wy, wz), (vx, vy, vz) = omega, velocity
+        cross = np.array([wy * vz - wz * vy, wz * vx - wx * vz, wx * vy - wy * vx])  # ω × v₀
+        rate = base.acceleration[k] - cross  # body-axes rate of v₀
         return (
             np.concatenate([base.position[k], turn]),
             np.concatenate([velocity, omega]),

@@ -87,14 +87,18 @@ def attitude(channels: Channels) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         np.sin(psi),
         np.cos(psi),
     )
-    rotation = np.empty((phi.size, 3, 3))
-    rotation[:, 0] = np.column_stack([cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf])
-    rotation[:, 1] = np.column_stack([sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf])
-    rotation[:, 2] = np.column_stack([-st, ct * sf, ct * cf])
-    omega = np.column_stack(
-        [dphi - dpsi * st, dtheta * cf + dpsi * ct * sf, -dtheta * sf + dpsi * ct * cf]
+    # one stack per array (not a column_stack per row): a forward run asks for one time at each
+    # evaluation of its equations, where numpy's per-call overhead is the cost
+    rotation = np.stack(
+        [cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf,
+         sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf,
+         -st, ct * sf, ct * cf],
+        axis=-1,
+    ).reshape(phi.size, 3, 3)  # fmt: skip
+    omega = np.stack(
+        [dphi - dpsi * st, dtheta * cf + dpsi * ct * sf, -dtheta * sf + dpsi * ct * cf], axis=-1
     )
-    alpha = np.column_stack(
+    alpha = np.stack(
         [
             ddphi - ddpsi * st - dpsi * dtheta * ct,
             ddtheta * cf
@@ -107,7 +111,8 @@ def attitude(channels: Channels) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             + ddpsi * ct * cf
             - dpsi * dtheta * st * cf
             - dpsi * dphi * ct * sf,
-        ]
+        ],
+        axis=-1,
     )
     return rotation, omega, alpha
 
@@ -190,14 +195,17 @@ class BaseMotion:
             )
         return np.column_stack([forward, np.cross(up, forward), up])
 
-    def state(self, t: np.ndarray, gravity: np.ndarray) -> BaseState:
+    def state(
+        self, t: np.ndarray, gravity: np.ndarray, axes: np.ndarray | None = None
+    ) -> BaseState:
         """The base's motion (:class:`BaseState`) at the times t [s] (N,), for the model's
-        standing gravity [m/s²] (3,)."""
+        standing gravity [m/s²] (3,); ``axes``: :meth:`vehicle_axes` of that gravity, when the
+        caller keeps them (a forward run asks for one time at each evaluation)."""
         t = np.asarray(t, dtype=float)
         channels = at_rest(t)
         for profile in self.profiles:
             channels = channels + profile.channels(t)
-        axes = self.vehicle_axes(gravity)
+        axes = self.vehicle_axes(gravity) if axes is None else axes
         rotation, omega, alpha = attitude(channels)
         rotation = axes @ rotation @ axes.T
         level_gravity = np.asarray(gravity, dtype=float)
