@@ -58,6 +58,19 @@ def robots_dir() -> Path:
     return Path(share) / "example-robot-data" / "robots"
 
 
+def four_bar_file(tmp_path: Path, extra: str, mechanism: str = "") -> Path:
+    """examples/four_bar's mechanism file written to ``tmp_path`` with the model's absolute path,
+    ``mechanism`` lines added to its [mechanism] table and ``extra`` text (tables) at its end."""
+    folder = REPO / "examples" / "four_bar"
+    text = (folder / "closures.toml").read_text(encoding="utf-8")
+    model = (folder / "four_bar.urdf").as_posix()
+    lines = f'urdf = "{model}"' + (f"\n{mechanism}" if mechanism else "")
+    text = text.replace('urdf = "four_bar.urdf"', lines)
+    path = tmp_path / "closures.toml"
+    path.write_text(text + "\n" + extra, encoding="utf-8")
+    return path
+
+
 FOURBAR_CRANK, FOURBAR_COUPLER, FOURBAR_ROCKER, FOURBAR_GROUND = 0.1, 0.2, 0.2, 0.22
 """Four-bar lengths [m]: example-robot-data's double pendulum gives the crank (link1, 0.1 m
 between its joints) and the coupler (link2); a copy of link2 is added as the rocker, and its tip

@@ -12,7 +12,7 @@ from feeder.chain.assembly.partition import Partition
 from feeder.exceptions import InputError
 from feeder.study.simulate import simulate_mechanism
 
-from ..conftest import REPO
+from ..conftest import REPO, four_bar_file
 
 FOUR_BAR = REPO / "examples" / "four_bar"
 
@@ -29,13 +29,7 @@ def start() -> str:
 
 
 def write(tmp_path, control: str):
-    text = (FOUR_BAR / "closures.toml").read_text(encoding="utf-8")
-    text = text.replace(
-        'urdf = "four_bar.urdf"', f'urdf = "{(FOUR_BAR / "four_bar.urdf").as_posix()}"\n{start()}'
-    )
-    path = tmp_path / "closures.toml"
-    path.write_text(text + "\n" + control, encoding="utf-8")
-    return path
+    return four_bar_file(tmp_path, control, mechanism=start())
 
 
 CONTROL = (

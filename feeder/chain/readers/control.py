@@ -25,14 +25,13 @@ so an error obeys ë + K_d ė + K_p e = 0 whatever the mechanism's inertia.
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_number, check_path, did_you_mean
+from ...validation import check_number, check_path
 from ..model.control import ControlSpec
 from .motion_table import read_motion
-from .spec import table_entries
+from .spec import table_entries, tables_file
 
 CONTROL_KEYS = (
     "joint",
@@ -187,17 +186,7 @@ def read_control_file(path: str | Path) -> tuple[ControlSpec, ...]:
             section, no table, a bad table (:func:`read_control`).
     """
     path = check_path("the control file", path)
-    try:
-        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
-    if set(document) - {"control"}:
-        other = sorted(set(document) - {"control"})
-        raise InputError(
-            f"{path}: only [[control]] tables are expected, got {other}; "
-            f"{did_you_mean(other[0], ['control'])}".rstrip("; ")
-        )
-    specs = read_control(document.get("control", []), path.parent, str(path))
+    specs = read_control(tables_file(path, "control"), path.parent, str(path))
     if not specs:
         raise InputError(f"{path}: no [[control]] table")
     return specs

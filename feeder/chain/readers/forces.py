@@ -40,7 +40,6 @@ Each may have a ``name`` (its label in the results).
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +48,7 @@ from ...exceptions import InputError
 from ...validation import check_path
 from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .motion_table import read_columns
+from .spec import tables_file
 
 KINDS: dict[str, type] = {
     "spring": Spring,
@@ -102,13 +102,7 @@ def read_force_file(path: Path) -> tuple[ForceElement, ...]:
             section, a bad element.
     """
     path = check_path("the force file", path)
-    try:
-        document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
-    if set(document) - {"force"}:
-        raise InputError(f"{path}: only [[force]] tables are expected, got {sorted(document)}")
-    return read_forces(document.get("force", []), path.parent, str(path))
+    return read_forces(tables_file(path, "force"), path.parent, str(path))
 
 
 def read_table(path: str | Path, columns: tuple[str, ...]) -> Table:

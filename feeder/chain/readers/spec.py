@@ -139,6 +139,30 @@ def table_entries(
         yield here, entry
 
 
+def tables_file(path: Path, section: str) -> list:
+    """The ``[[section]]`` tables (as parsed) of a TOML file that holds only those (``--forces
+    FILE``, ``--control FILE``): read as a side-file is (:func:`read_side_text`, the size
+    limit), another section refused with the nearest name.
+
+    Raises:
+        InputError: An unreadable or malformed file, another section.
+    """
+    import tomllib  # here: the YAML side-files' readers do not need it
+
+    try:
+        document = tomllib.loads(read_side_text(path, "TOML"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not a readable TOML file: {exc}") from exc
+    other = sorted(set(document) - {section})
+    if other:
+        hint = did_you_mean(other[0], [section]).strip()
+        raise InputError(
+            f"{path}: only [[{section}]] tables are expected, got {other}"
+            + (f"; {hint}" if hint else "")
+        )
+    return document.get(section, [])
+
+
 def too_deep(path: Path, where: str = "") -> str:
     """The message that refuses a side-file nested deeper than :data:`SIDE_FILE_MAX_DEPTH`
     (``where``: e.g. " at line 3")."""

@@ -15,20 +15,14 @@ from feeder.chain.readers.control import read_control_file
 from feeder.chain.readers.motion_table import read_motion
 from feeder.exceptions import InputError
 
-from ...conftest import REPO
+from ...conftest import REPO, four_bar_file
 
 FOUR_BAR = REPO / "examples" / "four_bar"
 REFERENCE = (FOUR_BAR / "motion.csv").as_posix()
 
 
 def write(tmp_path, control: str):
-    text = (FOUR_BAR / "closures.toml").read_text(encoding="utf-8")
-    text = text.replace(
-        'urdf = "four_bar.urdf"', f'urdf = "{(FOUR_BAR / "four_bar.urdf").as_posix()}"'
-    )
-    path = tmp_path / "closures.toml"
-    path.write_text(text + "\n" + control, encoding="utf-8")
-    return path
+    return four_bar_file(tmp_path, control)
 
 
 def test_a_control_table_is_read_with_its_reference(tmp_path):

@@ -10,19 +10,13 @@ from feeder.chain import load_mechanism, read_spec
 from feeder.chain.model.points import Point
 from feeder.exceptions import InputError
 
-from ...conftest import REPO
+from ...conftest import REPO, four_bar_file
 
 FOUR_BAR = REPO / "examples" / "four_bar"
 
 
 def write(tmp_path, points: str):
-    text = (FOUR_BAR / "closures.toml").read_text(encoding="utf-8")
-    text = text.replace(
-        'urdf = "four_bar.urdf"', f'urdf = "{(FOUR_BAR / "four_bar.urdf").as_posix()}"'
-    )
-    path = tmp_path / "closures.toml"
-    path.write_text(text + "\n" + points, encoding="utf-8")
-    return path
+    return four_bar_file(tmp_path, points)
 
 
 def test_points_are_read(tmp_path):
