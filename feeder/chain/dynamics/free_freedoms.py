@@ -14,11 +14,11 @@ the line through its balls is one: gravity swings it, the motion table does not 
 and a hybrid run (:mod:`~feeder.chain.dynamics.hybrid`) integrates it forward.
 
 Its start: the pose at rest (:func:`rest_pose`): the free freedoms moved, with the actuated joints
-held and the loops closed, to a minimum of the potential energy (gravity and the force elements'
-elastic energy) — SciPy's BFGS from the pose given (a local minimum: the basin it starts in),
-then SciPy's ``root`` on the stationarity condition (the potential's gradient has no component
-along any locked motion), which the minimiser, working on energy values, meets only to about
-√ε of the energy's size.
+held and the loops closed, to a minimum of the potential energy (gravity, the model's or a
+moving base's tilted one, and the force elements' elastic energy) — SciPy's BFGS from the pose
+given (a local minimum: the basin it starts in), then SciPy's ``root`` on the stationarity
+condition (the potential's gradient has no component along any locked motion), which the
+minimiser, working on energy values, meets only to about √ε of the energy's size.
 """
 
 from __future__ import annotations
@@ -92,10 +92,13 @@ def free_freedoms(dyn, q: np.ndarray) -> FreeFreedoms:
     return FreeFreedoms(basis, motions, pivots, joints)
 
 
-def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
+def rest_pose(
+    dyn, q: np.ndarray, free: FreeFreedoms, t: float, gravity: np.ndarray | None = None
+) -> np.ndarray:
     """The pose at rest of the free freedoms ``free`` near the closed pose ``q`` (nq,) (module
     docstring): the actuated joints and every coordinate the free freedoms leave alone as in
-    ``q``, the force elements taken at time ``t`` [s]; (nq,), its revolute angles wrapped
+    ``q``, the force elements taken at time ``t`` [s], under ``gravity`` [m/s²] (3,) in the
+    model's axes (None: the model's; a moving base's tilts it); (nq,), its revolute angles wrapped
     (:meth:`~feeder.chain.assembly.partition.Partition.wrap`: the minimiser may wind one past
     a turn on its way).
 
@@ -104,7 +107,11 @@ def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
             a singular pose before they come to rest).
     """
     chain, model = dyn.chain, dyn.chain.model
-    data = model.createData()
+    weighed = model  # the model whose gravity weighs the pose
+    if gravity is not None:
+        weighed = pin.Model(model)
+        weighed.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
+    data = weighed.createData()
     dependent = dyn.partition.dependent
     zero = np.zeros(model.nv)
 
@@ -119,11 +126,11 @@ def rest_pose(dyn, q: np.ndarray, free: FreeFreedoms, t: float) -> np.ndarray:
 
     def potential(s: np.ndarray) -> float:
         moved = pose(s)
-        return pin.computePotentialEnergy(model, data, moved) + dyn.elements.energy(moved)
+        return pin.computePotentialEnergy(weighed, data, moved) + dyn.elements.energy(moved)
 
     def stationarity(s: np.ndarray) -> np.ndarray:
         moved = pose(s)
-        gradient = pin.computeGeneralizedGravity(model, data, moved).copy()
+        gradient = pin.computeGeneralizedGravity(weighed, data, moved).copy()
         if dyn.elements:
             gradient -= dyn.elements.generalized(moved, zero, t)[0]
         jac = chain.jacobian(moved)

@@ -34,6 +34,17 @@ either by more than ``drift_tolerance``; every output sample projected so.
 The free freedoms start from their pose at rest at the table's first sample (:func:`~.
 free_freedoms.rest_pose`), their rates 0; each one's travel is the integral of its pivot joint's
 rate in the locked motions (N Nᵀ q̇ at the pivot), whose largest magnitude is its *excursion*.
+
+On a moving base (a :class:`~.inverse.ChainDynamics` with a ``base``) q, q̇, q̈ and the table are
+the motion relative to the base, as in the inverse dynamics, whose loads already take the base
+(the mount's wrench, the reactions in the base's moving axes). The hull enters as a moving root
+(:mod:`~.forward_base`): b above is the moving base's bias b_B(q, q̇, t), the rooted tree's RNEA
+with q̈ = 0 (:meth:`~.forward_base.MovingBase.bias`), which adds the fictitious forces of the
+base's acceleration and rotation; M, J and S are the relative motion's. The free freedoms' rest
+pose at the start is found under the gravity the base sees at the first sample: the level
+gravity in the model's moving axes at t[0] (:attr:`~feeder.chain.model.base.BaseState.gravity`:
+a slope or a hull pitched at t[0] tilts it); the base's acceleration and rotation at t[0] do not
+enter it: the pose the mechanism rests in on a hull standing still in its attitude at t[0].
 """
 
 from __future__ import annotations
@@ -75,6 +86,8 @@ class HybridRun:
             projected back.
         settings: The integrator and its tolerances, as text.
         idle: The idle motions (moving no point) integrated with the free freedoms.
+        gravity: On a moving base, the gravity [m/s²] (3,) in the model's moving axes at t[0]
+            under which the free freedoms came to rest (module docstring); None at rest.
     """
 
     t: np.ndarray
@@ -91,6 +104,7 @@ class HybridRun:
     projections: int
     settings: str
     idle: int
+    gravity: np.ndarray | None = None
 
     def excursion(self) -> np.ndarray:
         """Each free freedom's largest |travel| over the run [rad or m], (m,)."""
@@ -119,9 +133,15 @@ class HybridRun:
                 f"  {self.idle} idle motion(s) (moving no point) integrated with them, from rest"
             )
         ids = sorted({velocity_joint(model, pivot) for pivot in self.free.pivots})
+        weighed = ""
+        if self.gravity is not None:
+            weighed = (
+                " under the gravity the moving base sees there, "
+                f"[{', '.join(f'{g:.4g}' for g in self.gravity)}] m/s² in its axes"
+            )
         lines.append(
             f"  start: the free freedoms at rest (least potential energy, rates 0) at the first "
-            f"sample, t = {self.t[0]:.4g} s: {pose_text(model, self.start, ids)}"
+            f"sample, t = {self.t[0]:.4g} s{weighed}: {pose_text(model, self.start, ids)}"
         )
         return lines
 
@@ -163,7 +183,8 @@ def hybrid_run(
     integrated forward (module docstring), with the loads along the motion.
 
     Args:
-        dyn: The chain's dynamics; its actuated joints are the prescribed ones, on a base at rest.
+        dyn: The chain's dynamics; its actuated joints are the prescribed ones; its ``base``, if
+            any, moves (module docstring: q and the table relative to it).
         t: The table's increasing times [s], (N,), N ≥ 2.
         x, dx, ddx: The actuated joints' coordinates [rad, m], rates and accelerations, (N, n),
             columns in the order of ``dyn.actuated``.
@@ -175,15 +196,14 @@ def hybrid_run(
             projection.
 
     Raises:
-        InputError: Bad arrays or settings, a moving base, no free freedom that carries mass
-            (then the motion table determines the motion: :func:`~feeder.chain.track`).
+        InputError: Bad arrays or settings, a hull table that does not cover t, no free freedom
+            that carries mass (then the motion table determines the motion:
+            :func:`~feeder.chain.track`).
         UnreachablePoseError: The loops do not close at the first sample.
         IntegrationError: The integrator failed, the run could not be projected back, or the
             loads cannot be computed (the message names the time).
     """
     check_dynamics(dyn)
-    if dyn.base is not None:
-        raise InputError("hybrid runs are on a base at rest: this mechanism's base moves")
     chain = dyn.chain
     n = len(dyn.actuated)
     t = check_finite("t [s]", t)
@@ -203,6 +223,10 @@ def hybrid_run(
     if not check_number("rate [1/s]", rate) >= 0.0:
         raise InputError(f"rate must be ≥ 0 [1/s], got {rate!r}")
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
+    gravity = None
+    if dyn.base is not None:  # a hull table that does not cover the run: refused before it
+        level = chain.model.gravity.linear
+        gravity = dyn.base.state(t[[0, -1]], level).gravity[0]
     first = _first_sample(dyn, chain.check_q(q_start), x[0])
     free = free_freedoms(dyn, first)
     if not len(free):
@@ -211,11 +235,12 @@ def hybrid_run(
             "determines the motion (feeder.chain.track, inverse_dynamics)"
         )
     equations = HybridEquations(dyn, free, Prescribed(t, x, dx, ddx), rate)
-    q0 = rest_pose(dyn, first, free, float(t[0]))
+    q0 = rest_pose(dyn, first, free, float(t[0]), gravity)
     y0 = equations.project(t[0], np.concatenate([q0, np.zeros(chain.model.nv + len(free))]))
     states, steps, projections = _integrate(equations, t, y0, method, rtol, atol, drift_tolerance)
     settings = f"{method}, rtol {rtol:g}, atol {atol:g}, Baumgarte rate {rate:g} /s"
-    return _results(equations, t, states, (steps, projections), y0[: chain.model.nq], settings)
+    counts = (steps, projections)
+    return _results(equations, t, states, counts, y0[: chain.model.nq], settings, gravity)
 
 
 def _first_sample(dyn: ChainDynamics, q: np.ndarray, x0: np.ndarray) -> np.ndarray:
@@ -273,7 +298,7 @@ def _integrate(equations: HybridEquations, t, y0, method, rtol, atol, drift_tole
     return states, steps, projections
 
 
-def _results(equations: HybridEquations, t, states, counts, start, settings) -> HybridRun:
+def _results(equations: HybridEquations, t, states, counts, start, settings, gravity) -> HybridRun:
     """The run's samples projected, their accelerations and loads (module docstring)."""
     nq, nv = equations.nq, equations.nv
     residual = np.array([equations.gap(time, y[:nq]) for time, y in zip(t, states, strict=True)])
@@ -299,4 +324,5 @@ def _results(equations: HybridEquations, t, states, counts, start, settings) -> 
         projections=counts[1],
         settings=settings,
         idle=equations.accelerations(t[0], q[0], v[0])[1].shape[1] - len(equations.free),
+        gravity=gravity,
     )

@@ -12,6 +12,7 @@ import pinocchio as pin
 from ..assembly.newton import POSITION_TOLERANCE, newton
 from ..assembly.rank import rank_tolerance, truncated_inverse
 from ..kinematics.joints import ConfigurationRate
+from .forward_base import MovingBase
 from .forward_equations import IntegrationError
 from .free_freedoms import FreeFreedoms
 from .idle import idle_basis, idle_rates
@@ -52,6 +53,7 @@ class HybridEquations:
             [model.joints[model.getJointId(name)].nq == 2 for name in dyn.actuated]
         )  # continuous joints: their gaps to the table are angles, wrapped
         self.velocity = None if model.nq == model.nv else ConfigurationRate(model)
+        self.moving = None if dyn.base is None else MovingBase(model, dyn.base)
         self.data = model.createData()
         self.count = 0
 
@@ -76,6 +78,8 @@ class HybridEquations:
         mass = pin.crba(model, data, q)
         mass = np.triu(mass) + np.triu(mass, 1).T  # crba fills the upper triangle
         forces = mass @ prescribed + pin.nonLinearEffects(model, data, q, v)
+        if self.moving is not None:  # b → b_B: the moving base's bias (hybrid's docstring)
+            forces -= self.moving.bias(data, t, q, v)[0]
         if self.dyn.elements:
             forces -= self.dyn.elements.generalized(q, v, t)[0]
         z = idle_rates(basis[None], (mass @ basis)[None], forces[None])[0]
