@@ -282,15 +282,6 @@ def test_bad_controllers_are_refused_in_one_line(controller, message):
         simulate(dyn, np.linspace(0.0, 0.1, 3), np.array([0.3]), np.array([0.0]), controller)
 
 
-def test_hybrid_runs_still_refuse_a_moving_base():
-    from feeder.chain import hybrid_run
-
-    dyn = ChainDynamics(pendulum(), ["swing"], base=heave(0.03, 7.0))
-    t = np.linspace(0.0, 0.1, 3)
-    with pytest.raises(InputError, match="hybrid runs are on a base at rest"):
-        hybrid_run(dyn, t, *(np.zeros((3, 1)) for _ in range(3)), np.zeros(1))
-
-
 MUJOCO = 1e-8
 """Largest gap between feeder's accelerations and MuJoCo's (relative to the largest q̈ of the
 sample), and between the absolute energies (relative to the largest). MuJoCo's M and bias are
