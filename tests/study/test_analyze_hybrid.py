@@ -78,6 +78,26 @@ def test_check_lets_a_mechanism_with_free_freedoms_pass(tmp_path):
     assert "1 freedom(s) left free move mass (ball_rz)" in check.text
 
 
+def test_the_rod_on_the_carriage_runs_hybrid_on_a_moving_hull(tmp_path):
+    """The mechanism file's [base]: a 5° slope and the default terrain (its pitch −3° at t = 0,
+    its roll 0). Refused before; now the run's start is at rest under the gravity of the hull's
+    2° nose-down pitch at t = 0: the rod's centre of gravity hangs 2° towards +x from the
+    model's −y, ball_rz = 2° − TILT (0.3 rad, ball_rod.urdf), to SciPy's root's 1e-8 rad. The
+    run's accuracy on a moving base: tests/chain/dynamics/test_hybrid_base.py."""
+    for name in ("ball_rod.urdf", "ball_rod.toml"):
+        shutil.copy(DATA / name, tmp_path / name)
+    with (tmp_path / "ball_rod.toml").open("a", encoding="utf-8") as file:
+        file.write('\n[base]\npitch_deg = 5.0\n[[base.profile]]\ntype = "terrain"\n')
+    analysis = analyze(tmp_path / "ball_rod.toml", carriage_table(tmp_path / "motion.csv"))
+    run = analysis.hybrid
+    assert isinstance(run, HybridRun)
+    assert abs(run.start[3] - (np.radians(2.0) - 0.3)) <= 1e-8
+    summary = analysis.summary()
+    assert "base: slope: pitch 5°, roll 0°; terrain" in summary
+    assert "under the gravity the moving base sees there" in summary
+    assert run.excursion()[0] > 0.5 and np.all(np.isfinite(analysis.loads.actuators["slider"]))
+
+
 def test_a_cad_rod_with_its_centre_off_its_axis_runs_hybrid(offset_cassie):
     """Refused before ("… can still move … not an idle motion"); now the rod's spin is
     integrated, the other rod (centre on its axis) stays an idle motion."""
