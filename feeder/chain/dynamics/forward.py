@@ -29,7 +29,9 @@ where the closure forces grow without bound and the steps shrink) stops there wi
 samples refused after the whole run. ``"pass"`` (the default of an undriven run): the run goes
 through the singular positions of the closure on the branch its motion carries
 (:mod:`~feeder.chain.dynamics.singular`): the closure's rank margin is watched on the dense
-output and each rank drop listed with its time; next to the pose every step is projected back
+output and each rank drop listed with its time; the step that would carry the margin past
+the coast's threshold is shortened to end inside it (:meth:`~.singular.RankWatch.landing`: a
+step never crosses the pose on the equations); next to the pose every step is projected back
 onto the constraints (a velocity off the branch is invisible to the drift test there and grows
 like the inverse of the margin), and the last stretch, where the constrained equations are too
 ill-conditioned to be trusted, is crossed by the motion's Taylor expansion from the equations
@@ -41,14 +43,13 @@ The work of the non-conservative forces (drives, dampers, pushes, pressures, loa
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
 
-Results: an output sample is projected onto the constraints (the drift before the projection is
-reported) where its loops are open by more than ``drift_tolerance`` (positions, or velocities per
-second; the integrator's dense output between step ends), its quaternions are off unit length,
-or Baumgarte's corrector would move its accelerations by more than a tenth of what the inverse
-dynamics of the samples accept (:func:`_closed`), and every sample of a run that passed a
-singular position (where a velocity off the branch hides from these tests:
-:data:`~feeder.chain.dynamics.singular.NEAR`); the others are kept as integrated. Their
-accelerations are evaluated, and the inverse dynamics of the sampled motion give the
+Results: every output sample whose loops are open by more than ``drift_tolerance`` (positions,
+or velocities per second; the integrator's dense output between step ends), or whose quaternions
+are off unit length, is projected onto the constraints (the drift before the projection is
+reported), and every sample in a step near a singular position (where a velocity off the
+branch hides from that test: :data:`~feeder.chain.dynamics.singular.NEAR`); a sample kept as
+integrated has its unit circles and quaternions normalised. Its accelerations are
+evaluated, and the inverse dynamics of the sampled motion give the
 closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
 every force element's force, like the tables of ``feeder analyze``.
 """
@@ -82,7 +83,7 @@ from .forward_equations import (
     IntegrationError,
 )
 from .forward_run import ForwardRun
-from .inverse import CLOSURE_TOLERANCE, ChainDynamics, check_dynamics, inverse_dynamics
+from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
 from .singular import MODES, RankWatch, coast, determinate_loads
@@ -345,12 +346,18 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
         unit = equations.rate is None or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
         near = watch is not None and watch.near()  # near a singular position: every step
+        proposed = solver.h_abs  # the next step's length, as SciPy's step control chose it
+        first = None
         if residual > drift_tolerance or not unit or near:  # loops open, quaternions off unit
             y = project(equations.dyn.chain, y)
             projections += 1
-            # near a singular position every step restarts: let its length grow as the
-            # integrator's own control would (at most ×2 here: rejected steps shrink it)
-            first = (2.0 if near else 1.0) * solver.step_size
+            # near a singular position every step restarts, its length as the integrator's
+            # own control would make it
+            first = proposed if near else solver.step_size
+        land = None if watch is None else watch.landing(first or proposed)
+        if land is not None:  # a singular position ahead: end the next step before it
+            first = land
+        if first is not None:
             solver = start(solver.t, y, min(first, t[-1] - solver.t))
     return states, steps, projections
 
@@ -384,30 +391,27 @@ def _singular(
     )
 
 
-def _closed(equations, y: np.ndarray, a: np.ndarray, residual: float, tolerance: float) -> bool:
-    """Whether the state y, with accelerations a (nv,) and loop residual ``residual`` [m, rad],
-    needs no projection (:func:`_results`): its loops closed to ``tolerance`` (the run's
-    ``drift_tolerance``; velocities per second, relative to the largest rate beyond 1), its
-    quaternions of unit length, and the part of a that Baumgarte's corrector adds for that drift
-    (at most ω² r + 2ω |J q̇|) a tenth of what the inverse dynamics of the samples accept
-    (:data:`~feeder.chain.dynamics.inverse.CLOSURE_TOLERANCE` of the motion's scale): their
-    loads are then those of the motion through the sample."""
+def _closed(equations, y: np.ndarray, drift_tolerance: float) -> bool:
+    """Whether the state y, whose loops are closed to ``drift_tolerance`` [m, rad], keeps its
+    velocities on the constraints (per second, relative to the largest rate beyond 1) and its
+    quaternions of unit length: a sample that needs no projection (:func:`_results`)."""
     model = equations.model
     q, v = y[: model.nq], y[model.nq : model.nq + model.nv]
-    if residual > tolerance or not pin.isNormalized(model, q, tolerance):
+    if not pin.isNormalized(model, q, drift_tolerance):
         return False
-    opening = float(np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0))
-    speed = float(np.abs(v).max(initial=0.0))
-    if opening > tolerance * max(1.0, speed):
-        return False
-    baumgarte = equations.constraints[0].m_baumgarte_parameters if equations.constraints else None
-    pull = (
-        0.0
-        if baumgarte is None
-        else float(baumgarte.Kp) * residual + float(baumgarte.Kd) * opening
-    )
-    scale = max(1.0, speed**2, float(np.abs(a).max(initial=0.0)))
-    return pull <= 0.1 * CLOSURE_TOLERANCE * scale
+    opening = np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0)
+    return bool(opening <= drift_tolerance * max(1.0, float(np.abs(v).max(initial=0.0))))
+
+
+def _normalized(equations, y: np.ndarray) -> np.ndarray:
+    """The state y with its unit circles and quaternions normalised (a kept sample: its
+    accelerations are those of the nearest unit ones, as the run's right-hand side takes them,
+    whose loops Baumgarte's corrector keeps closed); y itself when q has none."""
+    if equations.rate is None:
+        return y
+    out = y.copy()
+    out[: equations.nq] = pin.normalize(equations.model, y[: equations.nq])
+    return out
 
 
 def _results(
@@ -423,16 +427,19 @@ def _results(
     residual = np.empty(t.size)
     projected = np.empty_like(states)
     a = np.empty((t.size, nv))
-    closed = watch is None or not watch.passes  # no singular position: the test sees every drift
+    # near a singular position the test does not see a velocity off the branch: projected
+    near = np.zeros(t.size, dtype=bool) if watch is None else watch.near_samples(t)
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            a[k] = equations.accelerations(t[k], y[:nq], y[nq : nq + nv], equations.states(y))[0]
-            projected[k] = y
-            if not (closed and _closed(equations, y, a[k], residual[k], drift_tolerance)):
-                projected[k] = project(chain, y)
-                sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-                a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
+            keep = (
+                not near[k]
+                and residual[k] <= drift_tolerance
+                and _closed(equations, y, drift_tolerance)
+            )
+            projected[k] = _normalized(equations, y) if keep else project(chain, y)
+            sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
+            a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
