@@ -16,6 +16,7 @@ brackets its minima.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -138,8 +139,16 @@ def closure_rank(chain: ClosedChain, q: np.ndarray) -> int:
 
 
 def _values(chain: ClosedChain, q: np.ndarray) -> np.ndarray:
-    s = np.linalg.svd(chain.jacobian(q), compute_uv=False)
-    return s / max(float(s[0]), 1e-300)
+    """The singular values of the closure Jacobian at q (nq,) over the largest, decreasing,
+    (min(nc, nv),). Its rows that are identically zero (a planar loop's out-of-plane ones: 40
+    of the N = 40 four-bar's 120) change none and are left out of the SVD (half its time)."""
+    jac = chain.jacobian(q)
+    jac = jac[np.any(jac != 0.0, axis=1)]
+    values = np.zeros(min(chain.nc, chain.model.nv))
+    if jac.size:
+        s = np.linalg.svd(jac, compute_uv=False)
+        values[: s.size] = s / max(float(s[0]), 1e-300)
+    return values
 
 
 class RankWatch:
@@ -246,11 +255,14 @@ class RankWatch:
             return
         import scipy.optimize  # here: only runs that near a singular position pay its import
 
+        # the margin's square: smooth at a pose the path passes (where the margin itself is a
+        # V, |rate × (t − t*)|), so that Brent's parabolic steps converge in a few evaluations
         found = scipy.optimize.minimize_scalar(
-            self.margin, bounds=(left[0], right[0]), method="bounded",
+            lambda t: self.margin(t) ** 2, bounds=(left[0], right[0]), method="bounded",
             options={"xatol": BRACKET},
         )  # fmt: skip
-        if found.fun > SINGULAR_TOLERANCE:
+        margin = math.sqrt(found.fun)
+        if margin > SINGULAR_TOLERANCE:
             return
         time = float(found.x)
         if self.passes and abs(time - self.passes[-1].time) <= 4.0 * BRACKET:
@@ -258,7 +270,7 @@ class RankWatch:
         dense = next(d for d in reversed(self._dense) if d.t_min <= time <= d.t_max)
         at = int(np.sum(_values(self.chain, dense(time)[: self.nq]) > SINGULAR_TOLERANCE))
         before, after = (self._rank_at(x[0]) for x in (left, right))
-        self.passes.append(SingularPass(time, BRACKET, before, at, after, float(found.fun)))
+        self.passes.append(SingularPass(time, BRACKET, before, at, after, margin))
 
     def _rank_at(self, t: float) -> int:
         dense = next(d for d in reversed(self._dense) if d.t_min <= t <= d.t_max)
