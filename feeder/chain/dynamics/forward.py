@@ -111,6 +111,10 @@ DRIFT_TOLERANCE = 1e-10
 """Default closure residual [m, rad] above which an accepted step is projected back onto the
 constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
 
+EXPLICIT = ("DOP853", "RK45")
+"""The explicit methods among :data:`METHODS`: their equations are evaluated at the nearest unit
+circles and quaternions (:mod:`~feeder.chain.dynamics.forward_equations`)."""
+
 METHODS = ("DOP853", "RK45", "Radau", "BDF")
 """SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
 the implicit Radau IIA (order 5) and BDF for stiff mechanisms. Through a singular position
@@ -211,7 +215,7 @@ def simulate(
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
     if dyn.base is not None:  # a hull table that does not cover the run: refused before it
         dyn.base.state(t[[0, -1]], chain.model.gravity.linear)
-    equations = ForwardEquations(dyn, actuation, rate)
+    equations = ForwardEquations(dyn, actuation, rate, normalize=method in EXPLICIT)
     y0 = np.concatenate([q, v, [0.0], x0, [0.0] if equations.moving else []])
     with Progress(float(t[0]), float(t[-1]), progress) as line:
         watch = RankWatch(chain, q, chain.model.nq) if singular == "pass" else None
@@ -439,7 +443,7 @@ def _results(
             )
             projected[k] = _normalized(equations, y) if keep else project(chain, y)
             sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-            a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
+            a[k] = equations.sample_accelerations(*sample, equations.states(projected[k]))
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
