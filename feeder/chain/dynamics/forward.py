@@ -45,11 +45,14 @@ integrator's tolerance.
 
 Results: every output sample whose loops are open by more than ``drift_tolerance`` (positions,
 or velocities per second; the integrator's dense output between step ends), or whose quaternions
-are off unit length, is projected onto the constraints (the drift before the projection is
-reported), and every sample in a step near a singular position (where a velocity off the
-branch hides from that test: :data:`~feeder.chain.dynamics.singular.NEAR`); a sample kept as
-integrated has its unit circles and quaternions normalised. Its accelerations are
-evaluated, and the inverse dynamics of the sampled motion give the
+are off unit length, or where Baumgarte's corrector pulled the run's accelerations by more than
+a tenth of what the inverse dynamics of the samples accept (:func:`_closed`), is projected onto
+the constraints (the drift before the projection is reported), and every sample in a step near
+a singular position (where a velocity off the branch hides from these tests:
+:data:`~feeder.chain.dynamics.singular.NEAR`); a sample kept as integrated has its unit circles
+and quaternions normalised. Their accelerations, the closed chain's own without the corrector
+(:meth:`~.forward_equations.ForwardEquations.sample_accelerations`), are evaluated, and the
+inverse dynamics of the sampled motion give the
 closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
 every force element's force, like the tables of ``feeder analyze``.
 """
@@ -83,7 +86,7 @@ from .forward_equations import (
     IntegrationError,
 )
 from .forward_run import ForwardRun
-from .inverse import ChainDynamics, check_dynamics, inverse_dynamics
+from .inverse import CLOSURE_TOLERANCE, ChainDynamics, check_dynamics, inverse_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
 from .singular import MODES, RankWatch, coast, determinate_loads
@@ -395,16 +398,30 @@ def _singular(
     )
 
 
-def _closed(equations, y: np.ndarray, drift_tolerance: float) -> bool:
-    """Whether the state y, whose loops are closed to ``drift_tolerance`` [m, rad], keeps its
-    velocities on the constraints (per second, relative to the largest rate beyond 1) and its
-    quaternions of unit length: a sample that needs no projection (:func:`_results`)."""
+def _closed(equations, y: np.ndarray, a: np.ndarray, residual: float, tolerance: float) -> bool:
+    """Whether the state y, with accelerations a (nv,) and loop residual ``residual`` [m, rad],
+    needs no projection (:func:`_results`): its loops closed to ``tolerance`` (the run's
+    ``drift_tolerance``; velocities per second, relative to the largest rate beyond 1), its
+    quaternions of unit length, and the pull that Baumgarte's corrector put on the run's
+    accelerations there (at most ω² r + 2ω |J q̇|) a tenth of what the inverse dynamics of the
+    samples accept (:data:`~feeder.chain.dynamics.inverse.CLOSURE_TOLERANCE` of the motion's
+    scale): the sample is then the motion through it to the loads' accuracy."""
     model = equations.model
     q, v = y[: model.nq], y[model.nq : model.nq + model.nv]
-    if not pin.isNormalized(model, q, drift_tolerance):
+    if residual > tolerance or not pin.isNormalized(model, q, tolerance):
         return False
-    opening = np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0)
-    return bool(opening <= drift_tolerance * max(1.0, float(np.abs(v).max(initial=0.0))))
+    opening = float(np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0))
+    speed = float(np.abs(v).max(initial=0.0))
+    if opening > tolerance * max(1.0, speed):
+        return False
+    baumgarte = equations.constraints[0].m_baumgarte_parameters if equations.constraints else None
+    pull = (
+        0.0
+        if baumgarte is None
+        else float(baumgarte.Kp) * residual + float(baumgarte.Kd) * opening
+    )
+    scale = max(1.0, speed**2, float(np.abs(a).max(initial=0.0)))
+    return pull <= 0.1 * CLOSURE_TOLERANCE * scale
 
 
 def _normalized(equations, y: np.ndarray) -> np.ndarray:
@@ -436,14 +453,19 @@ def _results(
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            keep = (
-                not near[k]
-                and residual[k] <= drift_tolerance
-                and _closed(equations, y, drift_tolerance)
-            )
-            projected[k] = _normalized(equations, y) if keep else project(chain, y)
+            projected[k] = y if near[k] else _normalized(equations, y)
             sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-            a[k] = equations.sample_accelerations(*sample, equations.states(projected[k]))
+            a[k] = equations.sample_accelerations(*sample, equations.states(y))
+            # the corrector acted on the nearest unit circles where the run normalised them
+            closure = (
+                np.abs(chain.residual(sample[1])).max(initial=0.0)
+                if equations.normalize and not near[k]
+                else residual[k]
+            )
+            if near[k] or not _closed(equations, y, a[k], closure, drift_tolerance):
+                projected[k] = project(chain, y)
+                sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
+                a[k] = equations.sample_accelerations(*sample, equations.states(y))
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
