@@ -61,10 +61,11 @@ equations, nor ends so near it that the coast starts from them; an error of the 
 half the target either way still lands in the coast's window."""
 
 LANDING_FALL = 0.25
-"""Smallest fraction of its value to which a shortened step aims the margin (:meth:`RankWatch.
-landing`): the margin steepens towards the pose (measured on the N-four-bar: its local rate
-extrapolated over a step from 0.13 to the target fell short by 5 %, and the step crossed the
-pose), so a far target is reached in steps each of which cuts the margin at most four-fold."""
+"""Smallest fraction of its value to which a shortened step aims the margin
+(:meth:`RankWatch.landing`): the margin steepens towards the pose (measured on the N-four-bar:
+its local rate extrapolated over a step from 0.13 to the target fell short by 5 %, and the step
+crossed the pose), so a far target is reached in steps each of which cuts the margin at most
+four-fold."""
 
 SLOPE_STEP = 1e-3
 """Fraction of the last step [s] over which the margin's local rate is differenced on the dense
