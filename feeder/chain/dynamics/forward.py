@@ -29,7 +29,9 @@ where the closure forces grow without bound and the steps shrink) stops there wi
 samples refused after the whole run. ``"pass"`` (the default of an undriven run): the run goes
 through the singular positions of the closure on the branch its motion carries
 (:mod:`~feeder.chain.dynamics.singular`): the closure's rank margin is watched on the dense
-output and each rank drop listed with its time; next to the pose every step is projected back
+output and each rank drop listed with its time; the step that would carry the margin past
+the coast's threshold is shortened to end inside it (:meth:`~.singular.RankWatch.landing`: a
+step never crosses the pose on the equations); next to the pose every step is projected back
 onto the constraints (a velocity off the branch is invisible to the drift test there and grows
 like the inverse of the margin), and the last stretch, where the constrained equations are too
 ill-conditioned to be trusted, is crossed by the motion's Taylor expansion from the equations
@@ -41,14 +43,16 @@ The work of the non-conservative forces (drives, dampers, pushes, pressures, loa
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
 
-Results: an output sample is projected onto the constraints (the drift before the projection is
-reported) where its loops are open by more than ``drift_tolerance`` (positions, or velocities per
-second; the integrator's dense output between step ends), its quaternions are off unit length,
-or Baumgarte's corrector would move its accelerations by more than a tenth of what the inverse
-dynamics of the samples accept (:func:`_closed`), and every sample of a run that passed a
-singular position (where a velocity off the branch hides from these tests:
-:data:`~feeder.chain.dynamics.singular.NEAR`); the others are kept as integrated. Their
-accelerations are evaluated, and the inverse dynamics of the sampled motion give the
+Results: every output sample whose loops are open by more than ``drift_tolerance`` (positions,
+or velocities per second; the integrator's dense output between step ends), or whose quaternions
+are off unit length, or where Baumgarte's corrector pulled the run's accelerations by more than
+a tenth of what the inverse dynamics of the samples accept (:func:`_closed`), is projected onto
+the constraints (the drift before the projection is reported), and every sample in a step near
+a singular position (where a velocity off the branch hides from these tests:
+:data:`~feeder.chain.dynamics.singular.NEAR`); a sample kept as integrated has its unit circles
+and quaternions normalised. Their accelerations, the closed chain's own without the corrector
+(:meth:`~.forward_equations.ForwardEquations.sample_accelerations`), are evaluated, and the
+inverse dynamics of the sampled motion give the
 closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
 every force element's force, like the tables of ``feeder analyze``.
 """
@@ -109,6 +113,10 @@ warning only, and the run's record would then claim a tolerance it was not run a
 DRIFT_TOLERANCE = 1e-10
 """Default closure residual [m, rad] above which an accepted step is projected back onto the
 constraints (Baumgarte alone keeps ~1e-11 at the default tolerances)."""
+
+EXPLICIT = ("DOP853", "RK45")
+"""The explicit methods among :data:`METHODS`: their equations are evaluated at the nearest unit
+circles and quaternions (:mod:`~feeder.chain.dynamics.forward_equations`)."""
 
 METHODS = ("DOP853", "RK45", "Radau", "BDF")
 """SciPy's integrators the runs can use: explicit Runge–Kutta pairs of order 8(5,3) and 5(4), and
@@ -210,7 +218,7 @@ def simulate(
     dyn.elements.check_covers(float(t[0]), float(t[-1]))
     if dyn.base is not None:  # a hull table that does not cover the run: refused before it
         dyn.base.state(t[[0, -1]], chain.model.gravity.linear)
-    equations = ForwardEquations(dyn, actuation, rate)
+    equations = ForwardEquations(dyn, actuation, rate, normalize=method in EXPLICIT)
     y0 = np.concatenate([q, v, [0.0], x0, [0.0] if equations.moving else []])
     with Progress(float(t[0]), float(t[-1]), progress) as line:
         watch = RankWatch(chain, q, chain.model.nq) if singular == "pass" else None
@@ -345,12 +353,18 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
         residual = float(np.abs(chain.residual(y[:nq])).max(initial=0.0))
         unit = equations.rate is None or pin.isNormalized(equations.model, y[:nq], drift_tolerance)
         near = watch is not None and watch.near()  # near a singular position: every step
+        proposed = solver.h_abs  # the next step's length, as SciPy's step control chose it
+        first = None
         if residual > drift_tolerance or not unit or near:  # loops open, quaternions off unit
             y = project(equations.dyn.chain, y)
             projections += 1
-            # near a singular position every step restarts: let its length grow as the
-            # integrator's own control would (at most ×2 here: rejected steps shrink it)
-            first = (2.0 if near else 1.0) * solver.step_size
+            # near a singular position every step restarts, its length as the integrator's
+            # own control would make it
+            first = proposed if near else solver.step_size
+        land = None if watch is None else watch.landing(first or proposed)
+        if land is not None:  # a singular position ahead: end the next step before it
+            first = land
+        if first is not None:
             solver = start(solver.t, y, min(first, t[-1] - solver.t))
     return states, steps, projections
 
@@ -388,10 +402,10 @@ def _closed(equations, y: np.ndarray, a: np.ndarray, residual: float, tolerance:
     """Whether the state y, with accelerations a (nv,) and loop residual ``residual`` [m, rad],
     needs no projection (:func:`_results`): its loops closed to ``tolerance`` (the run's
     ``drift_tolerance``; velocities per second, relative to the largest rate beyond 1), its
-    quaternions of unit length, and the part of a that Baumgarte's corrector adds for that drift
-    (at most ω² r + 2ω |J q̇|) a tenth of what the inverse dynamics of the samples accept
-    (:data:`~feeder.chain.dynamics.inverse.CLOSURE_TOLERANCE` of the motion's scale): their
-    loads are then those of the motion through the sample."""
+    quaternions of unit length, and the pull that Baumgarte's corrector put on the run's
+    accelerations there (at most ω² r + 2ω |J q̇|) a tenth of what the inverse dynamics of the
+    samples accept (:data:`~feeder.chain.dynamics.inverse.CLOSURE_TOLERANCE` of the motion's
+    scale): the sample is then the motion through it to the loads' accuracy."""
     model = equations.model
     q, v = y[: model.nq], y[model.nq : model.nq + model.nv]
     if residual > tolerance or not pin.isNormalized(model, q, tolerance):
@@ -410,6 +424,17 @@ def _closed(equations, y: np.ndarray, a: np.ndarray, residual: float, tolerance:
     return pull <= 0.1 * CLOSURE_TOLERANCE * scale
 
 
+def _normalized(equations, y: np.ndarray) -> np.ndarray:
+    """The state y with its unit circles and quaternions normalised (a kept sample: its
+    accelerations are those of the nearest unit ones, as the run's right-hand side takes them,
+    whose loops Baumgarte's corrector keeps closed); y itself when q has none."""
+    if equations.rate is None:
+        return y
+    out = y.copy()
+    out[: equations.nq] = pin.normalize(equations.model, y[: equations.nq])
+    return out
+
+
 def _results(
     equations, t, states, steps, projections, progress: bool, watch, drift_tolerance: float
 ) -> ForwardRun:
@@ -423,16 +448,24 @@ def _results(
     residual = np.empty(t.size)
     projected = np.empty_like(states)
     a = np.empty((t.size, nv))
-    closed = watch is None or not watch.passes  # no singular position: the test sees every drift
+    # near a singular position the test does not see a velocity off the branch: projected
+    near = np.zeros(t.size, dtype=bool) if watch is None else watch.near_samples(t)
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            a[k] = equations.accelerations(t[k], y[:nq], y[nq : nq + nv], equations.states(y))[0]
-            projected[k] = y
-            if not (closed and _closed(equations, y, a[k], residual[k], drift_tolerance)):
+            projected[k] = y if near[k] else _normalized(equations, y)
+            sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
+            a[k] = equations.sample_accelerations(*sample, equations.states(y))
+            # the corrector acted on the nearest unit circles where the run normalised them
+            closure = (
+                np.abs(chain.residual(sample[1])).max(initial=0.0)
+                if equations.normalize and not near[k]
+                else residual[k]
+            )
+            if near[k] or not _closed(equations, y, a[k], closure, drift_tolerance):
                 projected[k] = project(chain, y)
                 sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-                a[k] = equations.accelerations(*sample, equations.states(projected[k]))[0]
+                a[k] = equations.sample_accelerations(*sample, equations.states(y))
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)

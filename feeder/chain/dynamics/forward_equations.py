@@ -16,6 +16,18 @@ power of the non-conservative forces (drives, dampers, pushes, pressures, loads)
 their work is integrated with the state; then a :class:`Controller`'s states (an actuation with
 states of its own: u and ẋ from (t, q, q̇, x)) and, on a moving base, the base's power
 (:mod:`~feeder.chain.dynamics.forward_base`, which also gives b there: the moving base's).
+
+The integrator's q leaves the unit circles (a continuous joint's (cos, sin)) and the unit
+quaternions by its truncation error, and an explicit Runge–Kutta method's inner stages, linear
+combinations of states on them, by O(h²): those stages' off-unit lengths move the bodies and
+open the loops by O(h²), which Baumgarte's K_p turns into accelerations that the step-size
+control must resolve. For the explicit methods (``normalize``) the equations are therefore
+evaluated at the nearest unit circles and quaternions (``pin.normalize``; their rate keeps the
+integrator's q): DOP853 at rtol 1e-10 took 4 ms steps on the N = 40 four-bar, 40–80 ms with the
+normalisation (measured). Radau, whose steps the corrector does not hold (518 steps over 3 s
+of the N = 2 four-bar normalised, 571 not), keeps q as integrated: normalised, its states next
+to a flat pose carried velocities off the branch 100 × larger (B0 off by 2.9e-5 m after three
+passes at rtol 1e-8, 2.4e-7 m without). A chain whose q is a vector is evaluated at q itself.
 """
 
 from __future__ import annotations
@@ -72,6 +84,22 @@ EMPTY = np.zeros(0)
 """The states of an actuation without any."""
 
 
+def _constraints(chain, data: pin.Data, rate: float):
+    """Copies of the chain's constraint models with Baumgarte's gains K_p = ω², K_d = 2ω for the
+    rate ω [1/s], and their datas, initialised for ``constraintDynamics`` on ``data``."""
+    models = pin.StdVec_RigidConstraintModel()
+    for constraint in chain.constraint_models:
+        copy = pin.RigidConstraintModel(constraint)
+        copy.m_baumgarte_parameters.Kp = rate**2
+        copy.m_baumgarte_parameters.Kd = 2.0 * rate
+        models.append(copy)
+    datas = pin.StdVec_RigidConstraintData()
+    for constraint in models:
+        datas.append(constraint.createData())
+    pin.initConstraintDynamics(chain.model, data, models, datas)
+    return models, datas
+
+
 class IntegrationError(FeederError):
     """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
     unbounded acceleration), the run reached a singular pose where its loads cannot be computed,
@@ -84,24 +112,25 @@ class ForwardEquations:
     the non-conservative forces [J], a :class:`Controller`'s states (n_states) and, on a moving
     base, the base's work [J] — it returns their rates; ``count``: the calls so far."""
 
-    def __init__(self, dyn: ChainDynamics, actuation: Actuation | Controller | None, rate: float):
+    def __init__(
+        self,
+        dyn: ChainDynamics,
+        actuation: Actuation | Controller | None,
+        rate: float,
+        normalize: bool = False,
+    ):
         chain, model = dyn.chain, dyn.chain.model
         self.model, self.dyn, self.actuation = model, dyn, actuation
         self.controller = actuation if isinstance(actuation, Controller) else None
         self.n_states = 0 if self.controller is None else self.controller.n_states
         self.data = model.createData()
-        self.constraints = pin.StdVec_RigidConstraintModel()
-        for constraint in chain.constraint_models:
-            copy = pin.RigidConstraintModel(constraint)
-            copy.m_baumgarte_parameters.Kp = rate**2
-            copy.m_baumgarte_parameters.Kd = 2.0 * rate
-            self.constraints.append(copy)
-        self.datas = pin.StdVec_RigidConstraintData()
-        for constraint in self.constraints:
-            self.datas.append(constraint.createData())
-        pin.initConstraintDynamics(model, self.data, self.constraints, self.datas)
+        self.constraints, self.datas = _constraints(chain, self.data, rate)
+        # the samples' accelerations: the closed chain's own, without the corrector
+        self.sample_data = model.createData()
+        self.sample_constraints, self.sample_datas = _constraints(chain, self.sample_data, 0.0)
         self.nq, self.nv = model.nq, model.nv
         self.rate = None if model.nq == model.nv else ConfigurationRate(model)
+        self.normalize = normalize and self.rate is not None  # module docstring
         self.columns = np.array(dyn.columns, dtype=int)
         self.zero = np.zeros(model.nv)
         self.moving = None if dyn.base is None else MovingBase(model, dyn.base)
@@ -158,19 +187,23 @@ class ForwardEquations:
         return tau, power, xdot
 
     def evaluate(
-        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY, sample: bool = False
     ) -> tuple[np.ndarray, float, np.ndarray, float]:
         """q̈ (nv,), the power [W] of the non-conservative forces, ẋ (n_states,) and the base's
-        power [W] (0 on a base at rest) at (t, q, q̇, x)."""
+        power [W] (0 on a base at rest) at (t, q, q̇, x); ``sample``: without Baumgarte's
+        corrector (:meth:`sample_accelerations`)."""
         tau, power, xdot = self.forces(t, q, v, x)
+        data, constraints, datas = (
+            (self.sample_data, self.sample_constraints, self.sample_datas)
+            if sample
+            else (self.data, self.constraints, self.datas)
+        )
         if self.moving is None:
-            a = pin.constraintDynamics(
-                self.model, self.data, q, v, tau, self.constraints, self.datas, PROXIMAL
-            )
+            a = pin.constraintDynamics(self.model, data, q, v, tau, constraints, datas, PROXIMAL)
             return a, power, xdot, 0.0
-        correction, rooted = self.moving.bias(self.data, t, q, v)
+        correction, rooted = self.moving.bias(data, t, q, v)
         a = pin.constraintDynamics(
-            self.model, self.data, q, v, tau + correction, self.constraints, self.datas, PROXIMAL
+            self.model, data, q, v, tau + correction, constraints, datas, PROXIMAL
         )
         return a, power, xdot, self.moving.power(rooted, a)
 
@@ -180,11 +213,23 @@ class ForwardEquations:
         """q̈ (nv,) and the power [W] of the non-conservative forces at (t, q, q̇, x)."""
         return self.evaluate(t, q, v, x)[:2]
 
+    def sample_accelerations(
+        self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY
+    ) -> np.ndarray:
+        """q̈ (nv,) at an output sample (t, q, q̇, x): the closed chain's accelerations,
+        J q̈ = −J̇ q̇, without Baumgarte's corrector, whose −K_p r − K_d J q̇ would open the
+        acceleration rows by up to 4.4e-8 (K_p = 400 /s² times a residual at the drift
+        tolerance, 1e-10) in a sample kept as integrated, beyond what the inverse dynamics of
+        the samples accept (1e-9 of the sample's scale)."""
+        return self.evaluate(t, q, v, x, sample=True)[0]
+
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         self.count += 1
         nq, nv = self.nq, self.nv
         q, v = y[:nq], y[nq : nq + nv]
-        a, power, xdot, base_power = self.evaluate(t, q, v, self.states(y))
+        # the dynamics of the nearest unit circles and quaternions (module docstring)
+        unit = pin.normalize(self.model, q) if self.normalize else q
+        a, power, xdot, base_power = self.evaluate(t, unit, v, self.states(y))
         if not np.all(np.abs(a) < 1e154):  # NaN, inf, or as meaningless (a @ a would overflow)
             raise IntegrationError(
                 f"the accelerations are not finite at t = {t:.6g} s (a singular pose, or forces "

@@ -16,6 +16,7 @@ brackets its minima.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -46,10 +47,30 @@ COAST = 1e-2
 singular poses) below which a run that passes singular positions crosses the rest of the way by
 its Taylor expansion (:class:`Coast`) instead of its equations: nearer, the constrained
 equations amplify any velocity off the branch like the inverse of the margin, and a
-regularisation that bounds them frees the collapsing directions. Measured on the N-four-bar
-(rtol 1e-10, 20 s, 20 passes): a coast from 3e-2 errs by 3e-2 m at the end (the expansion's
-truncation), from 1e-2 by 2e-5 m, from 1e-3 by 4e-4 m (the equations' amplified error in the
-derivatives the expansion starts from)."""
+regularisation that bounds them frees the collapsing directions. Measured on the N = 2
+four-bar (rtol 1e-10, 20 s, 20 passes, each coast started near :data:`LANDING` of it): B0 errs
+at most by 2.3e-6 m with a threshold of 3e-2 (the expansion's truncation), 3.3e-7 m with 1e-2,
+5.6e-6 m with 3e-3, 2.0e-5 m with 1e-3 (the equations' amplified error in the derivatives the
+expansion starts from)."""
+
+LANDING = 0.5
+"""Fraction of :data:`COAST` at which a run that passes singular positions aims the end of the
+step before a coast: the step that would carry the margin below it is shortened to end there
+(:meth:`RankWatch.landing`), so that a step no longer crosses the pose on the ill-conditioned
+equations, nor ends so near it that the coast starts from them; an error of the aim of up to
+half the target either way still lands in the coast's window."""
+
+LANDING_FALL = 0.25
+"""Smallest fraction of its value to which a shortened step aims the margin
+(:meth:`RankWatch.landing`): the margin steepens towards the pose (measured on the N-four-bar:
+its local rate extrapolated over a step from 0.13 to the target fell short by 5 %, and the step
+crossed the pose), so a far target is reached in steps each of which cuts the margin at most
+four-fold."""
+
+SLOPE_STEP = 1e-3
+"""Fraction of the last step [s] over which the margin's local rate is differenced on the dense
+output (:meth:`RankWatch.slope`): the margin's curvature over it is negligible, and its change
+(≥ ~1e-6 of the largest margin) far above the SVD's round-off."""
 
 NEAR = 1e-1
 """Fraction of the largest rank margin met so far below which a run that passes singular
@@ -119,8 +140,16 @@ def closure_rank(chain: ClosedChain, q: np.ndarray) -> int:
 
 
 def _values(chain: ClosedChain, q: np.ndarray) -> np.ndarray:
-    s = np.linalg.svd(chain.jacobian(q), compute_uv=False)
-    return s / max(float(s[0]), 1e-300)
+    """The singular values of the closure Jacobian at q (nq,) over the largest, decreasing,
+    (min(nc, nv),). Its rows that are identically zero (a planar loop's out-of-plane ones: 40
+    of the N = 40 four-bar's 120) change none and are left out of the SVD (half its time)."""
+    jac = chain.jacobian(q)
+    jac = jac[np.any(jac != 0.0, axis=1)]
+    values = np.zeros(min(chain.nc, chain.model.nv))
+    if jac.size:
+        s = np.linalg.svd(jac, compute_uv=False)
+        values[: s.size] = s / max(float(s[0]), 1e-300)
+    return values
 
 
 class RankWatch:
@@ -139,6 +168,7 @@ class RankWatch:
         self.scale = 0.0  # the largest margin met so far
         self._points: list[tuple[float, float]] = []  # (t, margin), the last three
         self._dense: list = []  # the dense outputs of the last two steps
+        self._near: list[list[float]] = []  # [start, end] of the stretches near a pose [s]
 
     def margin(self, t: float) -> float:
         """σ_r/σ_1 of the closure Jacobian on the dense output at time t [s]."""
@@ -149,15 +179,52 @@ class RankWatch:
         """Whether the last step ended with the margin below :data:`NEAR`."""
         return bool(self._points) and self._points[-1][1] < NEAR * self.scale
 
+    def near_samples(self, t: np.ndarray) -> np.ndarray:
+        """Which of the times t [s] (N,) lie in a step that started or ended with the margin
+        below :data:`NEAR` (bool (N,)): where a velocity off the branch hides from a drift
+        test."""
+        out = np.zeros(t.size, dtype=bool)
+        for start, end in self._near:
+            out |= (start <= t) & (t <= end)
+        return out
+
+    def slope(self) -> float:
+        """The margin's rate [1/s] at the last step's end, differenced on its dense output over
+        :data:`SLOPE_STEP` of the step."""
+        (t0, _), (t1, m1) = self._points[-2:]
+        delta = SLOPE_STEP * (t1 - t0)
+        return (m1 - self.margin(t1 - delta)) / delta
+
     def approach(self) -> float | None:
-        """The time [s] to the singular position ahead, from the margin's last two points, when
-        the margin fell below :data:`COAST` in the last step and is falling; else None."""
+        """The time [s] to the singular position ahead, from the margin and its local rate
+        (:meth:`slope`), when the margin fell below :data:`COAST` in the last step and is
+        falling; else None."""
+        if len(self._points) < 2:
+            return None
+        (_, m0), (_, m1) = self._points[-2:]
+        if not (m1 < COAST * self.scale and m1 < m0):
+            return None
+        rate = self.slope()
+        return m1 / -rate if rate < 0.0 else None
+
+    def landing(self, proposed: float) -> float | None:
+        """The length [s] of the next step that ends with the margin at :data:`LANDING` ×
+        :data:`COAST` of the largest (or at :data:`LANDING_FALL` of its value, when that is
+        more), when the integrator's ``proposed`` step [s] would carry it below (the margin
+        falling at its local rate, :meth:`slope`); else None. The rate is
+        only differenced when the margin's fall over the last step, twice as fast, would
+        reach the target within ``proposed``."""
         if len(self._points) < 2:
             return None
         (t0, m0), (t1, m1) = self._points[-2:]
-        if not (m1 < COAST * self.scale and m1 < m0):
+        target = LANDING * COAST * self.scale
+        if m1 >= m0 or m1 - 2.0 * proposed * (m0 - m1) / (t1 - t0) > target:
             return None
-        return m1 * (t1 - t0) / (m0 - m1)
+        rate = self.slope()
+        if rate >= 0.0:
+            return None
+        length = (m1 - max(target, LANDING_FALL * m1)) / -rate
+        return length if 0.0 < length < proposed else None
 
     def step(self, t_old: float, t_new: float, dense) -> None:
         """Feed one accepted step from t_old to t_new [s] with its dense output."""
@@ -169,6 +236,11 @@ class RankWatch:
             self.scale = self._points[0][1]
         self._points.append((t_new, self.margin(t_new)))
         self.scale = max(self.scale, self._points[-1][1])
+        if min(self._points[-2][1], self._points[-1][1]) < NEAR * self.scale:
+            if self._near and self._near[-1][1] >= t_old:  # continues the last stretch
+                self._near[-1][1] = t_new
+            else:
+                self._near.append([t_old, t_new])
         if len(self._points) >= 3:
             self._check(*self._points[-3:])
         self._points = self._points[-2:]
@@ -184,11 +256,14 @@ class RankWatch:
             return
         import scipy.optimize  # here: only runs that near a singular position pay its import
 
+        # the margin's square: smooth at a pose the path passes (where the margin itself is a
+        # V, |rate × (t − t*)|), so that Brent's parabolic steps converge in a few evaluations
         found = scipy.optimize.minimize_scalar(
-            self.margin, bounds=(left[0], right[0]), method="bounded",
+            lambda t: self.margin(t) ** 2, bounds=(left[0], right[0]), method="bounded",
             options={"xatol": BRACKET},
         )  # fmt: skip
-        if found.fun > SINGULAR_TOLERANCE:
+        margin = math.sqrt(found.fun)
+        if margin > SINGULAR_TOLERANCE:
             return
         time = float(found.x)
         if self.passes and abs(time - self.passes[-1].time) <= 4.0 * BRACKET:
@@ -196,7 +271,7 @@ class RankWatch:
         dense = next(d for d in reversed(self._dense) if d.t_min <= time <= d.t_max)
         at = int(np.sum(_values(self.chain, dense(time)[: self.nq]) > SINGULAR_TOLERANCE))
         before, after = (self._rank_at(x[0]) for x in (left, right))
-        self.passes.append(SingularPass(time, BRACKET, before, at, after, float(found.fun)))
+        self.passes.append(SingularPass(time, BRACKET, before, at, after, margin))
 
     def _rank_at(self, t: float) -> int:
         dense = next(d for d in reversed(self._dense) if d.t_min <= t <= d.t_max)

@@ -85,6 +85,14 @@ def test_the_accelerations_are_those_of_the_kkt_system(four_bar):
         np.testing.assert_allclose(
             a, expected, rtol=0.0, atol=ACCELERATION * np.abs(expected).max()
         )
+        # an output sample's: the closed chain's own, without Baumgarte's terms (J q̈ = −J̇ q̇)
+        own = _kkt_accelerations(chain, q, v, tau, 0.0)
+        np.testing.assert_allclose(
+            equations.sample_accelerations(0.0, q, v),
+            own,
+            rtol=0.0,
+            atol=ACCELERATION * np.abs(own).max(),
+        )
 
 
 def test_a_free_swing_keeps_its_energy_and_its_loop(four_bar):

@@ -116,3 +116,28 @@ def test_a_run_that_ends_just_past_a_flat_pose_lists_it(after):
     t = np.linspace(0.0, flat + after, 11)
     run = simulate(ChainDynamics(chain, spec.actuated), t, q0, v0, rtol=1e-10, atol=1e-12)
     assert [round(p.time, 6) for p in run.singular] == [round(flat, 6)]
+
+
+def test_every_flat_pose_is_crossed_by_the_expansion_not_by_a_step(monkeypatch):
+    """The step that would carry the margin past the coast's threshold is shortened to end
+    inside it (RankWatch.landing): each pass of the N = 2 four-bar over 3 s (three flat poses)
+    lies inside one of the run's coasts, none inside a step of the equations — without the
+    landing, DOP853's 40 ms steps crossed the N = 40 four-bar's first flat pose whole."""
+    from feeder.chain.dynamics import forward
+
+    coasts = []
+
+    def recorded(*args, **kwargs):
+        path, y = coast(*args, **kwargs)
+        coasts.append((path.t_min, path.t_max))
+        return path, y
+
+    coast = forward.coast
+    monkeypatch.setattr(forward, "coast", recorded)
+    spec, chain, _, _, q0 = mount_mechanism(FOUR_BAR, None, None)
+    v0 = Partition(chain, spec.independent).velocity(q0, np.array([-1.0]))
+    t = np.linspace(0.0, 3.0, 301)
+    run = simulate(ChainDynamics(chain, spec.actuated), t, q0, v0, rtol=1e-10, atol=1e-12)
+    assert len(run.singular) == 3
+    for singular in run.singular:
+        assert any(start <= singular.time <= end for start, end in coasts), singular.text()
