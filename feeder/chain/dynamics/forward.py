@@ -448,6 +448,8 @@ def _results(
     residual = np.empty(t.size)
     projected = np.empty_like(states)
     a = np.empty((t.size, nv))
+    if equations.moving is not None:  # the base's motion at every sample in one pass
+        equations.moving.prepare(t)
     # near a singular position the test does not see a velocity off the branch: projected
     near = np.zeros(t.size, dtype=bool) if watch is None else watch.near_samples(t)
     with sample_progress(t.size, progress) as line:

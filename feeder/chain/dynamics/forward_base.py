@@ -67,6 +67,14 @@ class MovingBase:
             )
             rooted.appendBodyToJoint(joint, model.inertias[j], pin.SE3.Identity())
         self.rooted, self.data = rooted, rooted.createData()
+        self._roots: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def prepare(self, t: np.ndarray) -> None:
+        """Compute the moving root's motion at the times t [s] (N,) in one pass, for
+        :meth:`bias` to take at those times (a run's output samples: the base's state at one
+        time at a time costs more than the rest of an evaluation)."""
+        states = self.states(t)
+        self._roots = {float(time): self.root(states, k) for k, time in enumerate(t)}
 
     def states(self, t: np.ndarray) -> BaseState:
         """The base's motion at the times t [s], (N,)."""
@@ -91,7 +99,8 @@ class MovingBase:
         """The correction b − b_B (nv,) that turns the standing equations' τ into the moving
         base's (module docstring), and the rooted tree's state at time t [s] with q̈ = 0 (for
         :meth:`power`)."""
-        q0, v0, a0 = self.root(self.states(np.array([t])))
+        root = self._roots.get(t)
+        q0, v0, a0 = root if root is not None else self.root(self.states(np.array([t])))
         state = (
             np.concatenate([q0, q]),
             np.concatenate([v0, v]),
