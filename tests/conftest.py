@@ -58,6 +58,20 @@ def robots_dir() -> Path:
     return Path(share) / "example-robot-data" / "robots"
 
 
+def constrained_data(chain):
+    """A pinocchio.Data of the chain's model and its constraints' datas, initialised for
+    ``pin.constraintDynamics`` with the chain's own constraint models: the bare Pinocchio
+    reference the tests compare feeder's runs with."""
+    import pinocchio as pin
+
+    data = chain.model.createData()
+    datas = pin.StdVec_RigidConstraintData()
+    for constraint in chain.constraint_models:
+        datas.append(constraint.createData())
+    pin.initConstraintDynamics(chain.model, data, chain.constraint_models, datas)
+    return data, datas
+
+
 def four_bar_file(tmp_path: Path, extra: str, mechanism: str = "") -> Path:
     """examples/four_bar's mechanism file written to ``tmp_path`` with the model's absolute path,
     ``mechanism`` lines added to its [mechanism] table and ``extra`` text (tables) at its end."""

@@ -116,18 +116,17 @@ class ServoGains:
 
 
 def _quintic(t: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray):
-    """The quintic Hermite interpolant of q, q̇, q̈ (n, c) at the samples t (n,): on each
-    interval of length h, p(τ) = Σ c_k τ^k with c0…c2 = q, q̇, q̈/2 at its start and c3…c5
-    matching them at its end (error O(h⁶) in q, O(h⁵) in q̇)."""
-    from scipy.interpolate import PPoly  # here: a cycle without the controlled run skips it
+    """The quintic Hermite interpolant of q, q̇, q̈ (n, c) at the samples t (n,), as a power-basis
+    piecewise polynomial of the c columns (error O(h⁶) in q, O(h⁵) in q̇): SciPy's
+    ``BPoly.from_derivatives``, the interpolant the engine's prescribed motions use
+    (:class:`~feeder.chain.dynamics.hybrid_equations.Prescribed`)."""
+    from scipy.interpolate import BPoly, PPoly  # here: a cycle without the controlled run skips it
 
-    h = np.diff(t)[:, None]
-    delta = q[1:] - q[:-1] - v[:-1] * h - 0.5 * a[:-1] * h**2
-    rate, jump = (v[1:] - v[:-1] - a[:-1] * h) * h, (a[1:] - a[:-1]) * h**2
-    c3 = (20.0 * delta - 8.0 * rate + jump) / (2.0 * h**3)
-    c4 = (-30.0 * delta + 14.0 * rate - 2.0 * jump) / (2.0 * h**4)
-    c5 = (12.0 * delta - 6.0 * rate + jump) / (2.0 * h**5)
-    return PPoly(np.stack([c5, c4, c3, 0.5 * a[:-1], v[:-1], q[:-1]]), t)
+    columns = [
+        BPoly.from_derivatives(t, np.stack([q[:, i], v[:, i], a[:, i]], axis=1))
+        for i in range(q.shape[1])
+    ]
+    return PPoly.from_bernstein_basis(BPoly(np.stack([c.c for c in columns], axis=-1), t))
 
 
 def _channels(t: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray, u: np.ndarray):

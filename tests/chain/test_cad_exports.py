@@ -23,7 +23,7 @@ from feeder.chain import (
 from feeder.chain.readers.mechanism import read_spec
 from feeder.exceptions import FeederWarning, InputError, UnreachablePoseError
 
-from ..conftest import REPO
+from ..conftest import REPO, constrained_data
 
 CAD = REPO / "examples" / "cad"
 
@@ -107,11 +107,7 @@ def test_motor_loads_drive_constraint_dynamics_to_the_motion(robot):
     )
     loads = inverse_dynamics(ChainDynamics(chain, spec.actuated), q, v, a)
     assert loads.idle_motions == IDLE[name]
-    data = model.createData()
-    datas = pin.StdVec_RigidConstraintData()
-    for constraint in chain.constraint_models:
-        datas.append(constraint.createData())
-    pin.initConstraintDynamics(model, data, chain.constraint_models, datas)
+    data, datas = constrained_data(chain)
     columns = [chain.joint_slice(n).start for n in spec.actuated]
     # A small proximal μ: the 6-D welds of planar loops have redundant rows (μ = 0 gives NaN).
     settings = pin.ProximalSettings(1e-14, 1e-10, 1000)

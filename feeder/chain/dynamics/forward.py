@@ -452,22 +452,26 @@ def _results(
         equations.moving.prepare(t)
     # near a singular position the test does not see a velocity off the branch: projected
     near = np.zeros(t.size, dtype=bool) if watch is None else watch.near_samples(t)
+
+    def accelerations(k: int, y: np.ndarray) -> np.ndarray:  # of the sample k at the state y
+        return equations.sample_accelerations(t[k], y[:nq], y[nq : nq + nv], equations.states(y))
+
     with sample_progress(t.size, progress) as line:
         for k, y in enumerate(states):
             residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            projected[k] = y if near[k] else _normalized(equations, y)
-            sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-            a[k] = equations.sample_accelerations(*sample, equations.states(y))
-            # the corrector acted on the nearest unit circles where the run normalised them
-            closure = (
-                np.abs(chain.residual(sample[1])).max(initial=0.0)
-                if equations.normalize and not near[k]
-                else residual[k]
-            )
-            if near[k] or not _closed(equations, y, a[k], closure, drift_tolerance):
-                projected[k] = project(chain, y)
-                sample = (t[k], projected[k, :nq], projected[k, nq : nq + nv])
-                a[k] = equations.sample_accelerations(*sample, equations.states(y))
+            kept = None if near[k] else _normalized(equations, y)
+            if kept is not None:
+                a[k] = accelerations(k, kept)
+                # the corrector acted on the nearest unit circles where the run normalised them
+                closure = residual[k]
+                if equations.normalize:
+                    closure = np.abs(chain.residual(kept[:nq])).max(initial=0.0)
+                if not _closed(equations, y, a[k], closure, drift_tolerance):
+                    kept = None
+            if kept is None:
+                kept = project(chain, y)
+                a[k] = accelerations(k, kept)
+            projected[k] = kept
             line.update()
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)

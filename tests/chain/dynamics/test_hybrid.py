@@ -29,7 +29,7 @@ from feeder.chain.dynamics.forward import ATOL, RTOL
 from feeder.chain.dynamics.free_freedoms import free_freedoms
 from feeder.exceptions import FeederWarning, InputError
 
-from ...conftest import REPO
+from ...conftest import REPO, constrained_data
 
 DATA = REPO / "tests" / "data" / "hybrid"
 
@@ -118,11 +118,7 @@ def test_the_drive_force_found_drives_constraint_dynamics_to_the_run(ball_rod):
     1e-9 of the largest acceleration leaves room)."""
     chain, dyn, run = ball_rod
     model = chain.model
-    data = model.createData()
-    datas = pin.StdVec_RigidConstraintData()
-    for constraint in chain.constraint_models:
-        datas.append(constraint.createData())
-    pin.initConstraintDynamics(model, data, chain.constraint_models, datas)
+    data, datas = constrained_data(chain)
     settings = pin.ProximalSettings(1e-14, 1e-10, 1000)
     slider = chain.joint_slice("slider").start
     for k in range(0, run.t.size, 20):

@@ -26,6 +26,7 @@ from feeder.chain import (
 from feeder.chain.dynamics.forward_base import MovingBase
 from feeder.chain.model.profiles import Slope
 
+from ...conftest import constrained_data
 from .test_forward_base import Harmonic
 from .test_hybrid import CARRIAGE, DATA, IZZ, MASS, OFFSET, TILT, G, carriage
 
@@ -138,11 +139,7 @@ def test_the_slider_force_found_drives_constraint_dynamics_on_the_hull_to_the_ru
     measured 4e-14 m/s² of 68, 13 m/s² off without the moving root's bias)."""
     chain, run = moving
     model = chain.model
-    data = model.createData()
-    datas = pin.StdVec_RigidConstraintData()
-    for constraint in chain.constraint_models:
-        datas.append(constraint.createData())
-    pin.initConstraintDynamics(model, data, chain.constraint_models, datas)
+    data, datas = constrained_data(chain)
     settings = pin.ProximalSettings(1e-14, 1e-10, 1000)
     root = MovingBase(model, hull())
     slider = chain.joint_slice("slider").start
