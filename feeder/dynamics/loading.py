@@ -62,6 +62,10 @@ from the stage's last five samples, as the force-rule run does."""
 INERTIA_SAMPLES = 41
 """Poses along the cycle at which the reduced inertia of the gains is evaluated (its largest)."""
 
+LOAD_CASES = ("empty tray", "payload gripped")
+"""The load cases the gains are set for, in the order of ``FeederDynamics.cases`` (its
+``gripped`` flag): stage 1, then stages 2 and 3 and the hold."""
+
 
 @dataclass(frozen=True)
 class LoadingPose:
@@ -104,8 +108,9 @@ class ControlledRun:
         axis_error: Angle between the payload's axis and the reference's [rad], (M,).
         off_line: Distance of the payload CG from the rammer's line [m], (M,).
         closure_residual: Pin gap before projection [m], (M,).
-        gains: The servo's settings; kp, kd: its gains (2,) [N/m, N·m/rad], [N·s/m, N·m·s/rad].
-        inertia: The reduced inertias the gains were set for [kg, kg·m²], (2,).
+        gains: The servo's settings; kp, kd: its gains [N/m, N·m/rad], [N·s/m, N·m·s/rad],
+            (2, 2): a row per load case (:data:`LOAD_CASES`), a column per drive.
+        inertia: The reduced inertias the gains were set for [kg, kg·m²], (2, 2), as kp.
         end: End of stage 3 [s].
     """
 
@@ -170,11 +175,11 @@ class ControlledRun:
         return sorted(spans, key=lambda span: span[1])
 
 
-def reduced_inertia(dyn: FeederDynamics, q: np.ndarray) -> np.ndarray:
-    """Largest diagonal of the loaded device's inertia reduced to the actuated coordinates,
-    Gᵀ M G (G: the velocity map from the actuated rates [ṙ2, φ̇4]), over the poses q (K, 4),
-    paper order: [kg, kg·m²] (2,)."""
-    case = dyn.cases[1]
+def reduced_inertia(dyn: FeederDynamics, q: np.ndarray, gripped: bool = True) -> np.ndarray:
+    """Largest diagonal of the device's inertia reduced to the actuated coordinates, Gᵀ M G
+    (G: the velocity map from the actuated rates [ṙ2, φ̇4]), over the poses q (K, 4), paper
+    order, with the payload gripped or the tray empty: [kg, kg·m²] (2,)."""
+    case = dyn.cases[int(gripped)]
     partition = case.dynamics.partition
     model, data = case.model, case.data
     largest = np.zeros(2)
@@ -240,8 +245,9 @@ def controlled_cycle(
             f"{k.spec.rate:g} Hz: sample faster"
         )
     actuated = [int(i) for i in dyn.index[[1, 3]]]  # r2, φ4 in Pinocchio's v
-    inertia = reduced_inertia(dyn, k.q[np.linspace(0, k.t.size - 1, INERTIA_SAMPLES).astype(int)])
-    kp, kd = gains.gains(inertia)
+    poses = k.q[np.linspace(0, k.t.size - 1, INERTIA_SAMPLES).astype(int)]
+    inertia = np.array([reduced_inertia(dyn, poses, gripped) for gripped in (False, True)])
+    kp, kd = (np.array(pair) for pair in zip(*(gains.gains(m) for m in inertia), strict=True))
     low, high = gains.limits(dyn.feeder.params)
     step = 1.0 / k.spec.rate
     hold_t = k.t[-1] + step * np.arange(max(round(hold / step), 1) + 1)
@@ -266,8 +272,8 @@ def controlled_cycle(
                 @ u[-1 - ADAMS_ORDER : -1]
             )
         servo = CycleServo(
-            t, q[:, [1, 3]], v[:, [1, 3]], a[:, [1, 3]], u, actuated, kp, kd, low, high,
-            gains.actuator_hz, x0,
+            t, q[:, [1, 3]], v[:, [1, 3]], a[:, [1, 3]], u, actuated, kp[flag], kd[flag], low,
+            high, gains.actuator_hz, x0,
         )  # fmt: skip
         run = simulate(dyn.cases[flag].dynamics, t, q0, v0, servo, rtol=rtol, atol=atol)
         q0, v0 = run.q[-1], run.v[-1]

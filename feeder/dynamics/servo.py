@@ -24,6 +24,12 @@ Gains (:meth:`ServoGains.gains`): K_p = m ω², K_d = 2 ζ m ω per joint, where
 diagonal of the closed chain's inertia reduced to the actuated coordinates (Gᵀ M G, G the
 velocity map from the actuated rates) over the cycle, ω = 2π f the position loop's bandwidth
 and ζ its damping ratio: each joint alone is then a second-order loop of natural frequency ≥ f.
+The gains are set for each load case (the empty tray in stage 1, the payload gripped after it:
+:func:`feeder.dynamics.loading.controlled_cycle`), as a valve-controlled drive keeps its loop's
+bandwidth, not its force gain, when the load changes (the valve meters flow, a velocity per
+error); force gains set for the payload alone would make the empty tray's forearm loop 3.7 ×
+faster and 3.7 × overdamped (its reduced inertia is 14 × smaller: 0.15 against 2.2 kg·m²), a
+pole near −900 /s that held the integrator to 3 ms steps through stage 1 (measured).
 Defaults (assumed, stated here): f = 5 Hz and ζ = 1 — valve-controlled cylinders' position loops
 on mobile machines run at 2–10 Hz, limited by the oil column's hydraulic natural frequency
 (Merritt, *Hydraulic Control Systems*, ch. 7: a loop's bandwidth at most about a third of it,
@@ -115,28 +121,17 @@ class ServoGains:
         return np.array([-p * annulus, -moment]), np.array([p * cap, moment])
 
 
-def _quintic(t: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray):
-    """The quintic Hermite interpolant of q, q̇, q̈ (n, c) at the samples t (n,), as a power-basis
-    piecewise polynomial of the c columns (error O(h⁶) in q, O(h⁵) in q̇): SciPy's
-    ``BPoly.from_derivatives``, the interpolant the engine's prescribed motions use
-    (:class:`~feeder.chain.dynamics.hybrid_equations.Prescribed`)."""
-    from scipy.interpolate import BPoly, PPoly  # here: a cycle without the controlled run skips it
-
-    columns = [
-        BPoly.from_derivatives(t, np.stack([q[:, i], v[:, i], a[:, i]], axis=1))
-        for i in range(q.shape[1])
-    ]
-    return PPoly.from_bernstein_basis(BPoly(np.stack([c.c for c in columns], axis=-1), t))
-
-
 def _channels(t: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray, u: np.ndarray):
     """One piecewise polynomial of the 6 channels (q_ref (2), q̇_ref (2), u_ff (2)) over the
     samples ``t`` (n,) of one smooth piece: q_ref the quintic Hermite interpolant of q, q̇, q̈
-    (:func:`_quintic`), q̇_ref its derivative, u_ff the not-a-knot cubic spline of the sampled
+    (:func:`feeder.chain.quintic_hermite`, the one the engine's prescribed motions use; error
+    O(h⁶) in q, O(h⁵) in q̇), q̇_ref its derivative, u_ff the not-a-knot cubic spline of the sampled
     loads (O(h⁴)). One evaluation per call gives them all."""
-    from scipy.interpolate import CubicSpline, PPoly
+    from scipy.interpolate import CubicSpline, PPoly  # here: a cycle without this run skips it
 
-    position = _quintic(t, q, v, a)
+    from ..chain import quintic_hermite
+
+    position = PPoly.from_bernstein_basis(quintic_hermite(t, q, v, a))
     rate = position.derivative()
     loads = CubicSpline(t, u)
     degree = position.c.shape[0]

@@ -128,6 +128,8 @@ def controlled_lines(run: ControlledRun, dynamics: CycleDynamics) -> list[str]:
     """The controlled run (:mod:`feeder.dynamics.loading`): its gains, tracking, the loading
     pose against the rammer's line, the settling, the drives' peaks against the prescribed
     cycle's (the inverse dynamics on the same base) and where a drive saturates."""
+    from ..dynamics.loading import LOAD_CASES  # here: only a cycle with the run imports it
+
     phi3, phi4 = run.tracking_error()
     pose = run.loading_pose()
     n = run.cycle_samples
@@ -148,8 +150,11 @@ def controlled_lines(run: ControlledRun, dynamics: CycleDynamics) -> list[str]:
     )
     return [
         f"  controlled run ({run.gains.describe()}):",
-        f"    gains: piston Kp = {run.kp[0]:.4g} N/m, Kd = {run.kd[0]:.4g} N·s/m; forearm "
-        f"Kp = {run.kp[1]:.4g} N·m/rad, Kd = {run.kd[1]:.4g} N·m·s/rad",
+        *(
+            f"    gains, {case}: piston Kp = {kp[0]:.4g} N/m, Kd = {kd[0]:.4g} N·s/m; forearm "
+            f"Kp = {kp[1]:.4g} N·m/rad, Kd = {kd[1]:.4g} N·m·s/rad"
+            for case, kp, kd in zip(LOAD_CASES, run.kp, run.kd, strict=True)
+        ),
         f"    tracking over the cycle: |Δφ3| ≤ {phi3:.2e} rad, |Δφ4| ≤ {phi4:.2e} rad",
         f"    loading pose at t = {pose.time:g} s: {pose.off_line * 1e3:.3f} mm off the "
         f"rammer's line, {pose.along_line * 1e3:+.3f} mm along it, axis {pose.angle * 1e3:.3f} "

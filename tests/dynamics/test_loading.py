@@ -84,12 +84,16 @@ def test_the_rammers_line_is_the_barrels_axis(feeder, standing):
     assert abs(abs(k.payload_axis[-1] @ barrel) - 1.0) < 1e-12
 
 
-def test_reduced_inertia_is_twice_the_kinetic_energy_of_a_unit_actuated_rate(feeder, standing):
+@pytest.mark.parametrize("gripped", [False, True])
+def test_reduced_inertia_is_twice_the_kinetic_energy_of_a_unit_actuated_rate(
+    feeder, standing, gripped
+):
     """Gᵀ M G's diagonal against Pinocchio's kinetic energy of the closed-chain velocity with
-    one actuated rate 1 (another algorithm: the bodies' spatial velocities, not CRBA)."""
+    one actuated rate 1 (another algorithm: the bodies' spatial velocities, not CRBA), with the
+    tray empty and with the payload gripped."""
     dyn = FeederDynamics(feeder)
     q = standing[0].kinematics.q[[0, 500, 875]]
-    case = dyn.cases[1]
+    case = dyn.cases[int(gripped)]
     partition = case.dynamics.partition
     largest = np.zeros(2)
     for pose in dyn.to_pinocchio(q):
@@ -97,7 +101,20 @@ def test_reduced_inertia_is_twice_the_kinetic_energy_of_a_unit_actuated_rate(fee
             velocity = partition.velocity(pose, np.eye(2)[i])
             energy = pin.computeKineticEnergy(case.model, case.data, pose, velocity)
             largest[i] = max(largest[i], 2.0 * energy)
-    np.testing.assert_allclose(reduced_inertia(dyn, q), largest, rtol=1e-12)
+    np.testing.assert_allclose(reduced_inertia(dyn, q, gripped), largest, rtol=1e-12)
+
+
+def test_each_load_case_has_its_loops_bandwidth(terrain_run):
+    """The gains of each load case put each drive alone (its reduced inertia m, K_p, K_d) at
+    the loop's natural frequency and damping: the roots of m s² + K_d s + K_p."""
+    run = terrain_run
+    omega = 2.0 * math.pi * run.gains.bandwidth_hz
+    assert run.inertia[1, 0] > run.inertia[0, 0] and run.inertia[1, 1] > run.inertia[0, 1]
+    for m, kp, kd in zip(run.inertia.ravel(), run.kp.ravel(), run.kd.ravel(), strict=True):
+        poles = np.roots([m, kd, kp])
+        # a double root (ζ = 1) splits by √(round-off) of the discriminant: 1e-7 relative
+        np.testing.assert_allclose(np.abs(poles), omega, rtol=1e-7)
+        np.testing.assert_allclose(-poles.real / np.abs(poles), run.gains.damping, rtol=1e-7)
 
 
 def test_settling_is_the_last_entry_into_the_tolerances(feeder, standing):

@@ -8,37 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from feeder.dynamics.servo import CycleServo, ServoGains, _quintic
+from feeder.dynamics.servo import CycleServo, ServoGains
 from feeder.exceptions import InputError
-
-
-def _samples(h: float):
-    t = np.arange(0.0, 1.0 + 0.5 * h, h)
-    q = np.column_stack([np.sin(3.0 * t), np.exp(t)])
-    v = np.column_stack([3.0 * np.cos(3.0 * t), np.exp(t)])
-    a = np.column_stack([-9.0 * np.sin(3.0 * t), np.exp(t)])
-    return t, q, v, a
-
-
-def test_quintic_reference_is_exact_for_a_quintic_and_converges_at_sixth_order():
-    t = np.linspace(0.0, 2.0, 9)
-    c = np.array([0.3, -1.0, 0.5, 2.0, -0.7, 0.11])  # c0 … c5
-    powers = t[:, None] ** np.arange(6)
-    q = powers @ c
-    v = (powers[:, :5] * np.arange(1, 6)) @ c[1:]
-    a = (powers[:, :4] * np.arange(1, 5) * np.arange(2, 6)) @ c[2:]
-    fine = np.linspace(0.0, 2.0, 101)
-    exact = (fine[:, None] ** np.arange(6)) @ c
-    interpolant = _quintic(t, q[:, None], v[:, None], a[:, None])
-    # a quintic is its own Hermite interpolant: round-off of terms of size ~10
-    np.testing.assert_allclose(interpolant(fine)[:, 0], exact, rtol=0, atol=1e-12)
-    errors = []
-    for h in (0.1, 0.05):
-        t, q, v, a = _samples(h)
-        x = np.linspace(0.0, 1.0, 997)
-        errors.append(np.abs(_quintic(t, q, v, a)(x)[:, 0] - np.sin(3.0 * x)).max())
-    # halving h divides an O(h⁶) error by 64; 40 leaves room for the higher terms
-    assert errors[0] / errors[1] > 40.0
 
 
 def test_gains_give_each_loop_its_bandwidth_and_damping():

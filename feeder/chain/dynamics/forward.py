@@ -77,6 +77,7 @@ from .budget import (
     sample_progress,
     step_cap_message,
 )
+from .forward_base import stage_times
 from .forward_equations import (
     BAUMGARTE_RATE,
     EMPTY,
@@ -314,6 +315,8 @@ def _integrate(equations, t, y0, method, rtol, atol, drift_tolerance, max_step, 
         if steps >= budget.MAX_STEPS:
             advice = step_advice(equations.dyn, stiffness, solver, (solver.t - t[0]) / steps)
             raise IntegrationError(step_cap_message(solver.t, t[-1], advice))
+        if equations.moving is not None:  # the base's motion at the step's times in one pass
+            equations.moving.prepare(stage_times(solver))
         message = solver.step()
         steps += 1
         if solver.status == "failed":

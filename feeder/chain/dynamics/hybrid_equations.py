@@ -15,6 +15,7 @@ from ..kinematics.joints import ConfigurationRate
 from .forward_base import MovingBase
 from .forward_equations import IntegrationError
 from .free_freedoms import FreeFreedoms
+from .hermite import quintic_hermite
 from .idle import idle_basis, idle_rates
 from .inverse import ChainDynamics
 
@@ -25,13 +26,7 @@ class Prescribed:
     polynomial (evaluated once per call for all of them)."""
 
     def __init__(self, t: np.ndarray, x: np.ndarray, dx: np.ndarray, ddx: np.ndarray):
-        from scipy.interpolate import BPoly  # here: only hybrid runs pay its import
-
-        columns = [
-            BPoly.from_derivatives(t, np.stack([x[:, i], dx[:, i], ddx[:, i]], axis=1))
-            for i in range(x.shape[1])
-        ]
-        curve = BPoly(np.stack([column.c for column in columns], axis=-1), t)
+        curve = quintic_hermite(t, x, dx, ddx)
         self.curves = (curve, curve.derivative(), curve.derivative(2))
 
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
