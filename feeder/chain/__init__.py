@@ -31,8 +31,7 @@ closures and base motion, assemble and track it (:class:`Partition`, :func:`trac
 with given joint rates (:func:`initial_rates`: closed, projected when they contradict), count its
 freedoms (:func:`mobility`), and ask what it takes (:class:`ChainDynamics`,
 :func:`inverse_dynamics`, :func:`simulate` and its default :data:`BAUMGARTE_RATE`,
-:func:`hybrid_run`, the force elements; :func:`quintic_hermite` interpolates a sampled motion
-as the hybrid runs do, for a controller's reference). Two public groupings hold the rest:
+:func:`hybrid_run`, the force elements). Two public groupings hold the rest:
 
 * :mod:`feeder.chain.readers` — the individual readers and their records (``read_urdf``,
   ``build_model``, ``read_motion`` → ``MotionTable``, ``read_base``, ``read_force_file``,
@@ -63,7 +62,6 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .assembly.tracking import track
     from .dynamics.forward import simulate
     from .dynamics.forward_equations import BAUMGARTE_RATE
-    from .dynamics.hermite import quintic_hermite
     from .dynamics.hybrid import hybrid_run
     from .dynamics.inverse import ChainDynamics, inverse_dynamics
     from .kinematics.frames import frame_motion
@@ -99,7 +97,6 @@ _SOURCES = {
     "inverse_dynamics": ".dynamics.inverse",
     "load_closed_chain": ".readers.urdf",
     "load_mechanism": ".readers.mechanism",
-    "quintic_hermite": ".dynamics.hermite",
     "read_spec": ".readers.mechanism",
     "simulate": ".dynamics.forward",
     "track": ".assembly.tracking",
@@ -131,7 +128,6 @@ __all__ = [
     "load_closed_chain",
     "load_mechanism",
     "mobility",
-    "quintic_hermite",
     "read_spec",
     "simulate",
     "track",

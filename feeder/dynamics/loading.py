@@ -97,8 +97,7 @@ class ControlledRun:
 
     Attributes:
         t: Times [s], (M,). cycle_samples: N, the samples that are the cycle's.
-        q, v, a: [φ1, r2, φ3, φ4], their rates and accelerations, (M, 4). reference: The
-            reference's q, (M, 4).
+        q, v: [φ1, r2, φ3, φ4] and their rates, (M, 4). reference: The reference's q, (M, 4).
         applied: The drives' forces [piston N, forearm N·m], (M, 2).
         command: The commanded forces before the limits [N, N·m], (M, 2).
         saturated: Where the command passes a limit, bool (M, 2).
@@ -118,7 +117,6 @@ class ControlledRun:
     cycle_samples: int
     q: np.ndarray
     v: np.ndarray
-    a: np.ndarray
     reference: np.ndarray
     applied: np.ndarray
     command: np.ndarray
@@ -263,7 +261,7 @@ def controlled_cycle(
     )  # fmt: skip
     q0, v0 = dyn.to_pinocchio(k.q[0]), dyn.to_pinocchio(k.v[0])
     x0 = None
-    times, qs, vs, accelerations, applied, commands, residuals = [], [], [], [], [], [], []
+    times, qs, vs, applied, commands, residuals = [], [], [], [], [], []
     for t, q, v, a, u, flag, grip in segments:
         if grip:  # the loads' left limit at the grip: extrapolated from the piece (quartic)
             u = u.copy()
@@ -275,22 +273,24 @@ def controlled_cycle(
             t, q[:, [1, 3]], v[:, [1, 3]], a[:, [1, 3]], u, actuated, kp[flag], kd[flag], low,
             high, gains.actuator_hz, x0,
         )  # fmt: skip
-        run = simulate(dyn.cases[flag].dynamics, t, q0, v0, servo, rtol=rtol, atol=atol)
+        run = simulate(
+            dyn.cases[flag].dynamics, t, q0, v0, servo, rtol=rtol, atol=atol, loads=False
+        )
         q0, v0 = run.q[-1], run.v[-1]
         if servo.n_states:
             x0 = run.controller[-1]
         force = run.actuation
         command = servo.command(t, run.q, run.v)
         for store, value in zip(
-            (times, qs, vs, accelerations, applied, commands, residuals),
-            (t, run.q, run.v, run.a, force, command, run.residual),
+            (times, qs, vs, applied, commands, residuals),
+            (t, run.q, run.v, force, command, run.residual),
             strict=True,
         ):
             if store:  # the boundary sample belongs to the piece it starts
                 store[-1] = store[-1][:-1]
             store.append(value)
     t = np.concatenate(times)
-    q, v, a = (dyn.to_paper(np.concatenate(x)) for x in (qs, vs, accelerations))
+    q, v = (dyn.to_paper(np.concatenate(x)) for x in (qs, vs))
     applied, command = np.concatenate(applied), np.concatenate(commands)
     reference = np.concatenate([k.q, np.tile(k.q[-1], (hold_t.size - 1, 1))])
     position, _, axis, _ = payload_kinematics(dyn.feeder, q, v)
@@ -307,7 +307,6 @@ def controlled_cycle(
         cycle_samples=k.t.size,
         q=q,
         v=v,
-        a=a,
         reference=reference,
         applied=applied,
         command=command,

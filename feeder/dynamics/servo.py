@@ -48,6 +48,7 @@ import numpy as np
 
 from ..device.parameters import FeederParameters
 from ..exceptions import InputError
+from ..hermite import quintic_hermite
 from ..validation import check_number
 from .drives import piston_areas
 
@@ -124,12 +125,10 @@ class ServoGains:
 def _channels(t: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray, u: np.ndarray):
     """One piecewise polynomial of the 6 channels (q_ref (2), q̇_ref (2), u_ff (2)) over the
     samples ``t`` (n,) of one smooth piece: q_ref the quintic Hermite interpolant of q, q̇, q̈
-    (:func:`feeder.chain.quintic_hermite`, the one the engine's prescribed motions use; error
+    (:func:`feeder.hermite.quintic_hermite`, the one the engine's prescribed motions use; error
     O(h⁶) in q, O(h⁵) in q̇), q̇_ref its derivative, u_ff the not-a-knot cubic spline of the sampled
     loads (O(h⁴)). One evaluation per call gives them all."""
     from scipy.interpolate import CubicSpline, PPoly  # here: a cycle without this run skips it
-
-    from ..chain import quintic_hermite
 
     position = PPoly.from_bernstein_basis(quintic_hermite(t, q, v, a))
     rate = position.derivative()

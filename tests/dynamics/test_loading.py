@@ -13,6 +13,8 @@ import pytest
 
 import feeder
 from feeder.chain import BaseMotion, Terrain
+from feeder.chain.dynamics.forward_equations import ForwardEquations
+from feeder.chain.dynamics.projection import project
 from feeder.device.parameters import VEHICLE_FORWARD
 from feeder.dynamics.cycle import FORWARD_TOLERANCE, cycle_dynamics
 from feeder.dynamics.loading import (
@@ -135,22 +137,34 @@ def test_moving_base_accelerations_satisfy_mujocos_equations(feeder, terrain_run
     """At the run's gripped samples (every 25th), MuJoCo's M q̈ + b − Jᵀλ on the hull's six
     joints (tests/chain/dynamics/test_base_mujoco.py's converter, the hull driven by the same
     terrain) needs exactly the forces the servo applied: the engine's moving base, closure and
-    the controller's forces agree with an independent engine at the run's own accelerations."""
+    the controller's forces agree with an independent engine at the accelerations the engine's
+    equations give under those forces (the run keeps its motion alone: loads=False)."""
     from ..chain.dynamics.test_base_mujoco import BRACKET, mujoco_loads
 
     pytest.importorskip("mujoco")
     run = terrain_run
     keep = np.flatnonzero(run.t >= 1.0)[::25]
+    base = BaseMotion((Terrain(),), VEHICLE_FORWARD)
+    gripped = FeederDynamics(feeder, base).cases[1].dynamics
+    t = run.t[keep]
+    q, v = (feeder.to_pinocchio(x[keep]) for x in (run.q, run.v))
+    # the samples as integrated close the loop to the drift tolerance (1e-10); the converter
+    # checks its loop equations at round-off: compared on the nearest closed states
+    closed = np.array([project(gripped.chain, y) for y in np.hstack([q, v])])
+    q, v = closed[:, : q.shape[1]], closed[:, q.shape[1] :]
+    a = np.array(
+        [
+            ForwardEquations(gripped, lambda *_, u=u: u, 0.0).sample_accelerations(*sample)
+            for sample, u in zip(zip(t, q, v, strict=True), run.applied[keep], strict=True)
+        ]
+    )
     model = pin.Model(feeder.chain.model)
     model.inertias[0] = BRACKET  # MuJoCo refuses a massless moving body; the drives' loads
     chain = feeder.chain.__class__(model, feeder.chain.closures)  # do not depend on it
-    base = BaseMotion((Terrain(),), VEHICLE_FORWARD)
-    t = run.t[keep]
-    q, v, a = (feeder.to_pinocchio(x[keep]) for x in (run.q, run.v, run.a))
     ref = mujoco_loads(chain, base, t, q, v, a)
     scale = np.abs(run.applied[keep]).max(axis=0)
     # both engines solve the same rigid-body equations at the same (q, q̇, q̈): round-off of
-    # the loads (the MuJoCo test's 1e-9), the run's own a having been evaluated at its samples
+    # the loads (the MuJoCo test's 1e-9)
     error = np.abs(ref.actuators - run.applied[keep]).max(axis=0) / scale
     assert np.all(error <= 1e-9), error
     assert run.loading_pose().off_line > POSITION_TOLERANCE  # the hull matters at 5 Hz

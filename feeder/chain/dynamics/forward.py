@@ -43,18 +43,10 @@ The work of the non-conservative forces (drives, dampers, pushes, pressures, loa
 integrated with the state, so the energy balance E(t) − E(t₀) = W(t) checks the run to the
 integrator's tolerance.
 
-Results: every output sample whose loops are open by more than ``drift_tolerance`` (positions,
-or velocities per second; the integrator's dense output between step ends), or whose quaternions
-are off unit length, or where Baumgarte's corrector pulled the run's accelerations by more than
-a tenth of what the inverse dynamics of the samples accept (:func:`_closed`), is projected onto
-the constraints (the drift before the projection is reported), and every sample in a step near
-a singular position (where a velocity off the branch hides from these tests:
-:data:`~feeder.chain.dynamics.singular.NEAR`); a sample kept as integrated has its unit circles
-and quaternions normalised. Their accelerations, the closed chain's own without the corrector
-(:meth:`~.forward_equations.ForwardEquations.sample_accelerations`), are evaluated, and the
-inverse dynamics of the sampled motion give the
-closure forces, the drive loads (equal to the applied ones: a check), every joint's reaction and
-every force element's force, like the tables of ``feeder analyze``.
+Results: the output samples (:mod:`~feeder.chain.dynamics.forward_samples`): each sample's
+state, projected where the run left its loops open, its accelerations, the loads of the sampled
+motion and the energies; or, for a run asked for its motion alone (``loads=False``), the states
+and the actuation only.
 """
 
 from __future__ import annotations
@@ -66,7 +58,7 @@ from collections.abc import Callable
 import numpy as np
 import pinocchio as pin
 
-from ...exceptions import FeederWarning, InputError, SingularPoseError, UnreachablePoseError
+from ...exceptions import FeederWarning, InputError, UnreachablePoseError
 from ...validation import check_finite, check_number
 from ..blas import one_blas_thread
 from . import budget
@@ -74,7 +66,6 @@ from .budget import (
     Progress,
     check_sample_count,
     check_step_count,
-    sample_progress,
     step_cap_message,
 )
 from .forward_base import stage_times
@@ -87,10 +78,11 @@ from .forward_equations import (
     IntegrationError,
 )
 from .forward_run import ForwardRun
-from .inverse import CLOSURE_TOLERANCE, ChainDynamics, check_dynamics, inverse_dynamics
+from .forward_samples import results
+from .inverse import ChainDynamics, check_dynamics
 from .loads_solve import MAX_FORCE_GAIN, load_gain, load_rank
 from .projection import project
-from .singular import MODES, RankWatch, coast, determinate_loads
+from .singular import MODES, RankWatch, coast
 from .stiffness import StiffnessTest, step_advice, stiff_warning
 
 MAX_BAUMGARTE_RATE = 1e6
@@ -144,6 +136,7 @@ def simulate(
     max_step: float = np.inf,
     progress: bool = False,
     singular: str | None = None,
+    loads: bool = True,
 ) -> ForwardRun:
     """Run the closed chain forward from (q0, v0), results at the times ``t``.
 
@@ -177,6 +170,9 @@ def simulate(
             indeterminate there), or ``"stop"`` there (an :class:`IntegrationError` naming the
             time; the module docstring). Default: pass for a passive run (no actuation, or no
             actuated joint), stop for a driven one.
+        loads: Compute the samples' accelerations, the loads of the sampled motion and the
+            energies (:mod:`~feeder.chain.dynamics.forward_samples`); False: the motion alone,
+            the run's ``a``, ``loads``, ``energy`` and ``kinetic`` None (a controller's study).
 
     Raises:
         InputError: Bad dynamics, times, state, actuation or settings, more output times than
@@ -202,6 +198,8 @@ def simulate(
         singular = "pass" if actuation is None or not dyn.columns else "stop"
     if singular not in MODES:
         raise InputError(f"singular must be one of {list(MODES)}, got {singular!r}")
+    if not isinstance(loads, bool):
+        raise InputError(f"loads must be True or False, got {loads!r}")
     _check_settings(rtol, atol, rate, drift_tolerance, max_step)
     check_step_count(float(t[-1] - t[0]), max_step)
     gap = float(np.abs(chain.residual(q)).max(initial=0.0))
@@ -228,7 +226,9 @@ def simulate(
         )
     if watch is not None:
         watch.finish()
-    return _results(equations, t, states, steps, projections, progress, watch, drift_tolerance)
+    return results(
+        equations, t, states, steps, projections, progress, watch, drift_tolerance, loads
+    )
 
 
 def _controller_start(
@@ -398,133 +398,4 @@ def _singular(
         f"the mechanism {where}: the condition number of the equations of its loads passes "
         f"{MAX_FORCE_GAIN:g} there, the limit of their solve (the closure forces and drive "
         f"loads grow without bound near it); {remedy}"
-    )
-
-
-def _closed(equations, y: np.ndarray, a: np.ndarray, residual: float, tolerance: float) -> bool:
-    """Whether the state y, with accelerations a (nv,) and loop residual ``residual`` [m, rad],
-    needs no projection (:func:`_results`): its loops closed to ``tolerance`` (the run's
-    ``drift_tolerance``; velocities per second, relative to the largest rate beyond 1), its
-    quaternions of unit length, and the pull that Baumgarte's corrector put on the run's
-    accelerations there (at most ω² r + 2ω |J q̇|) a tenth of what the inverse dynamics of the
-    samples accept (:data:`~feeder.chain.dynamics.inverse.CLOSURE_TOLERANCE` of the motion's
-    scale): the sample is then the motion through it to the loads' accuracy."""
-    model = equations.model
-    q, v = y[: model.nq], y[model.nq : model.nq + model.nv]
-    if residual > tolerance or not pin.isNormalized(model, q, tolerance):
-        return False
-    opening = float(np.abs(equations.dyn.chain.jacobian(q) @ v).max(initial=0.0))
-    speed = float(np.abs(v).max(initial=0.0))
-    if opening > tolerance * max(1.0, speed):
-        return False
-    baumgarte = equations.constraints[0].m_baumgarte_parameters if equations.constraints else None
-    pull = (
-        0.0
-        if baumgarte is None
-        else float(baumgarte.Kp) * residual + float(baumgarte.Kd) * opening
-    )
-    scale = max(1.0, speed**2, float(np.abs(a).max(initial=0.0)))
-    return pull <= 0.1 * CLOSURE_TOLERANCE * scale
-
-
-def _normalized(equations, y: np.ndarray) -> np.ndarray:
-    """The state y with its unit circles and quaternions normalised (a kept sample: its
-    accelerations are those of the nearest unit ones, as the run's right-hand side takes them,
-    whose loops Baumgarte's corrector keeps closed); y itself when q has none."""
-    if equations.rate is None:
-        return y
-    out = y.copy()
-    out[: equations.nq] = pin.normalize(equations.model, y[: equations.nq])
-    return out
-
-
-def _results(
-    equations, t, states, steps, projections, progress: bool, watch, drift_tolerance: float
-) -> ForwardRun:
-    """The run's tables from the states at the output times (module docstring); ``progress``:
-    show the samples' progress line (:func:`~feeder.chain.dynamics.budget.sample_progress`);
-    ``watch``: the singular instants passed (:func:`_integrate`); ``drift_tolerance``: the
-    closure residual [m, rad] above which a sample is projected."""
-    dyn, model = equations.dyn, equations.model
-    chain = dyn.chain
-    nq, nv = model.nq, model.nv
-    residual = np.empty(t.size)
-    projected = np.empty_like(states)
-    a = np.empty((t.size, nv))
-    if equations.moving is not None:  # the base's motion at every sample in one pass
-        equations.moving.prepare(t)
-    # near a singular position the test does not see a velocity off the branch: projected
-    near = np.zeros(t.size, dtype=bool) if watch is None else watch.near_samples(t)
-
-    def accelerations(k: int, y: np.ndarray) -> np.ndarray:  # of the sample k at the state y
-        return equations.sample_accelerations(t[k], y[:nq], y[nq : nq + nv], equations.states(y))
-
-    with sample_progress(t.size, progress) as line:
-        for k, y in enumerate(states):
-            residual[k] = np.abs(chain.residual(y[:nq])).max(initial=0.0)
-            kept = None if near[k] else _normalized(equations, y)
-            if kept is not None:
-                a[k] = accelerations(k, kept)
-                # the corrector acted on the nearest unit circles where the run normalised them
-                closure = residual[k]
-                if equations.normalize:
-                    closure = np.abs(chain.residual(kept[:nq])).max(initial=0.0)
-                if not _closed(equations, y, a[k], closure, drift_tolerance):
-                    kept = None
-            if kept is None:
-                kept = project(chain, y)
-                a[k] = accelerations(k, kept)
-            projected[k] = kept
-            line.update()
-    q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
-    held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
-    u = np.zeros((t.size, len(dyn.columns)))
-    if equations.actuation is not None:
-        samples = zip(t, q, v, held, strict=True)
-        u[:] = [equations.drive(*sample)[0] for sample in samples]
-    indeterminate = np.zeros(t.size, dtype=bool)
-    try:
-        if watch is not None and watch.passes:
-            loads, indeterminate = determinate_loads(dyn, t, q, v, a, watch.passes)
-        else:
-            loads = inverse_dynamics(dyn, q, v, a, t=t)
-    except SingularPoseError as exc:
-        if watch is not None:  # a singular pose of the loads alone: flag every such sample
-            loads, indeterminate = determinate_loads(dyn, t, q, v, a, None)
-        elif exc.sample is None:
-            raise IntegrationError(f"the run's loads cannot be computed: {exc}") from exc
-        else:
-            raise IntegrationError(
-                f"the run's loads cannot be computed at t = {t[exc.sample]:.6g} s: {exc}; end "
-                f"the run before t = {t[exc.sample]:.6g} s"
-            ) from exc
-    except InputError as exc:
-        raise IntegrationError(f"the run's samples are not a consistent motion: {exc}") from exc
-    data, elastic = equations.data, np.array([dyn.elements.energy(x) for x in q])
-    if equations.moving is None:
-        pairs = zip(q, v, strict=True)
-        kinetic = np.array([pin.computeKineticEnergy(model, data, x, y) for x, y in pairs])
-        pairs = zip(q, elastic, strict=True)
-        potential = np.array([pin.computePotentialEnergy(model, data, x) + e for x, e in pairs])
-    else:  # the absolute motion's (forward_base)
-        kinetic, potential = equations.moving.energies(t, q, v)
-        potential = potential + elastic
-    return ForwardRun(
-        t=t,
-        q=q,
-        v=v,
-        a=a,
-        loads=loads,
-        residual=residual,
-        energy=kinetic + potential,
-        kinetic=kinetic,
-        work=work,
-        steps=steps,
-        evaluations=equations.count,
-        projections=projections,
-        singular=() if watch is None else tuple(watch.passes),
-        indeterminate=indeterminate,
-        controller=held,
-        actuation=u,
-        base_work=None if equations.moving is None else projected[:, -1],
     )

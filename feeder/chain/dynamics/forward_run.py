@@ -26,6 +26,8 @@ class ForwardRun:
         v: Velocities, (N, nv). a: Accelerations, (N, nv).
         loads: The inverse dynamics of the sampled motion: the drive loads (the applied ones),
             closure forces, every joint's reaction, every force element's force.
+            ``a``, ``loads``, ``energy`` and ``kinetic`` are None for a run asked for its
+            motion alone (``simulate(..., loads=False)``).
         residual: Closure residual [m, rad] of each sample before its projection, (N,): the drift.
         energy: Kinetic, gravitational and elastic energy [J], (N,).
         kinetic: Kinetic energy [J], (N,).
@@ -53,11 +55,11 @@ class ForwardRun:
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
-    a: np.ndarray
-    loads: ChainLoads
+    a: np.ndarray | None
+    loads: ChainLoads | None
     residual: np.ndarray
-    energy: np.ndarray
-    kinetic: np.ndarray
+    energy: np.ndarray | None
+    kinetic: np.ndarray | None
     work: np.ndarray
     steps: int
     evaluations: int
@@ -74,7 +76,15 @@ class ForwardRun:
 
     def balance(self) -> np.ndarray:
         """E(t) − E(t₀) − W(t) [J], (N,), less the base's work W_B(t) on a moving base: zero
-        for an exact run."""
+        for an exact run.
+
+        Raises:
+            InputError: A run asked for its motion alone (no energies).
+        """
+        if self.energy is None:
+            raise InputError(
+                "the run was asked for its motion alone (loads=False): it has no energies"
+            )
         balance = self.energy - self.energy[0] - self.work
         return balance if self.base_work is None else balance - self.base_work
 
@@ -86,6 +96,7 @@ class ForwardRun:
         """The energies [J] the run moves, against which its balance is measured: the largest
         kinetic energy, |work| and |change of the potential (gravitational and elastic)
         energy| over the run, and the round-off of the total energy (ε max |E|, the floor)."""
+        self.balance()  # refuses a run without energies
         potential = self.energy - self.kinetic
         return {
             "kinetic energy": float(self.kinetic.max()),

@@ -9,13 +9,13 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from ...hermite import quintic_hermite
 from ..assembly.newton import POSITION_TOLERANCE, newton
 from ..assembly.rank import rank_tolerance, truncated_inverse
 from ..kinematics.joints import ConfigurationRate
 from .forward_base import MovingBase
 from .forward_equations import IntegrationError
 from .free_freedoms import FreeFreedoms
-from .hermite import quintic_hermite
 from .idle import idle_basis, idle_rates
 from .inverse import ChainDynamics
 

@@ -126,6 +126,38 @@ def test_the_samples_keep_the_loops_closed_whether_projected_or_not(four_bar):
     assert run.drift() <= 1e-8  # the last run's samples, none projected, within that tolerance
 
 
+def test_a_run_for_its_motion_alone_is_the_same_motion_without_the_loads(four_bar):
+    """loads=False: the same integration (steps, evaluations), the same samples where neither
+    run projects them and within the drift tolerance where the full run projects one for its
+    loads; the actuation is the same function of them; no accelerations, loads or energies,
+    and the balance is refused rather than computed from nothing."""
+    chain, _, q0 = four_bar
+    dyn = ChainDynamics(chain, ["crank_joint"])
+    t = np.linspace(0.0, 1.0, 101)
+
+    def drive(time, q, v):
+        return np.array([0.02 * math.sin(3.0 * time) - 0.001 * v[0]])
+
+    full = simulate(dyn, t, q0, np.zeros(3), drive)
+    motion = simulate(dyn, t, q0, np.zeros(3), drive, loads=False)
+    assert (motion.steps, motion.evaluations) == (full.steps, full.evaluations)
+    np.testing.assert_array_equal(motion.residual, full.residual)  # the drift as integrated
+    # a sample the full run projects for its loads moves by at most its drift (~1e-10 m),
+    # its rates by the loops' opening in the dense output, the integrator's error (rtol 1e-8
+    # of the rates: up to 5e-9 of them measured)
+    speed = np.abs(full.v).max()
+    np.testing.assert_allclose(motion.q, full.q, rtol=0, atol=10 * full.drift())
+    np.testing.assert_allclose(motion.v, full.v, rtol=0, atol=1e-8 * speed)
+    # the drive's damping term moves with the rates: 0.001 N·m·s of those
+    np.testing.assert_allclose(motion.actuation, full.actuation, rtol=0, atol=1e-11 * speed)
+    assert motion.a is None and motion.loads is None and motion.energy is None
+    assert motion.kinetic is None
+    with pytest.raises(InputError, match="motion alone"):
+        motion.energy_error()
+    with pytest.raises(InputError, match="loads must be True or False"):
+        simulate(dyn, t, q0, np.zeros(3), drive, loads="no")
+
+
 def test_outputs_far_apart_are_still_integrated_finely(four_bar):
     """The step is the integrator's, never the output spacing: 1 s between outputs."""
     chain, _, q0 = four_bar

@@ -1,6 +1,8 @@
-"""The quintic Hermite interpolant of sampled motions: positions, rates and accelerations at the
-samples, C² between them (error O(h⁶) in the position, O(h⁵) in the rate, O(h⁴) in the
-acceleration for a smooth motion sampled every h).
+"""The quintic Hermite interpolant of sampled motions (a prescribed motion of the engine's hybrid
+runs, :mod:`feeder.chain.dynamics.hybrid_equations`; the device's servo reference,
+:mod:`feeder.dynamics.servo`): positions, rates and accelerations at the samples, C² between
+them (error O(h⁶) in the position, O(h⁵) in the rate, O(h⁴) in the acceleration for a smooth
+motion sampled every h).
 
 On each interval [t_k, t_k+1] of length h the interpolant is the quintic whose Bernstein
 coefficients are

@@ -1,4 +1,4 @@
-"""The quintic Hermite interpolant of sampled motions (feeder.chain.dynamics.hermite): exact for
+"""The quintic Hermite interpolant of sampled motions (feeder.hermite): exact for
 a quintic, sixth order on a smooth motion, and SciPy's BPoly.from_derivatives."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import BPoly
 
-from feeder.chain import quintic_hermite
+from feeder.hermite import quintic_hermite
 
 
 def _samples(h: float):
