@@ -62,6 +62,7 @@ from ..blas import one_blas_thread
 from ..kinematics.coordinates import length_rates, pose_text
 from .budget import MAX_STEPS, check_sample_count, step_cap_message
 from .forward import ATOL, DRIFT_TOLERANCE, METHODS, RTOL, SMALLEST_RTOL
+from .forward_base import stage_times
 from .forward_equations import BAUMGARTE_RATE, IntegrationError
 from .free_freedoms import FreeFreedoms, free_freedoms, rest_pose
 from .hybrid_equations import HybridEquations, Prescribed
@@ -278,6 +279,8 @@ def _integrate(equations: HybridEquations, t, y0, method, rtol, atol, drift_tole
     while k < t.size:
         if steps >= MAX_STEPS:
             raise IntegrationError(step_cap_message(solver.t, t[-1], ""))
+        if equations.moving is not None:  # the base's motion at the step's times in one pass
+            equations.moving.prepare(stage_times(solver))
         message = solver.step()
         steps += 1
         if solver.status == "failed":
