@@ -7,8 +7,13 @@ dynamics cycle of the same rate, both measured in this run (issue 31, goal ≤ 5
   terrain (``Terrain()``), the default gains, from the same cycle's kinematics and feedforward
   (the engine's forward run, stage by stage, and its hold of 0.5 s at the loading pose).
 
-Each is the best of ``--repeats`` calls. Run: ``.venv/bin/python benchmarks/bench_controlled.py
-[--rate HZ] [--elevation DEG] [--repeats N] [--json FILE]``.
+Each is the best of ``--repeats`` calls. Beside them, what a user waits for: the two as
+commands, ``feeder cycle --no-forward --no-figures`` standing against ``feeder cycle
+--base-motion terrain --forward controlled --no-figures`` (each a whole process: imports, the
+prescribed cycle's loads on the hull, the table), wall times interleaved, their medians.
+
+Run: ``.venv/bin/python benchmarks/bench_controlled.py [--rate HZ] [--elevation DEG]
+[--repeats N] [--json FILE]``.
 """
 
 from __future__ import annotations
@@ -16,6 +21,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +66,7 @@ def main() -> None:
     )
     run = controlled_cycle(dyn, standing.kinematics, feedforward, gains)
     ratio = controlled / reference
+    commands = _commands(args.rate, args.elevation, args.repeats)
     figures = {
         "rate_hz": args.rate,
         "elevation_deg": args.elevation,
@@ -64,14 +75,44 @@ def main() -> None:
         "ratio": ratio,
         "goal": GOAL,
         "samples": int(run.t.size),
+        "commands_wall_s": commands,
+        "commands_ratio": commands["controlled"] / commands["standing"],
     }
     print(
         f"standing inverse-dynamics cycle: {reference * 1e3:.1f} ms; controlled forward cycle "
         f"on terrain (+0.5 s hold, {run.t.size} samples): {controlled * 1e3:.0f} ms; ratio "
         f"{ratio:.1f} × (goal ≤ {GOAL:g} ×: {'met' if ratio <= GOAL else 'not met'})"
     )
+    print(
+        f"as commands (wall, medians): standing {commands['standing']:.2f} s, controlled on "
+        f"terrain {commands['controlled']:.2f} s; ratio "
+        f"{commands['controlled'] / commands['standing']:.1f} ×"
+    )
     if args.json is not None:
         args.json.write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
+
+
+def _commands(rate: float, elevation: float, repeats: int) -> dict[str, float]:
+    """Median wall times [s] of the standing and the controlled ``feeder cycle`` commands
+    (module docstring), run interleaved ``repeats`` times each."""
+    common = ["--elevation", f"{elevation:g}", "--rate", f"{rate:g}", "--no-figures"]
+    cases = {
+        "standing": [*common, "--no-forward"],
+        "controlled": [*common, "--base-motion", "terrain", "--forward", "controlled"],
+    }
+    walls: dict[str, list[float]] = {name: [] for name in cases}
+    with tempfile.TemporaryDirectory() as folder:
+        for k in range(repeats):
+            for name, options in cases.items():
+                out = Path(folder) / f"{name}{k}"
+                start = time.perf_counter()
+                subprocess.run(
+                    [sys.executable, "-m", "feeder", "cycle", *options, "--out", str(out)],
+                    check=True,
+                    stdout=subprocess.DEVNULL,
+                )
+                walls[name].append(time.perf_counter() - start)
+    return {name: statistics.median(times) for name, times in walls.items()}
 
 
 if __name__ == "__main__":
