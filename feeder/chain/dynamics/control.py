@@ -1,4 +1,5 @@
-"""Actuated joints under control: a computed-torque controller for forward runs.
+"""Joints under control, driven by their actuators or by force elements' pushes: a
+computed-torque controller for forward runs.
 
 The law (the computed-torque law: proportional–derivative feedback with the inverse dynamics of
 the reference as feedforward). At the time t and state (q, q̇) each controlled joint j is
@@ -29,10 +30,28 @@ controller (:class:`~.forward_equations.Controller`): Ḟ = (command − F) / T,
 limit ±r [N/s or N·m/s] (flagged when it is); F starts at the command of the first instant.
 A lag, and a saturation, break the exact error equation: with a lag the one-joint loop is of
 third order, T s³ + s² + K_d s + K_p = 0 on a joint of constant inertia.
+
+A force element's push. A spec with an ``element`` (a :class:`~feeder.chain.model.forces.Spring`
+or :class:`~feeder.chain.model.forces.Cylinder` of the chain) tracks its joint's reference with
+the element's push P [N] (extending) instead of the joint's actuator: the joint need not be
+actuated (it must not be: one drive per joint), and the element must move it. The push enters
+the run's τ as P g_e(q), g_e = dℓ/dq the element's generalized force per newton
+(:meth:`~.elements.BoundElements.unit_pushes`), so the accelerations stay affine in the drives
+and pushes together, τ = S u_joints + Σ_e g_e(q) P_e, and G's column of a push is the response
+to g_e: the law, the limits (in N, N/s) and the lag are those of a drive. The element's push law
+is the controller's: one with a push or pressure of its own (not the constant 0) is refused,
+rather than silently replaced; its spring and damper act as before. A cylinder's push
+P = p_cap A_cap − p_rod A_ann is reported as the chamber pressures that give it: p_cap = P/A_cap
+for P ≥ 0, p_rod = −P/A_ann for P < 0, the other chamber at zero gauge [Pa]. The run's loads are
+those of the pushes applied (:meth:`ComputedTorque.applied`). A push that cannot accelerate the
+joints it controls (a line across the joint's motion, both ends on the ground) makes G singular:
+refused at the start, stopped in the run (:data:`RANK_TOLERANCE`).
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -43,9 +62,18 @@ from ...exceptions import InputError
 from ...validation import did_you_mean
 from ..kinematics.joints import kind_of
 from ..model.control import ControlSpec
+from ..model.forces import Cylinder, Spring, Table
+from .elements import BoundElements, LineElement
 from .forward_equations import BAUMGARTE_RATE, PROXIMAL, ForwardEquations, IntegrationError
 from .hybrid_equations import Prescribed
 from .inverse import ChainDynamics, check_dynamics
+
+RANK_TOLERANCE = 1e-8
+"""G_cc is taken as singular when its smallest singular value, each column divided by the norm
+of its drive's whole response q̈ (nv,), is below this: the share of a drive's effect that reaches
+the controlled joints. The proximal solver's regularisation (μ = 1e-10) and round-off leave
+responses of ~1e-10 and less relative to the column where a drive cannot act on a joint; a drive
+that acts reaches it by far more than 1e-8."""
 
 
 @dataclass(frozen=True)
@@ -56,6 +84,7 @@ class ControlRecord:
     Attributes:
         joints: The controlled joints.
         units: Each one's unit of position: "rad" or "m".
+        elements: The force element pushing each one (None: its own actuator).
         t: Times [s], (N,).
         reference, reference_rate: q_ref [rad or m] and q̇_ref, (N, n).
         error, error_rate: e = q_ref − q and ė, (N, n) (a continuous joint's e wrapped).
@@ -66,6 +95,8 @@ class ControlRecord:
         rate_limited: A lagged actuator's force rate at its limit (bool, (N, n)).
         pressure: Joint → the acting force / the piston area [Pa] (N,), for the joints with
             an area (hydraulic cylinders).
+        chambers: Joint → the cap and rod chambers' pressures [Pa] ((N,), (N,)) that give the
+            acting push, for the joints a Cylinder element drives (module docstring).
     """
 
     joints: tuple[str, ...]
@@ -81,6 +112,8 @@ class ControlRecord:
     saturated: np.ndarray
     rate_limited: np.ndarray
     pressure: dict[str, np.ndarray]
+    elements: tuple[str | None, ...] = ()
+    chambers: dict[str, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
 
     def peak_error(self) -> np.ndarray:
         """Largest |e| per joint [rad or m], (n,)."""
@@ -97,18 +130,21 @@ class ControlRecord:
         return np.trapezoid(self.saturated.astype(float), self.t, axis=0)
 
     def lines(self) -> list[str]:
-        """The summary's lines: per joint the peak and RMS error, the time saturated, the time
-        rate-limited and the peak pressure."""
+        """The summary's lines: per joint (and the element pushing it) the peak and RMS error,
+        the time saturated, the time rate-limited and the peak pressures."""
         span = self.t[-1] - self.t[0]
         lines = []
         saturated_time = self.time_saturated()
         rows = zip(self.joints, self.units, self.peak_error(), self.rms_error(), saturated_time,
                    strict=True)  # fmt: skip
+        elements = self.elements or (None,) * len(self.joints)
         for j, (joint, unit, peak, rms, saturated) in enumerate(rows):
             flags = self.saturated[:, j]
+            pushed = "" if elements[j] is None else f" by the push of {elements[j]!r}"
             text = (
-                f"  control of {joint!r}: peak error {peak:.3g} {unit}, RMS error {rms:.3g} "
-                f"{unit}; saturated {saturated:.4g} s ({saturated / span:.1%} of the run)"
+                f"  control of {joint!r}{pushed}: peak error {peak:.3g} {unit}, RMS error "
+                f"{rms:.3g} {unit}; saturated {saturated:.4g} s ({saturated / span:.1%} of the "
+                "run)"
             )
             if flags.any():
                 times = self.t[flags]
@@ -117,6 +153,9 @@ class ControlRecord:
                 text += f"; rate-limited at {int(self.rate_limited[:, j].sum())} samples"
             if joint in self.pressure:
                 text += f"; peak pressure {np.abs(self.pressure[joint]).max() / 1e6:.4g} MPa"
+            if joint in self.chambers:
+                cap, rod = (pressure.max() / 1e6 for pressure in self.chambers[joint])
+                text += f"; peak cap pressure {cap:.4g} MPa, peak rod pressure {rod:.4g} MPa"
             lines.append(text)
         return lines
 
@@ -126,17 +165,24 @@ class ComputedTorque:
     :class:`~.forward_equations.Controller` for :func:`~.forward.simulate`.
 
     Args:
-        dyn: The chain's dynamics (its actuated joints receive the drives).
-        specs: The controlled joints (actuated, each once).
+        dyn: The chain's dynamics (its actuated joints receive the drives, its spring and
+            cylinder elements named by the specs the pushes).
+        specs: The controlled joints (each once): actuated ones driven themselves, others by
+            the push of a force element (:attr:`ControlSpec.element`, each element once).
         rate: The Baumgarte rate ω [1/s] of the run's equations (:func:`~.forward.simulate`'s
             ``rate``): G and q̈(0) are those of the run.
 
     Attributes:
         n_states: One per lagged joint (its acting force [N or N·m]).
+        pushes: The force elements it pushes (the Controller's optional attribute): its u is
+            the actuated joints' drives, then these pushes [N].
 
     Raises:
         InputError: No spec, a joint that is not actuated (with the nearest) or controlled
-            twice, a piston area on a joint that is not prismatic.
+            twice, a piston area on a joint that is not prismatic; for an element: an unknown one
+            (with the nearest), one that is not a spring or a cylinder, has a push or pressure
+            law of its own, or is pushed for two joints, a joint that is unknown, not of one
+            coordinate or actuated (then its table drives the joint itself), an area.
     """
 
     def __init__(
@@ -147,28 +193,29 @@ class ComputedTorque:
         if not specs or not all(isinstance(spec, ControlSpec) for spec in specs):
             raise InputError(f"specs must be one ControlSpec or more, got {specs!r}")
         model = dyn.chain.model
-        channels = []
+        self.n_actuated = len(dyn.actuated)
+        lines: list[LineElement] = []
+        channels, columns = [], []
         for spec in specs:
-            if spec.joint not in dyn.actuated:
-                raise InputError(
-                    f"{spec.where}: joint {spec.joint!r} is not actuated; "
-                    f"{did_you_mean(spec.joint, dyn.actuated)}the actuated joints are "
-                    f"{list(dyn.actuated)}"
-                )
-            if dyn.actuated.index(spec.joint) in channels:
+            if spec.element is None:
+                columns.append(_driven_joint(dyn, spec))
+                channels.append(dyn.actuated.index(spec.joint))
+            else:
+                columns.append(_pushed_joint(dyn, spec))
+                line = _pushed_element(dyn, spec, lines)
+                channels.append(self.n_actuated + len(lines))
+                lines.append(line)
+            if spec.joint in [other.joint for other in specs[: len(channels) - 1]]:
                 raise InputError(f"{spec.where}: joint {spec.joint!r} is controlled twice")
-            channels.append(dyn.actuated.index(spec.joint))
-            joint = model.joints[model.getJointId(spec.joint)]
-            if spec.area is not None and kind_of(joint) != "prismatic":
-                raise InputError(
-                    f"{spec.where}: a piston area is for a prismatic joint (a cylinder); "
-                    f"{spec.joint!r} is {kind_of(joint)}"
-                )
         self.dyn, self.specs, self.joints = dyn, specs, tuple(spec.joint for spec in specs)
+        self.elements = tuple(spec.element for spec in specs)
+        self.lines = tuple(lines)
+        self.pushes = tuple(line.name for line in lines)
         kinds = [kind_of(model.joints[model.getJointId(joint)]) for joint in self.joints]
         self.units = tuple("m" if kind == "prismatic" else "rad" for kind in kinds)
         self.channels = np.array(channels, dtype=int)
-        self.columns = np.array(dyn.columns, dtype=int)[self.channels]
+        self.columns = np.array(columns, dtype=int)
+        """The controlled joints' velocity columns (n,)."""
         joints = [model.joints[model.getJointId(spec.joint)] for spec in specs]
         self.coordinates = np.array([joint.idx_q for joint in joints], dtype=int)
         self.turning = np.array([joint.nq == 2 for joint in joints])  # continuous: (cos, sin)
@@ -179,7 +226,6 @@ class ComputedTorque:
         self.lagged = self.lag > 0.0
         self.rate_limit = np.array([spec.rate_limit for spec in specs])[self.lagged]
         self.n_states = int(self.lagged.sum())
-        self.n_actuated = len(dyn.actuated)
         self.equations = ForwardEquations(dyn, None, rate)
 
     def check_covers(self, t0: float, t1: float) -> None:
@@ -209,29 +255,51 @@ class ComputedTorque:
         gap = np.where(self.turning, np.mod(gap + np.pi, 2.0 * np.pi) - np.pi, gap)
         return gap, rate - v[self.columns]
 
+    def inputs(self, q: np.ndarray, t: float) -> np.ndarray:
+        """The generalized forces (nv, n) of a unit drive of each spec at q: 1 N or N·m on an
+        actuated joint's coordinate, or the element's g_e = dℓ/dq for a unit push (1 N);
+        t [s] for the messages."""
+        out = np.zeros((self.dyn.chain.model.nv, len(self.specs)))
+        pushed = self.channels >= self.n_actuated
+        joints = np.flatnonzero(~pushed)
+        out[self.columns[joints], joints] = 1.0
+        if self.lines:
+            out[:, pushed] = self.dyn.elements.unit_pushes(self.lines, q, t)
+        return out
+
     def demand(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """The law's drives (n,) [N or N·m] at time t [s] and state (q, v), before the limits
-        (module docstring)."""
+        """The law's drives and pushes (n,) [N or N·m] at time t [s] and state (q, v), before
+        the limits (module docstring).
+
+        Raises:
+            IntegrationError: The drives cannot accelerate the controlled joints independently
+                (G_cc singular, :data:`RANK_TOLERANCE`).
+        """
         reference = self.reference(t)
         error, error_rate = self.errors(reference, q, v)
         acceleration = reference[2]
         gains = np.array([(spec.kp, spec.kd) for spec in self.specs])
         target = acceleration + gains[:, 1] * error_rate + gains[:, 0] * error
         free = self.equations.accelerations(t, q, v)[0]  # the drives at 0: what else acts
-        tau = np.zeros(v.size)
-        zero = self._accelerations(q, v, tau)
+        zero = self._accelerations(q, v, np.zeros(v.size))
+        inputs = self.inputs(q, t)
         response = np.empty((self.columns.size, self.columns.size))
-        for k, column in enumerate(self.columns):
-            tau[column] = 1.0  # a unit drive [N or N·m]: G's column, the map being affine
-            response[:, k] = (self._accelerations(q, v, tau) - zero)[self.columns]
-            tau[column] = 0.0
-        try:
-            return np.linalg.solve(response, target - free[self.columns])
-        except np.linalg.LinAlgError:
+        reach = np.empty(self.columns.size)
+        for k in range(self.columns.size):  # a unit drive: G's column, the map being affine
+            whole = self._accelerations(q, v, inputs[:, k]) - zero
+            response[:, k], reach[k] = whole[self.columns], np.linalg.norm(whole)
+        shares = response / np.where(reach > 0.0, reach, 1.0)
+        if np.linalg.svd(shares, compute_uv=False).min() < RANK_TOLERANCE:
+            drives = [
+                joint if element is None else f"the push of {element!r}"
+                for joint, element in zip(self.joints, self.elements, strict=True)
+            ]
             raise IntegrationError(
                 f"at t = {t:.6g} s the controlled joints {list(self.joints)} cannot be "
-                "accelerated independently (a singular pose of the actuation)"
-            ) from None
+                f"accelerated independently by {drives} (a singular pose of the actuation, or a "
+                "force element whose push cannot move its joint)"
+            )
+        return np.linalg.solve(response, target - free[self.columns])
 
     def _accelerations(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """q̈ (nv,) of the chain's constrained equations under the generalized forces tau alone
@@ -240,8 +308,17 @@ class ComputedTorque:
         return pin.constraintDynamics(e.model, e.data, q, v, tau, e.constraints, e.datas, PROXIMAL)
 
     def start(self, t0: float, q0: np.ndarray, v0: np.ndarray) -> np.ndarray:
-        """The lagged actuators' forces at t0 [s] (n_states,): their commands there."""
-        command = np.clip(self.demand(t0, q0, v0), self.low, self.high)
+        """The lagged actuators' forces at t0 [s] (n_states,): their commands there.
+
+        Raises:
+            InputError: The drives cannot accelerate the controlled joints at the start (an
+                element that cannot move its joint: :meth:`demand`).
+        """
+        try:
+            demand = self.demand(t0, q0, v0)
+        except IntegrationError as exc:
+            raise InputError(f"at the start of the run: {exc}") from None
+        command = np.clip(demand, self.low, self.high)
         return command[self.lagged]
 
     def _act(self, command: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, ...]:
@@ -257,12 +334,35 @@ class ComputedTorque:
         self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """The actuated joints' drives (n_actuated,) [N or N·m] (0 for those not controlled)
-        and the states' rates (n_states,) [N/s or N·m/s] at time t [s], state (q, v, x)."""
+        then the pushes [N] of :attr:`pushes`, and the states' rates (n_states,) [N/s or
+        N·m/s] at time t [s], state (q, v, x)."""
         command = np.clip(self.demand(t, q, v), self.low, self.high)
         force, rate, _ = self._act(command, x)
-        u = np.zeros(self.n_actuated)
+        u = np.zeros(self.n_actuated + len(self.lines))
         u[self.channels] = force
         return u, rate
+
+    def applied(
+        self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray | None = None
+    ) -> ChainDynamics:
+        """The chain's dynamics for a run's loads at its samples t (N,), q (N, nq), v (N, nv),
+        states x (N, n_states) (None without states): a copy whose pushed elements carry, as a
+        :class:`~feeder.chain.model.forces.Table` over t, the pushes the controller applied
+        there (a cylinder as the chamber pressures of the module docstring), so the loads,
+        evaluated at those times, are those of the run; ``dyn`` itself without pushes."""
+        if not self.lines:
+            return self.dyn
+        x = np.zeros((t.size, 0)) if x is None else x
+        samples = zip(t, q, v, x, strict=True)
+        pushes = np.array([self(*sample)[0][self.n_actuated :] for sample in samples])
+        carried = dict(zip(self.pushes, pushes.T, strict=True))
+        elements = [
+            _carrying(element, t, carried[element.name]) if element.name in carried else element
+            for element in self.dyn.elements.elements
+        ]
+        out = copy.copy(self.dyn)
+        out.elements = BoundElements(self.dyn.chain, elements)
+        return out
 
     def record(
         self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray | None = None
@@ -288,6 +388,12 @@ class ComputedTorque:
             for j, spec in enumerate(self.specs)
             if spec.area is not None
         }
+        cylinders = {line.name: line.element for line in self.lines}
+        chambers = {
+            spec.joint: _chambers(cylinders[spec.element], force[:, j])
+            for j, spec in enumerate(self.specs)
+            if isinstance(cylinders.get(spec.element), Cylinder)
+        }
         return ControlRecord(
             joints=self.joints,
             units=self.units,
@@ -302,4 +408,93 @@ class ComputedTorque:
             saturated=(demand < self.low) | (demand > self.high),
             rate_limited=limited,
             pressure=pressure,
+            elements=self.elements,
+            chambers=chambers,
         )
+
+
+def _driven_joint(dyn: ChainDynamics, spec: ControlSpec) -> int:
+    """The velocity column of the actuated joint a spec drives itself, checked."""
+    if spec.joint not in dyn.actuated:
+        raise InputError(
+            f"{spec.where}: joint {spec.joint!r} is not actuated; "
+            f"{did_you_mean(spec.joint, dyn.actuated)}the actuated joints are "
+            f"{list(dyn.actuated)} (or name a force element that moves it: element = …)"
+        )
+    model = dyn.chain.model
+    joint = model.joints[model.getJointId(spec.joint)]
+    if spec.area is not None and kind_of(joint) != "prismatic":
+        raise InputError(
+            f"{spec.where}: a piston area is for a prismatic joint (a cylinder); "
+            f"{spec.joint!r} is {kind_of(joint)}"
+        )
+    return joint.idx_v
+
+
+def _pushed_joint(dyn: ChainDynamics, spec: ControlSpec) -> int:
+    """The velocity column of the joint a spec's element drives, checked: a joint of one
+    coordinate, not actuated."""
+    try:
+        (column,) = dyn.chain.coordinate_columns([spec.joint], "controlled")
+    except InputError as exc:
+        raise InputError(f"{spec.where}: {exc}") from None
+    if spec.joint in dyn.actuated:
+        raise InputError(
+            f"{spec.where}: joint {spec.joint!r} is actuated and element {spec.element!r} would "
+            "push it too: drop element to drive the joint itself, or leave the joint out of "
+            "the actuated joints to drive it by the element's push"
+        )
+    if spec.area is not None:
+        raise InputError(
+            f"{spec.where}: area is for a joint's own drive; the push of element "
+            f"{spec.element!r} is in N (a Cylinder's pressures follow from its bore and rod)"
+        )
+    return int(column)
+
+
+def _pushed_element(dyn: ChainDynamics, spec: ControlSpec, taken: list) -> LineElement:
+    """The bound spring or cylinder a spec's element names, checked: one of the chain's, with
+    no push law of its own, not pushed for another joint (``taken``)."""
+    elements = {element.name: element for element in dyn.elements.elements}
+    element = elements.get(spec.element)
+    if element is None:
+        raise InputError(
+            f"{spec.where}: no force element {spec.element!r}; "
+            f"{did_you_mean(spec.element, elements)}the elements are {list(elements)}"
+        )
+    if not isinstance(element, Spring | Cylinder):
+        raise InputError(
+            f"{spec.where}: element {spec.element!r} is a {type(element).__name__}; a controlled "
+            "element is a Spring or a Cylinder (a line whose push drives the joint)"
+        )
+    spring = isinstance(element, Spring)
+    laws = (element.force,) if spring else (element.pressure, element.rod_pressure)
+    if any(callable(law) or law != 0.0 for law in laws):
+        what = "force" if spring else "pressure, rod_pressure"
+        raise InputError(
+            f"{spec.where}: element {spec.element!r} has a push law of its own ({what}); under "
+            "control its push is the controller's: leave it at 0"
+        )
+    if any(line.name == element.name for line in taken):
+        raise InputError(f"{spec.where}: element {spec.element!r} is pushed for two joints")
+    return dyn.elements.line(element.name)
+
+
+def _chambers(cylinder: Cylinder, push: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cap and rod chambers' gauge pressures [Pa] (N,) each that give a cylinder's pushes
+    (N,) [N]: p_cap = P/A_cap where P ≥ 0, p_rod = −P/A_ann where P < 0, the other 0."""
+    return np.maximum(push, 0.0) / cylinder.cap_area, np.maximum(
+        -push, 0.0
+    ) / cylinder.annulus_area
+
+
+def _carrying(element: Spring | Cylinder, t: np.ndarray, push: np.ndarray) -> Spring | Cylinder:
+    """A copy of a pushed element whose push is the :class:`~feeder.chain.model.forces.Table`
+    of the pushes [N] (N,) at the times t [s] (N,): a cylinder's as its chamber pressures."""
+    source = f"the pushes the controller applied to {element.name!r}"
+    if isinstance(element, Spring):
+        return dataclasses.replace(element, force=Table(t, push, source))
+    cap, rod = _chambers(element, push)
+    return dataclasses.replace(
+        element, pressure=Table(t, cap, source), rod_pressure=Table(t, rod, source)
+    )

@@ -175,7 +175,14 @@ class LineElement(BoundElement):
         """T [N] at length ℓ [m], rate ℓ̇ [m/s] and push P [N] (floats or arrays alike)."""
         return self.stiffness * (length - self.rest_length) + self.damping * rate - push
 
-    def add_generalized(self, data, q, v, t, out):
+    def stretch(self, data: pin.Data, t: float) -> tuple[float, np.ndarray]:
+        """Its length ℓ [m] and g = dℓ/dq (nv,) [m/rad or m/m] — the generalized force of a
+        unit push, 1 N extending it — on ``data`` brought to q by ``computeJointJacobians``;
+        t [s] for the message.
+
+        Raises:
+            SingularPoseError: Its two frames coincide (no direction).
+        """
         model, ends = self.model, self.moving_ends
         gap = self.fixed_gap
         for frame, sign in ends:  # a sign is ±1: add or subtract, one array operation
@@ -184,10 +191,13 @@ class LineElement(BoundElement):
         length = math.sqrt(gap.dot(gap))
         if length < SHORTEST_LINE:
             raise SingularPoseError(f"{self.name}: its frames coincide at t = {t:.6g} s")
-        row = None  # dℓ/dq = uᵀ (J_b − J_a), (nv,)
+        row = np.zeros(model.nv)  # dℓ/dq = uᵀ (J_b − J_a); zero with both ends on the ground
         for frame, sign in ends:
-            term = (sign / length) * gap.dot(frame_jacobian(model, data, frame, WORLD)[:3])
-            row = term if row is None else row + term
+            row += (sign / length) * gap.dot(frame_jacobian(model, data, frame, WORLD)[:3])
+        return length, row
+
+    def add_generalized(self, data, q, v, t, out):
+        length, row = self.stretch(data, t)
         rate = row.dot(v)
         push = self.push(t)
         out -= self.tension(length, rate, push) * row
@@ -357,6 +367,22 @@ class BoundElements:
         for add in self.adders:
             power += add(data, q, v, t, out)
         return out, power
+
+    def line(self, name: str) -> LineElement | None:
+        """The bound line element (a spring or a cylinder) named ``name``, or None if there is
+        none of that name or kind."""
+        return next((b for b in self.bound if b.name == name and isinstance(b, LineElement)), None)
+
+    def unit_pushes(self, lines: Sequence[LineElement], q: np.ndarray, t: float) -> np.ndarray:
+        """The generalized forces (nv, m) of a unit push (1 N, extending) of each of the line
+        elements ``lines`` at q, one column each: their g = dℓ/dq (:meth:`LineElement.stretch`;
+        a push P adds P g to the forward runs' τ); t [s] for the messages."""
+        data = self.data
+        pin.computeJointJacobians(self.model, data, q)
+        out = np.empty((self.nv, len(lines)))
+        for k, line in enumerate(lines):
+            out[:, k] = line.stretch(data, t)[1]
+        return out
 
     def energy(self, q: np.ndarray) -> float:
         """Elastic energy [J] stored in the springs and joint springs at q."""

@@ -5,7 +5,8 @@ The state (q, q̇) follows the index-1 equations of the closed chain
     [M  Jᵀ] [ q̈]   [τ − b          ]
     [J  0 ] [−λ] = [−J̇ q̇ − K_d J q̇ − K_p r(q)]
 
-with τ = Sᵀ u(t, q, q̇) (the actuated joints' drive, given by the caller: :data:`Actuation`) plus
+with τ = Sᵀ u(t, q, q̇) (the actuated joints' drive, given by the caller: :data:`Actuation`; a
+:class:`Controller` may also push line force elements, Σ_e g_e(q) P_e, g_e = dℓ_e/dq) plus
 the force elements' generalized forces (:mod:`~feeder.chain.dynamics.elements`), b the Coriolis,
 centrifugal and gravity terms, and Baumgarte's corrector K_p = ω², K_d = 2ω on the loop residual
 r (critically damped: an error decays like e^(−ω t)). The accelerations come from Pinocchio's
@@ -66,6 +67,17 @@ class Controller(Protocol):
 
     Attributes:
         n_states: Number of its states (≥ 0).
+
+    Optional attributes (read with ``getattr``; a controller without them drives the actuated
+    joints alone):
+
+    * ``pushes: tuple[str, ...]`` — names of line force elements (springs, cylinders) of the
+      chain whose push [N] (extending) the controller gives too: its u is then (n_actuated +
+      len(pushes),), the pushes after the drives, and each push P_e adds P_e g_e(q) to τ
+      (g_e = dℓ_e/dq, :meth:`~.elements.BoundElements.unit_pushes`) and P_e ℓ̇_e to the power;
+    * ``applied(t, q, v, x) -> ChainDynamics`` — with pushes: the chain's dynamics whose
+      elements carry the pushes the controller applied at a run's samples, for the run's loads
+      (:meth:`ForwardEquations.loads_dynamics`).
     """
 
     n_states: int
@@ -100,6 +112,21 @@ def _constraints(chain, data: pin.Data, rate: float):
     return models, datas
 
 
+def _pushed(dyn: ChainDynamics, names: object) -> tuple:
+    """The bound line elements of ``dyn`` named ``names`` (a controller's ``pushes``).
+
+    Raises:
+        InputError: Not a tuple of names, a name that is not a spring or cylinder of ``dyn``.
+    """
+    if not isinstance(names, tuple) or not all(isinstance(name, str) for name in names):
+        raise InputError(f"a controller's pushes must be a tuple of element names, got {names!r}")
+    lines = tuple(dyn.elements.line(name) for name in names)
+    if None in lines:
+        missing = names[lines.index(None)]
+        raise InputError(f"a controller pushes {missing!r}: not a spring or cylinder of the chain")
+    return lines
+
+
 class IntegrationError(FeederError):
     """A forward run stopped: the integrator could not meet its tolerance (a singular pose, an
     unbounded acceleration), the run reached a singular pose where its loads cannot be computed,
@@ -123,6 +150,8 @@ class ForwardEquations:
         self.model, self.dyn, self.actuation = model, dyn, actuation
         self.controller = actuation if isinstance(actuation, Controller) else None
         self.n_states = 0 if self.controller is None else self.controller.n_states
+        self.pushed = _pushed(dyn, getattr(self.controller, "pushes", ()))
+        """The line elements the controller pushes (Controller's ``pushes``), bound."""
         self.data = model.createData()
         self.constraints, self.datas = _constraints(chain, self.data, rate)
         # the samples' accelerations: the closed chain's own, without the corrector
@@ -142,16 +171,34 @@ class ForwardEquations:
         first = self.nq + self.nv + 1
         return y[first : first + self.n_states]
 
-    def drive(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
-        """u (n_actuated,) and ẋ (n_states,) of the actuation at (t, q, q̇, x), checked."""
+    def command(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
+        """u (n_actuated + n_pushed,): the drives [N or N·m] and the pushed elements' pushes [N],
+        and ẋ (n_states,) of the actuation at (t, q, q̇, x), checked."""
         if self.controller is None:
             u = self.actuation(t, q, v)
             return self._checked("actuation", "[N or N·m]", t, u, self.columns.size), EMPTY
         out = self.controller(t, q, v, x)
         if not (isinstance(out, tuple) and len(out) == 2):
             raise InputError(f"the controller must return (u, xdot) at t = {t:.6g} s, got {out!r}")
-        u = self._checked("actuation", "[N or N·m]", t, out[0], self.columns.size)
+        size = self.columns.size + len(self.pushed)
+        u = self._checked("actuation", "[N or N·m]", t, out[0], size)
         return u, self._checked("controller state rates", "", t, out[1], self.n_states)
+
+    def drive(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
+        """u (n_actuated,), the actuated joints' drives [N or N·m], and ẋ (n_states,) of the
+        actuation at (t, q, q̇, x), checked (:meth:`command` without the pushes)."""
+        u, xdot = self.command(t, q, v, x)
+        return u[: self.columns.size], xdot
+
+    def loads_dynamics(
+        self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray
+    ) -> ChainDynamics:
+        """The dynamics for a run's loads at its samples t (N,), q (N, nq), v (N, nv) and the
+        controller's states x (N, n_states): the run's own, or, when the controller pushes
+        force elements, its ``applied`` copy whose elements carry the pushes it applied there."""
+        if not self.pushed:
+            return self.dyn
+        return self.controller.applied(t, q, v, x)
 
     @staticmethod
     def _checked(what: str, unit: str, t: float, u: object, size: int) -> np.ndarray:
@@ -177,9 +224,14 @@ class ForwardEquations:
             tau, power = elements.generalized(q, v, t) if elements else (self.zero, 0.0)
             return tau, power, EMPTY
         tau = np.zeros(self.model.nv)
-        u, xdot = self.drive(t, q, v, x)
-        tau[self.columns] = u
-        power = float(u @ v[self.columns])
+        u, xdot = self.command(t, q, v, x)
+        n = self.columns.size
+        tau[self.columns] = u[:n]
+        power = float(u[:n] @ v[self.columns])
+        if self.pushed:  # Σ P_e g_e, and the pushes' power Σ P_e ℓ̇_e
+            unit = elements.unit_pushes(self.pushed, q, t)
+            tau += unit @ u[n:]
+            power += float(u[n:] @ (v @ unit))
         if elements:
             generalized, element_power = elements.generalized(q, v, t)
             tau += generalized

@@ -1,4 +1,5 @@
-"""A joint under control: what a ``[[control]]`` table says (:mod:`feeder.chain.readers.control`),
+"""A joint under control, driven by its actuator or by a force element's push: what a
+``[[control]]`` table says (:mod:`feeder.chain.readers.control`),
 the settings of the computed-torque controller (:mod:`feeder.chain.dynamics.control`)."""
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ class ControlSpec:
     """One controlled joint (:mod:`feeder.chain.readers.control`: the table's keys).
 
     Attributes:
-        joint: The actuated joint.
+        joint: The joint whose reference is tracked: an actuated joint, driven itself, or,
+            with an :attr:`element`, a joint the element moves (not actuated).
         reference: The reference motion table's path.
         t: The table's times [s], (N,). q, v, a: The joint's reference position [rad or m], rate
             and acceleration, (N,) each.
@@ -23,7 +25,10 @@ class ControlSpec:
         force_limit: (low, high) bounds of the force [N or N·m] (±inf: none).
         rate_limit: Largest |du/dt| [N/s or N·m/s] (inf: none; finite only with a lag).
         lag: The actuator's time constant T [s] (0: none).
-        area: Piston area [m²] of a hydraulic cylinder (None: not one).
+        area: Piston area [m²] of a hydraulic cylinder (None: not one); a joint's drive only.
+        element: The force element (a spring or a cylinder, by name) whose push [N] drives the
+            joint instead of the joint's own actuator (None: the joint is driven itself); the
+            force, its limits and rate are then the push's [N, N/s].
         where: Where it was read (the file and table), for the messages.
     """
 
@@ -40,3 +45,4 @@ class ControlSpec:
     lag: float = 0.0
     area: float | None = None
     where: str = ""
+    element: str | None = None

@@ -1,9 +1,12 @@
-"""``[[control]]`` tables: actuated joints driven toward a reference motion by a computed-torque
-controller (:mod:`feeder.chain.dynamics.control`), in a TOML mechanism file or a file of their
-own (``feeder simulate --control FILE``, :func:`read_control_file`)::
+"""``[[control]]`` tables: joints driven toward a reference motion by a computed-torque
+controller (:mod:`feeder.chain.dynamics.control`), through their own actuators or a force
+element's push, in a TOML mechanism file or a file of their own (``feeder simulate --control
+FILE``, :func:`read_control_file`)::
 
     [[control]]
-    joint = "crank_joint"           # required: an actuated joint
+    joint = "crank_joint"           # required: an actuated joint, or the joint element moves
+    # element = "boom_cylinder"     # optional: a [[force]] spring or cylinder whose push [N]
+                                    #   drives the joint (not actuated) instead of its actuator
     reference = "motion.csv"        # required: a motion table (t, q_<joint>, optional v_, a_;
                                     # as feeder analyze --motion reads it), relative to the file
     kp = 400.0                      # position gain K_p [1/s²] and rate gain K_d [1/s] …
@@ -14,12 +17,19 @@ own (``feeder simulate --control FILE``, :func:`read_control_file`)::
     lag = 0.01                      # optional: first-order actuator lag T [s] (a servo-valve) …
     # bandwidth = 16.0              # … or its bandwidth f [Hz]: T = 1 / (2π f)
     rate_limit = 2e4                # optional, with a lag: |du/dt| ≤ 2e4 [N/s or N·m/s]
-    area = 2.0e-3                   # optional, a prismatic joint: piston area [m²]; the
-                                    # tables report the commanded pressure u / area [Pa]
+    area = 2.0e-3                   # optional, a prismatic joint driven itself: piston
+                                    # area [m²]; the tables report the pressure u / area [Pa]
 
 The gains are the closed loop's own (SI units, per second and per second squared): on the
 controlled joint the law commands the acceleration q̈* = q̈_ref + K_d (q̇_ref − q̇) + K_p (q_ref − q),
 so an error obeys ë + K_d ė + K_p e = 0 whatever the mechanism's inertia.
+
+With ``element``, the law's force is the element's push P [N] (extending; force_limit and
+rate_limit in N and N/s): the element's push law is the controller's, so a spring's ``force``
+or a cylinder's ``pressure`` and ``rod_pressure`` must be left at 0 (its spring and damper act
+as before), and for a cylinder the tables report the chamber pressures that give P (the cap's
+P/A_cap when P ≥ 0, the rod side's −P/A_ann when P < 0, the other at zero gauge) [Pa]. Each
+element drives one joint.
 """
 
 from __future__ import annotations
@@ -35,6 +45,7 @@ from .spec import table_entries, tables_file
 
 CONTROL_KEYS = (
     "joint",
+    "element",
     "reference",
     "kp",
     "kd",
@@ -118,13 +129,26 @@ def _entry(entry: dict, here: str) -> tuple[str, str, dict]:
     """The joint, the reference's name and the checked settings of one table."""
     joint, reference = entry.get("joint"), entry.get("reference")
     if not isinstance(joint, str) or not joint.strip():
-        raise InputError(f'{here}: joint = "…" is required (an actuated joint)')
+        raise InputError(
+            f'{here}: joint = "…" is required (an actuated joint, or the joint element = "…" '
+            "drives)"
+        )
+    element = entry.get("element")
+    if element is not None and (not isinstance(element, str) or not element.strip()):
+        raise InputError(
+            f'{here}: element = "…" names a spring or cylinder [[force]] element, got {element!r}'
+        )
     if not isinstance(reference, str) or not reference.strip():
         raise InputError(
             f'{here}: reference = "motion.csv" is required (a motion table of {joint!r}, '
             "relative to this file)"
         )
     here = f"{here} ({joint!r})"
+    if element is not None and "area" in entry:
+        raise InputError(
+            f"{here}: area is for a joint driven itself; the push of element {element!r} is in N "
+            "(a cylinder's pressures follow from its bore and rod)"
+        )
     kp, kd = _gains(entry, here)
     lag = _lag(entry, here)
     rate_limit = _positive(entry, "rate_limit", here, "N/s or N·m/s")
@@ -141,6 +165,7 @@ def _entry(entry: dict, here: str) -> tuple[str, str, dict]:
         "lag": lag,
         "area": _positive(entry, "area", here, "m²"),
         "where": here,
+        "element": element,
     }
     return joint, reference, settings
 
@@ -152,15 +177,19 @@ def read_control(entries: object, folder: Path, where: str) -> tuple[ControlSpec
 
     Raises:
         InputError: Not a list of tables, an unknown key (with the nearest), a missing joint or
-            reference, a joint given twice, gains missing or mixed (kp/kd with omega/zeta), a
-            value that is not a finite number in its range, a rate limit without a lag, a bad
-            reference table (:func:`~.read_motion`).
+            reference, a joint or an element given twice, an element that is not a name or has
+            an area, gains missing or mixed (kp/kd with omega/zeta), a value that is not a
+            finite number in its range, a rate limit without a lag, a bad reference table
+            (:func:`~.read_motion`).
     """
     tables = []
     for here, entry in table_entries(entries, "control", set(CONTROL_KEYS), where):
         joint, reference, settings = _entry(entry, here)
         if any(joint == other for other, _, _ in tables):
             raise InputError(f"{here}: joint {joint!r} is controlled twice: one table per joint")
+        element = settings["element"]
+        if element is not None and any(s["element"] == element for _, _, s in tables):
+            raise InputError(f"{here}: element {element!r} drives two joints: one table each")
         tables.append((joint, folder / reference, settings))
     specs = []
     for path in dict.fromkeys(path for _, path, _ in tables):
