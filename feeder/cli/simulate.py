@@ -65,9 +65,11 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=path_argument,
         metavar="FILE",
         help="TOML file of [[control]] tables, instead of the mechanism file's: each drives an "
-        "actuated joint toward a reference motion table by the computed-torque law (PD gains "
+        "actuated joint, or a joint by the push of a spring or cylinder force element (element "
+        '= "NAME"), toward a reference motion table by the computed-torque law (PD gains '
         "kp [1/s²], kd [1/s] or omega, zeta; force_limit, lag or bandwidth, rate_limit, a "
-        "cylinder's area); the table gains each one's reference, error, force and flags "
+        "cylinder's area); the table gains each one's reference, error, force and flags (a "
+        "cylinder element's chamber pressures) "
         "(default: the mechanism file's [[control]] tables; none: the actuated joints are "
         "undriven)",
     )

@@ -128,8 +128,11 @@ class Simulation:
         ``error_J``, ``error_rate_J`` (reference − state), ``demand_J`` (the law's force before
         the limits [N or N·m]), ``command_J`` (within them), ``saturated_J`` (1 where the demand
         is beyond them), ``rate_limited_J`` (1 where a lagged actuator's force rate is at its
-        limit) and, for a joint with a piston area, ``pressure_J`` (its force / the area [Pa]);
-        none without control (:class:`~feeder.chain.results.ControlRecord`)."""
+        limit), for a joint with a piston area, ``pressure_J`` (its force / the area [Pa]) and,
+        for a joint a Cylinder element's push drives, ``cap_pressure_J`` and ``rod_pressure_J``
+        (the chamber pressures that give the push [Pa], one of them zero); none without control
+        (:class:`~feeder.chain.results.ControlRecord`). A pushed joint's demand and command are
+        the element's push [N]."""
         record, cols = self.control, {}
         for j, joint in enumerate(() if record is None else record.joints):
             cols[f"q_ref_{joint}"] = record.reference[:, j]
@@ -142,6 +145,10 @@ class Simulation:
             cols[f"rate_limited_{joint}"] = record.rate_limited[:, j].astype(float)
             if joint in record.pressure:
                 cols[f"pressure_{joint}"] = record.pressure[joint]
+            if joint in record.chambers:
+                cols[f"cap_pressure_{joint}"], cols[f"rod_pressure_{joint}"] = record.chambers[
+                    joint
+                ]
         return cols
 
     def summary(self) -> str:

@@ -290,10 +290,10 @@ class ComputedTorque:
             response[:, k], reach[k] = whole[self.columns], np.linalg.norm(whole)
         shares = response / np.where(reach > 0.0, reach, 1.0)
         if np.linalg.svd(shares, compute_uv=False).min() < RANK_TOLERANCE:
-            drives = [
-                joint if element is None else f"the push of {element!r}"
+            drives = ", ".join(
+                f"the drive of {joint!r}" if element is None else f"the push of {element!r}"
                 for joint, element in zip(self.joints, self.elements, strict=True)
-            ]
+            )
             raise IntegrationError(
                 f"at t = {t:.6g} s the controlled joints {list(self.joints)} cannot be "
                 f"accelerated independently by {drives} (a singular pose of the actuation, or a "

@@ -41,6 +41,20 @@ def test_a_control_table_is_read_with_its_reference(tmp_path):
     assert (spec.lag, spec.rate_limit, spec.area) == (0.01, 1e3, None)
 
 
+def test_an_element_s_push_may_drive_the_joint(tmp_path):
+    """``element`` names the force element whose push drives the joint (checked against the
+    mechanism by the controller, feeder.chain.dynamics.control); without it, None."""
+    path = write(
+        tmp_path,
+        f'[[control]]\njoint = "crank_joint"\nelement = "lift"\nreference = "{REFERENCE}"\n'
+        "omega = 10.0\nforce_limit = 300.0\n",
+    )
+    (spec,) = read_spec(path).control
+    assert (spec.joint, spec.element, spec.force_limit) == ("crank_joint", "lift", (-300, 300))
+    (spec,) = read_spec(write(tmp_path, "[[control]]\n" + BASE + "omega = 1\n")).control
+    assert spec.element is None
+
+
 def test_the_gains_from_the_natural_frequency_and_the_lag_from_the_bandwidth(tmp_path):
     """K_p = ω², K_d = 2ζω (ζ default 1); T = 1 / (2π f); a reference relative to the file;
     an asymmetric force limit."""
@@ -97,6 +111,14 @@ BASE = f'joint = "crank_joint"\nreference = "{REFERENCE}"\n'
         (BASE + "kp = 1\nkd = 1\nlag = 0.1\nbandwidth = 2\n", "lag .* or bandwidth .*not both"),
         (BASE + "kp = 1\nkd = 1\narea = 0\n", r"area must be > 0 \[m²\]"),
         (BASE + "kp = 1\nkd = 1\n\n[[control]]\n" + BASE + "kp = 1\nkd = 1\n", "twice"),
+        (BASE + 'kp = 1\nkd = 1\nelement = ""\n', "names a spring or cylinder"),
+        (BASE + "kp = 1\nkd = 1\nelement = 3\n", "names a spring or cylinder"),
+        (BASE + 'kp = 1\nkd = 1\nelement = "c"\narea = 1e-3\n', "area is for a joint driven"),
+        (
+            BASE + 'kp = 1\nkd = 1\nelement = "c"\n\n[[control]]\njoint = "rocker_joint"\n'
+            f'reference = "{REFERENCE}"\nkp = 1\nkd = 1\nelement = "c"\n',
+            "element 'c' drives two joints",
+        ),  # fmt: skip
         ('joint = "crank_joint"\nreference = "nowhere.csv"\nkp = 1\nkd = 1\n', "not found"),
     ],
 )
