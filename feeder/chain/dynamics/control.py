@@ -288,6 +288,11 @@ class ComputedTorque:
         for k in range(self.columns.size):  # a unit drive: G's column, the map being affine
             whole = self._accelerations(q, v, inputs[:, k]) - zero
             response[:, k], reach[k] = whole[self.columns], np.linalg.norm(whole)
+        if not (np.isfinite(response).all() and np.isfinite(free).all()):
+            raise IntegrationError(
+                f"the accelerations are not finite at t = {t:.6g} s (a singular pose, bodies "
+                "without mass, or forces that are not finite)"
+            )
         shares = response / np.where(reach > 0.0, reach, 1.0)
         if np.linalg.svd(shares, compute_uv=False).min() < RANK_TOLERANCE:
             drives = ", ".join(
