@@ -191,10 +191,11 @@ class LineElement(BoundElement):
         length = math.sqrt(gap.dot(gap))
         if length < SHORTEST_LINE:
             raise SingularPoseError(f"{self.name}: its frames coincide at t = {t:.6g} s")
-        row = np.zeros(model.nv)  # dℓ/dq = uᵀ (J_b − J_a); zero with both ends on the ground
+        row = None  # dℓ/dq = uᵀ (J_b − J_a), (nv,)
         for frame, sign in ends:
-            row += (sign / length) * gap.dot(frame_jacobian(model, data, frame, WORLD)[:3])
-        return length, row
+            term = (sign / length) * gap.dot(frame_jacobian(model, data, frame, WORLD)[:3])
+            row = term if row is None else row + term
+        return length, np.zeros(model.nv) if row is None else row  # zero: both ends on ground
 
     def add_generalized(self, data, q, v, t, out):
         length, row = self.stretch(data, t)
