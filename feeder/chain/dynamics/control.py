@@ -50,10 +50,7 @@ refused at the start, stopped in the run (:data:`RANK_TOLERANCE`).
 
 from __future__ import annotations
 
-import copy
-import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -62,11 +59,13 @@ from ...exceptions import InputError
 from ...validation import did_you_mean
 from ..kinematics.joints import kind_of
 from ..model.control import ControlSpec
-from ..model.forces import Cylinder, Spring, Table
-from .elements import BoundElements, LineElement
+from ..model.forces import Cylinder
+from .control_record import ControlRecord
+from .elements import LineElement
 from .forward_equations import BAUMGARTE_RATE, PROXIMAL, ForwardEquations, IntegrationError
 from .hybrid_equations import Prescribed
 from .inverse import ChainDynamics, check_dynamics
+from .pushed_elements import carrying, chambers, pushed_element, pushed_joint
 
 RANK_TOLERANCE = 1e-8
 """G_cc is taken as singular when its smallest singular value, each column divided by the norm
@@ -74,90 +73,6 @@ of its drive's whole response q̈ (nv,), is below this: the share of a drive's e
 the controlled joints. The proximal solver's regularisation (μ = 1e-10) and round-off leave
 responses of ~1e-10 and less relative to the column where a drive cannot act on a joint; a drive
 that acts reaches it by far more than 1e-8."""
-
-
-@dataclass(frozen=True)
-class ControlRecord:
-    """What the controller did at a run's samples (:meth:`ComputedTorque.record`), one column
-    per controlled joint (in the order of :attr:`joints`).
-
-    Attributes:
-        joints: The controlled joints.
-        units: Each one's unit of position: "rad" or "m".
-        elements: The force element pushing each one (None: its own actuator).
-        t: Times [s], (N,).
-        reference, reference_rate: q_ref [rad or m] and q̇_ref, (N, n).
-        error, error_rate: e = q_ref − q and ė, (N, n) (a continuous joint's e wrapped).
-        demand: The law's force before the limits [N or N·m], (N, n).
-        command: The demand clipped to the force limits, (N, n).
-        force: The acting force (the command, or the lagged actuator's state), (N, n).
-        saturated: Demand outside the force limits (bool, (N, n)).
-        rate_limited: A lagged actuator's force rate at its limit (bool, (N, n)).
-        pressure: Joint → the acting force / the piston area [Pa] (N,), for the joints with
-            an area (hydraulic cylinders).
-        chambers: Joint → the cap and rod chambers' pressures [Pa] ((N,), (N,)) that give the
-            acting push, for the joints a Cylinder element drives (module docstring).
-    """
-
-    joints: tuple[str, ...]
-    units: tuple[str, ...]
-    t: np.ndarray
-    reference: np.ndarray
-    reference_rate: np.ndarray
-    error: np.ndarray
-    error_rate: np.ndarray
-    demand: np.ndarray
-    command: np.ndarray
-    force: np.ndarray
-    saturated: np.ndarray
-    rate_limited: np.ndarray
-    pressure: dict[str, np.ndarray]
-    elements: tuple[str | None, ...] = ()
-    chambers: dict[str, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
-
-    def peak_error(self) -> np.ndarray:
-        """Largest |e| per joint [rad or m], (n,)."""
-        return np.abs(self.error).max(axis=0)
-
-    def rms_error(self) -> np.ndarray:
-        """Root mean square of e over the run (trapezoidal in time) per joint [rad or m], (n,)."""
-        span = self.t[-1] - self.t[0]
-        return np.sqrt(np.trapezoid(self.error**2, self.t, axis=0) / span)
-
-    def time_saturated(self) -> np.ndarray:
-        """Time [s] with the demand outside the force limits per joint, (n,): the trapezoidal
-        integral of the flag over the samples (each flag held for its half intervals)."""
-        return np.trapezoid(self.saturated.astype(float), self.t, axis=0)
-
-    def lines(self) -> list[str]:
-        """The summary's lines: per joint (and the element pushing it) the peak and RMS error,
-        the time saturated, the time rate-limited and the peak pressures."""
-        span = self.t[-1] - self.t[0]
-        lines = []
-        saturated_time = self.time_saturated()
-        rows = zip(self.joints, self.units, self.peak_error(), self.rms_error(), saturated_time,
-                   strict=True)  # fmt: skip
-        elements = self.elements or (None,) * len(self.joints)
-        for j, (joint, unit, peak, rms, saturated) in enumerate(rows):
-            flags = self.saturated[:, j]
-            pushed = "" if elements[j] is None else f" by the push of {elements[j]!r}"
-            text = (
-                f"  control of {joint!r}{pushed}: peak error {peak:.3g} {unit}, RMS error "
-                f"{rms:.3g} {unit}; saturated {saturated:.4g} s ({saturated / span:.1%} of the "
-                "run)"
-            )
-            if flags.any():
-                times = self.t[flags]
-                text += f", from t = {times[0]:.6g} s to {times[-1]:.6g} s"
-            if self.rate_limited[:, j].any():
-                text += f"; rate-limited at {int(self.rate_limited[:, j].sum())} samples"
-            if joint in self.pressure:
-                text += f"; peak pressure {np.abs(self.pressure[joint]).max() / 1e6:.4g} MPa"
-            if joint in self.chambers:
-                cap, rod = (pressure.max() / 1e6 for pressure in self.chambers[joint])
-                text += f"; peak cap pressure {cap:.4g} MPa, peak rod pressure {rod:.4g} MPa"
-            lines.append(text)
-        return lines
 
 
 class ComputedTorque:
@@ -201,8 +116,8 @@ class ComputedTorque:
                 columns.append(_driven_joint(dyn, spec))
                 channels.append(dyn.actuated.index(spec.joint))
             else:
-                columns.append(_pushed_joint(dyn, spec))
-                line = _pushed_element(dyn, spec, lines)
+                columns.append(pushed_joint(dyn, spec))
+                line = pushed_element(dyn, spec, lines)
                 channels.append(self.n_actuated + len(lines))
                 lines.append(line)
             if spec.joint in [other.joint for other in specs[: len(channels) - 1]]:
@@ -360,14 +275,7 @@ class ComputedTorque:
         x = np.zeros((t.size, 0)) if x is None else x
         samples = zip(t, q, v, x, strict=True)
         pushes = np.array([self(*sample)[0][self.n_actuated :] for sample in samples])
-        carried = dict(zip(self.pushes, pushes.T, strict=True))
-        elements = [
-            _carrying(element, t, carried[element.name]) if element.name in carried else element
-            for element in self.dyn.elements.elements
-        ]
-        out = copy.copy(self.dyn)
-        out.elements = BoundElements(self.dyn.chain, elements)
-        return out
+        return carrying(self.dyn, t, dict(zip(self.pushes, pushes.T, strict=True)))
 
     def record(
         self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray | None = None
@@ -394,8 +302,8 @@ class ComputedTorque:
             if spec.area is not None
         }
         cylinders = {line.name: line.element for line in self.lines}
-        chambers = {
-            spec.joint: _chambers(cylinders[spec.element], force[:, j])
+        cylinder_pressures = {
+            spec.joint: chambers(cylinders[spec.element], force[:, j])
             for j, spec in enumerate(self.specs)
             if isinstance(cylinders.get(spec.element), Cylinder)
         }
@@ -414,7 +322,7 @@ class ComputedTorque:
             rate_limited=limited,
             pressure=pressure,
             elements=self.elements,
-            chambers=chambers,
+            chambers=cylinder_pressures,
         )
 
 
@@ -434,72 +342,3 @@ def _driven_joint(dyn: ChainDynamics, spec: ControlSpec) -> int:
             f"{spec.joint!r} is {kind_of(joint)}"
         )
     return joint.idx_v
-
-
-def _pushed_joint(dyn: ChainDynamics, spec: ControlSpec) -> int:
-    """The velocity column of the joint a spec's element drives, checked: a joint of one
-    coordinate, not actuated."""
-    try:
-        (column,) = dyn.chain.coordinate_columns([spec.joint], "controlled")
-    except InputError as exc:
-        raise InputError(f"{spec.where}: {exc}") from None
-    if spec.joint in dyn.actuated:
-        raise InputError(
-            f"{spec.where}: joint {spec.joint!r} is actuated and element {spec.element!r} would "
-            "push it too: drop element to drive the joint itself, or leave the joint out of "
-            "the actuated joints to drive it by the element's push"
-        )
-    if spec.area is not None:
-        raise InputError(
-            f"{spec.where}: area is for a joint's own drive; the push of element "
-            f"{spec.element!r} is in N (a Cylinder's pressures follow from its bore and rod)"
-        )
-    return int(column)
-
-
-def _pushed_element(dyn: ChainDynamics, spec: ControlSpec, taken: list) -> LineElement:
-    """The bound spring or cylinder a spec's element names, checked: one of the chain's, with
-    no push law of its own, not pushed for another joint (``taken``)."""
-    elements = {element.name: element for element in dyn.elements.elements}
-    element = elements.get(spec.element)
-    if element is None:
-        raise InputError(
-            f"{spec.where}: no force element {spec.element!r}; "
-            f"{did_you_mean(spec.element, elements)}the elements are {list(elements)}"
-        )
-    if not isinstance(element, Spring | Cylinder):
-        raise InputError(
-            f"{spec.where}: element {spec.element!r} is a {type(element).__name__}; a controlled "
-            "element is a Spring or a Cylinder (a line whose push drives the joint)"
-        )
-    spring = isinstance(element, Spring)
-    laws = (element.force,) if spring else (element.pressure, element.rod_pressure)
-    if any(callable(law) or law != 0.0 for law in laws):
-        what = "force" if spring else "pressure, rod_pressure"
-        raise InputError(
-            f"{spec.where}: element {spec.element!r} has a push law of its own ({what}); under "
-            "control its push is the controller's: leave it at 0"
-        )
-    if any(line.name == element.name for line in taken):
-        raise InputError(f"{spec.where}: element {spec.element!r} is pushed for two joints")
-    return dyn.elements.line(element.name)
-
-
-def _chambers(cylinder: Cylinder, push: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The cap and rod chambers' gauge pressures [Pa] (N,) each that give a cylinder's pushes
-    (N,) [N]: p_cap = P/A_cap where P ≥ 0, p_rod = −P/A_ann where P < 0, the other 0."""
-    return np.maximum(push, 0.0) / cylinder.cap_area, np.maximum(
-        -push, 0.0
-    ) / cylinder.annulus_area
-
-
-def _carrying(element: Spring | Cylinder, t: np.ndarray, push: np.ndarray) -> Spring | Cylinder:
-    """A copy of a pushed element whose push is the :class:`~feeder.chain.model.forces.Table`
-    of the pushes [N] (N,) at the times t [s] (N,): a cylinder's as its chamber pressures."""
-    source = f"the pushes the controller applied to {element.name!r}"
-    if isinstance(element, Spring):
-        return dataclasses.replace(element, force=Table(t, push, source))
-    cap, rod = _chambers(element, push)
-    return dataclasses.replace(
-        element, pressure=Table(t, cap, source), rod_pressure=Table(t, rod, source)
-    )
