@@ -134,13 +134,14 @@ def test_a_cylinder_lifts_a_pendulum_along_its_reference(anchor, chamber):
 
 NEEDS_FORWARD = pytest.mark.xfail(
     strict=True,
-    reason="needs forward.py's _results to take its loads from equations.loads_dynamics (one "
-    "line, after `held = ...`: dyn = equations.loads_dynamics(t, q, v, held)); remove this mark "
-    "with it",
+    reason="needs forward_samples.py's _loads to take the dynamics of the pushes applied "
+    "(dyn = equations.loads_dynamics(t, q, v, held), held passed from results); remove this "
+    "mark with it",
 )
-"""Until forward.py's _results takes the loads of the pushes applied, a run's loads miss the
-pushes: wrong without actuated joints, refused (the actuated joints cannot produce the motion)
-with them."""
+"""Until forward_samples.py's _loads takes the dynamics of the pushes applied
+(:meth:`~feeder.chain.dynamics.forward_equations.ForwardEquations.loads_dynamics`), a run's
+loads miss the pushes: wrong without actuated joints, refused (the actuated joints cannot
+produce the motion) with them."""
 
 
 @NEEDS_FORWARD
