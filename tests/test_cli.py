@@ -894,6 +894,14 @@ def test_simulate_drives_the_boom_lift_by_its_cylinder_s_push(tmp_path, capsys):
         table["cap_pressure_boom_hinge"][standing], push / (math.pi * 0.05**2 / 4.0), rtol=1e-8
     )
     assert np.all(table["rod_pressure_boom_hinge"] == 0.0)  # it pushes all along
+    # the run's loads carry the push applied: the cylinder's tension is −push standing (its
+    # damper idle), and the hinge holds the boom against its weight and the push along the
+    # cylinder, F = (0, m g) − push n with n the cylinder's axis (gravity along −y)
+    np.testing.assert_allclose(table["lift_cylinder_force"][standing], -push, rtol=1e-8)
+    hinge = np.array([0.0, 200.0 * 9.81]) - push * gap / np.linalg.norm(gap)
+    np.testing.assert_allclose(
+        table["boom_hinge_force"][standing], np.linalg.norm(hinge), rtol=1e-8
+    )
     # the raise through a 10 Hz valve's lag: an error of 3e-4 rad (measured over 4 s)
     assert np.abs(table["error_boom_hinge"]).max() <= 1e-3
     summary = (out / "summary.txt").read_text(encoding="utf-8")

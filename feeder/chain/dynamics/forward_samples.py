@@ -105,7 +105,7 @@ def results(
     indeterminate = np.zeros(t.size, dtype=bool)
     table, kinetic, energy = None, None, None
     if loads:
-        table, indeterminate = _loads(equations, t, q, v, a, watch)
+        table, indeterminate = _loads(equations, t, q, v, a, watch, held)
         kinetic, energy = _energies(equations, t, q, v)
     return ForwardRun(
         t=t,
@@ -176,11 +176,13 @@ def _motion(equations, states, drift_tolerance, residual, line):
     return projected
 
 
-def _loads(equations, t, q, v, a, watch):
+def _loads(equations, t, q, v, a, watch, held):
     """The inverse dynamics of the sampled motion and the samples whose loads are
     indeterminate (bool (N,)), or an :class:`IntegrationError` naming where they cannot be
-    computed."""
-    dyn = equations.dyn
+    computed; ``held``: the controller's states at the samples (N, n_states) (a controller
+    that pushes force elements gives the dynamics of the pushes it applied:
+    :meth:`~feeder.chain.dynamics.forward_equations.ForwardEquations.loads_dynamics`)."""
+    dyn = equations.loads_dynamics(t, q, v, held)
     try:
         if watch is not None and watch.passes:
             return determinate_loads(dyn, t, q, v, a, watch.passes)

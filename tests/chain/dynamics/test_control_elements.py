@@ -132,19 +132,6 @@ def test_a_cylinder_lifts_a_pendulum_along_its_reference(anchor, chamber):
     np.testing.assert_allclose(loads.joints["hinge"].force[:, :2], reaction, rtol=0, atol=1e-7)
 
 
-NEEDS_FORWARD = pytest.mark.xfail(
-    strict=True,
-    reason="needs forward_samples.py's _loads to take the dynamics of the pushes applied "
-    "(dyn = equations.loads_dynamics(t, q, v, held), held passed from results); remove this "
-    "mark with it",
-)
-"""Until forward_samples.py's _loads takes the dynamics of the pushes applied
-(:meth:`~feeder.chain.dynamics.forward_equations.ForwardEquations.loads_dynamics`), a run's
-loads miss the pushes: wrong without actuated joints, refused (the actuated joints cannot
-produce the motion) with them."""
-
-
-@NEEDS_FORWARD
 def test_the_run_s_own_loads_are_those_of_the_applied_pushes():
     """The forward run's loads (ForwardRun.loads) carry the pushes the controller applied: the
     cylinder's tension is −push at every sample."""
@@ -293,7 +280,6 @@ def test_an_element_that_cannot_move_its_joint_is_refused_at_the_start(frames, a
         simulate(dyn, np.linspace(0.0, 1.0, 3), np.zeros(1), np.zeros(1), controller)
 
 
-@NEEDS_FORWARD
 def test_a_joint_s_drive_and_an_element_s_push_in_one_controller():
     """Two bodies on the ground: the pendulum lifted by its cylinder (not actuated) and a slider
     of 3 kg driven by its own actuator, the element's table listed first: u is the actuated
