@@ -69,7 +69,8 @@ def run(args: argparse.Namespace) -> int:
 
     from ..study.grid import elevation_range
     from ..study.sweep_folder import run_sweep
-    from ..viz.report import png_bytes, sweep_figures, write_png
+    from ..viz.png import png_bytes, write_png
+    from ..viz.report import sweep_figures
 
     def figures(table: Path) -> dict[str, partial]:
         return {

@@ -131,12 +131,12 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
 
 def _lay_out(fig: Figure) -> None:
     """Matplotlib's constrained layout computed once, with the text measured at the PNG's
-    resolution (:data:`~feeder.viz.report.FIGURE_DPI`, as ``savefig`` would), and then fixed: a
+    resolution (:data:`~feeder.viz.png.FIGURE_DPI`, as ``savefig`` would), and then fixed: a
     figure that keeps a layout engine is drawn twice by each ``savefig`` (a first time without
     output, only to lay it out: about 40 % of its cost); this one once, with the same pixels."""
     from matplotlib.layout_engine import ConstrainedLayoutEngine
 
-    from .report import FIGURE_DPI
+    from .png import FIGURE_DPI
 
     shown, fig.dpi = fig.dpi, FIGURE_DPI
     try:

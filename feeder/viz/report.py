@@ -12,7 +12,6 @@ functions that draw, so ``feeder cycle --no-figures`` never loads it.
 
 from __future__ import annotations
 
-import io
 import os
 import pickle
 import re
@@ -29,7 +28,6 @@ import numpy as np
 from ..device.feeder import Feeder
 from ..device.parameters import FeederParameters
 from ..exceptions import InputError
-from ..files import atomic_path
 from ..motion.cycle import CycleKinematics
 from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
@@ -40,13 +38,10 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
-from .png import png_file
+from .png import png_bytes, write_png
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-FIGURE_DPI = 150
-"""Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 1200 × 630."""
 
 WORKSPACE_STEP_DEG = 10.0
 """Elevation step [deg] of the ramming poses drawn in the workspace figure (Fig. 4)."""
@@ -210,27 +205,6 @@ def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figu
     """Fig. 4 (the workspace, ramming poses every 10°) and Fig. 10 (payload position)."""
     data = FigureData.of_cycle(feeder, cycle)
     return {data.file_name(name): draw(name, data) for name in KINEMATICS_FIGURES}
-
-
-def png_bytes(fig: Figure, dpi: int = FIGURE_DPI) -> bytes:
-    """The figure as a PNG file's bytes: the pixels of ``savefig`` at ``dpi``, and its
-    ``Software`` text, encoded by :func:`~feeder.viz.png.png_file`."""
-    import matplotlib
-
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="rgba", dpi=dpi)
-    width = int(fig.get_figwidth() * dpi)  # matplotlib's canvas: whole pixels, truncated
-    pixels = np.frombuffer(buffer.getbuffer(), dtype=np.uint8).reshape(-1, width, 4)
-    software = f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"
-    return png_file(pixels, dpi, {"Software": software})
-
-
-def write_png(path: str | Path, png: bytes) -> Path:
-    """Write PNG bytes to ``path`` atomically."""
-    path = Path(path)
-    with atomic_path(path) as temporary:
-        temporary.write_bytes(png)
-    return path
 
 
 def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:

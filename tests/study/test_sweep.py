@@ -39,7 +39,8 @@ from feeder.study.sweep_table import (
     read_sweep_table,
     row_sha256,
 )
-from feeder.viz.report import png_bytes, sweep_figures, write_png
+from feeder.viz.png import png_bytes, write_png
+from feeder.viz.report import sweep_figures
 
 SWEEP_SPEC = CycleSpec(rate=100.0)
 """100 Hz: below the forward run's minimum rate, which a sweep does not need; fast."""

@@ -28,13 +28,12 @@ from feeder.viz import analysis
 from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
 from feeder.viz.axes import ROUND_OFF, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
+from feeder.viz.png import FIGURE_DPI, png_bytes
 from feeder.viz.report import (
-    FIGURE_DPI,
     FigureData,
     FigureWorkers,
     draw,
     kinematics_figures,
-    png_bytes,
     study_figure_names,
 )
 
