@@ -22,6 +22,7 @@ from ..study.analyze import Analysis
 from ..study.mechanism_table import load_unit
 from ..study.simulate import Simulation
 from .axes import (
+    TITLE_Y,
     Curve,
     distinct_curves,
     draw_curves,
@@ -115,7 +116,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         if panel.reference is not None:
             ax.axhline(panel.reference, color="0.5", linestyle="--", linewidth=0.8)
         ax.set_ylabel(panel.ylabel)
-        ax.set_title(panel.title, fontsize=10)
+        ax.set_title(panel.title, fontsize=10, y=TITLE_Y)
         ax.grid(True, linewidth=0.4, alpha=0.6)
         ax.legend(
             loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, ncols=n

@@ -132,6 +132,10 @@ LOADING_FIGURE = "loading_error.png"
 KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
 
+TIME_HISTORIES = frozenset({"fig10_{payload}_position.png", *(s.file for s in CYCLE_FIGURES)})
+"""The figures of a study that are time histories (:func:`~feeder.viz.figures.time_history`):
+one is drawn on another's figure once that is written (:func:`draw`)."""
+
 _COST = {"lagrange_cross_check.png": 3.0, "device_side_view.png": 1.5}
 """Drawing time of a figure relative to a time history's (measured): for sharing the work."""
 
@@ -149,9 +153,10 @@ def study_figure_names() -> tuple[str, ...]:
     )
 
 
-def draw(name: str, data: FigureData) -> Figure:
+def draw(name: str, data: FigureData, reuse: Figure | None = None) -> Figure:
     """The figure ``name`` (one of :func:`study_figure_names`, or its file name for the data's
-    payload) of a cycle.
+    payload) of a cycle; a time history (:data:`TIME_HISTORIES`) is drawn on ``reuse`` if it is
+    one written already (:func:`~feeder.viz.figures.time_history`).
 
     Raises:
         InputError: An unknown name, or a figure that needs columns the data lack (a full
@@ -167,10 +172,10 @@ def draw(name: str, data: FigureData) -> Figure:
     cycle = {spec.file: spec for spec in CYCLE_FIGURES}
     try:
         if name in cycle:
-            return cycle_figure(cycle[name], data.columns, boundaries, data.elevation)
+            return cycle_figure(cycle[name], data.columns, boundaries, data.elevation, reuse)
         if name == "fig10_{payload}_position.png":
             position = np.column_stack([data.columns[f"projectile_{a}"] for a in "xyz"])
-            return payload_position_figure(t, position, boundaries, data.elevation)
+            return payload_position_figure(t, position, boundaries, data.elevation, reuse)
         if name == "lagrange_cross_check.png":
             return cross_check(data.params, data.columns, boundaries)
         if name == BASE_FIGURE and data.base is not None:
@@ -208,8 +213,14 @@ def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figu
 
 
 def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
-    """Draw ``names`` into PNG bytes (in a worker process)."""
-    return {name: png_bytes(draw(name, data)) for name in names}
+    """Draw ``names`` into PNG bytes (in a worker process), each time history on the figure of
+    the one before (:func:`draw`)."""
+    pngs, history = {}, None
+    for name in names:
+        fig = draw(name, data, history)
+        pngs[name] = png_bytes(fig)
+        history = fig if name in TIME_HISTORIES else history
+    return pngs
 
 
 def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[str, bytes]:

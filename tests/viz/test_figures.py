@@ -9,6 +9,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,8 +21,10 @@ from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.viz.catalog import CYCLE_FIGURES, UNITS, display_unit, elevation_text
 from feeder.viz.comparisons import SWEEP_PANELS, sweep_figure
+from feeder.viz.png import png_bytes
 from feeder.viz.report import (
     KINEMATICS_FIGURES,
+    TIME_HISTORIES,
     FigureData,
     FigureWorkers,
     draw,
@@ -175,6 +178,25 @@ def test_workers_write_what_this_process_draws(data, tmp_path):
     for a, b in zip(here, there, strict=True):
         assert a.name == b.name and a.read_bytes() == b.read_bytes(), a.name
         assert a.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_time_history_drawn_on_anothers_figure_is_a_new_ones_byte_for_byte(data):
+    """Each time history drawn on the one before's figure (as the workers draw them, their axes
+    and ticks kept) gives the PNG of a new figure: after curves, after a note (a figure whose
+    curves are all zero) and before one."""
+    speed = "fig08_{payload}_speed.png"
+    zero = replace(data, columns=data.columns | {"projectile_speed": 0.0 * data.columns["t"]})
+    names = sorted(TIME_HISTORIES) + [speed, "fig14_piston_force.png"]
+    datas = [data] * len(TIME_HISTORIES) + [zero, data]
+    fresh = [png_bytes(draw(name, d)) for name, d in zip(names, datas, strict=True)]
+    fig, reused, shown = None, [], []
+    for name, d in zip(names, datas, strict=True):
+        fig = draw(name, d, fig)
+        reused.append(png_bytes(fig))
+        shown.append(fig.axes[0].axison)
+    assert shown == [True] * len(TIME_HISTORIES) + [False, True]  # the zero speed: a note
+    for name, a, b in zip(names, fresh, reused, strict=True):
+        assert a == b, name
 
 
 FORKED = """
