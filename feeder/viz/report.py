@@ -12,6 +12,7 @@ functions that draw, so ``feeder cycle --no-figures`` never loads it.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import pickle
 import re
@@ -250,15 +251,21 @@ def _fork_render(names: Sequence[str], data: FigureData) -> tuple[int, int]:
         os.close(write)
         return pid, read
     os.close(read)  # the child: it inherits the worker's signal policy (feeder.workers)
+    _reply(write, partial(_render, names, data), f"drawing {names}")
+
+
+def _reply(write: int, work: Callable[[], dict[str, bytes]], what: str) -> None:
+    """In a forked process: write ``(True, work())`` or ``(False, the error it met)``, pickled,
+    to the pipe ``write`` (:func:`_answer` reads it), and end the process."""
     status = 1
     try:
         try:
-            answer = pickle.dumps((True, _render(names, data)))
-        except Exception as exc:  # sent to the worker, which raises it
+            answer = pickle.dumps((True, work()))
+        except Exception as exc:  # sent to the parent, which raises it
             try:
                 answer = pickle.dumps((False, exc))
             except Exception:  # an error that does not pickle: its text
-                answer = pickle.dumps((False, RuntimeError(f"drawing {names}: {exc!r}")))
+                answer = pickle.dumps((False, RuntimeError(f"{what}: {exc!r}")))
         with os.fdopen(write, "wb") as pipe:
             pipe.write(answer)
         status = 0
@@ -344,6 +351,82 @@ def _draw_and_write(name: str, data: FigureData, path: Path) -> Path:
 
 def _write_drawn(name: str, future: Future, path: Path) -> Path:
     return write_png(path, future.result()[name])
+
+
+def sweep_pngs(table: str | Path) -> dict[str, bytes]:
+    """The PNG bytes of :func:`sweep_figures`, by file name."""
+    return {name: png_bytes(fig) for name, fig in sweep_figures(table).items()}
+
+
+class SweepFigures:
+    """The figures of a sweep (:func:`sweep_pngs`) drawn in a process forked when this context
+    is entered, which imports matplotlib while the sweep computes its cases, then waits for the
+    finished table: what is left after the last case is the drawing alone (importing matplotlib
+    was half of that serial tail, issue 29). Where forking is not safe (a threaded process: the
+    sweep's own pool is made after this one is entered) or not possible, :meth:`pngs` draws in
+    this process.
+    """
+
+    def __init__(self) -> None:
+        self._child: tuple[int, int, int] | None = None  # id, request pipe, answer pipe
+
+    def __enter__(self) -> SweepFigures:
+        if hasattr(os, "fork") and threading.active_count() == 1:
+            self._child = _fork_waiting()
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        if self._child is not None:  # never asked: the process ends at its request's end
+            pid, request, answer = self._child
+            self._child = None
+            os.close(request)
+            _answer(pid, answer)
+
+    def pngs(self, table: str | Path) -> dict[str, bytes]:
+        """:func:`sweep_pngs` of ``table``, drawn by the forked process (once) or here.
+
+        Raises:
+            InputError: As :func:`sweep_figures`.
+        """
+        if self._child is None:
+            return sweep_pngs(table)
+        pid, request, answer = self._child
+        self._child = None
+        with os.fdopen(request, "wb") as pipe:
+            pipe.write(pickle.dumps(str(table)))
+        drawn, result = _answer(pid, answer)
+        if not drawn:
+            raise result
+        return result
+
+
+def _fork_waiting() -> tuple[int, int, int]:
+    """A process forked from this single-threaded one that imports matplotlib, then reads a
+    table's path from its request pipe and answers with :func:`sweep_pngs` of it (or ends at
+    once if the pipe closes empty): its id, the request pipe's end to write and the answer's
+    to read."""
+    from ..workers import _worker_signals
+
+    request_read, request_write = os.pipe()
+    answer_read, answer_write = os.pipe()
+    pid = os.fork()
+    if pid:
+        os.close(request_read)
+        os.close(answer_write)
+        return pid, request_write, answer_read
+    os.close(request_write)
+    os.close(answer_read)
+    request = b""
+    try:
+        _worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
+        with contextlib.suppress(Exception):  # an import error is met again, and sent, below
+            _warm_up()
+        with os.fdopen(request_read, "rb") as pipe:
+            request = pipe.read()
+    finally:  # the child never returns into the parent's code
+        if not request:  # the pipe closed unasked, or an interruption
+            os._exit(0)
+    _reply(answer_write, partial(sweep_pngs, pickle.loads(request)), "drawing the sweep")
 
 
 def sweep_figures(table: str | Path) -> dict[str, Figure]:

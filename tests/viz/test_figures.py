@@ -231,6 +231,46 @@ def test_an_error_in_a_forked_drawing_process_is_raised_by_its_writer(tmp_path):
     assert not path.exists()
 
 
+SWEEP_FIGURES = """
+import os, sys
+from pathlib import Path
+from feeder.exceptions import InputError
+from feeder.motion.laws import CycleSpec
+from feeder.study.grid import make_grid
+from feeder.study.sweep_folder import run_sweep
+from feeder.viz.report import SweepFigures, sweep_pngs
+folder = Path(sys.argv[1])
+with SweepFigures() as drawing:
+    unasked = drawing._child[0]  # forked: this interpreter runs one thread
+try:
+    os.waitpid(unasked, os.WNOHANG)
+except ChildProcessError:
+    print("ended")
+(folder / "bad.csv").write_text("not,a,sweep,table")
+with SweepFigures() as drawing:
+    try:
+        drawing.pngs(folder / "bad.csv")
+    except InputError as error:
+        print("refused:", error)
+grid = make_grid(("projectile",), (20.0, 40.0), spec=CycleSpec(rate=100.0))
+with SweepFigures() as drawing:
+    assert drawing._child is not None
+    table = run_sweep(grid, folder / "sweep", progress=False, workers=1).table
+    there = drawing.pngs(table)
+print("same" if there == sweep_pngs(table) and there else "different")
+"""
+
+
+def test_a_sweeps_figures_are_drawn_in_a_process_forked_before_its_cases(tmp_path):
+    """SweepFigures forks before the sweep's pool (in a fresh, single-threaded interpreter:
+    pytest runs threads): its PNGs are the ones drawn here, byte for byte; a table it cannot
+    read is refused by its error, raised here; a process never asked ends with the context."""
+    argv = [sys.executable, "-c", SWEEP_FIGURES, str(tmp_path)]
+    done = subprocess.run(argv, capture_output=True, text=True, check=True)
+    lines = done.stdout.splitlines()
+    assert lines[0] == "ended" and lines[1].startswith("refused:") and lines[2] == "same", lines
+
+
 def test_figure_workers_count_is_checked():
     with pytest.raises(InputError, match="figure workers"):
         FigureWorkers(0)
