@@ -152,8 +152,8 @@ def _lay_out(fig: Figure, timed: Sequence[bool]) -> None:
     the time axis (:data:`TIME_AXIS`), the panels' heights in the ratio the figure was made
     with, the right margin as wide as the widest legend beside its panel, and the left margin
     as wide as the widest tick labels and axis label of a panel. Matplotlib's constrained layout
-    found the room by measuring every text of the figure twice, and ``savefig`` then drew it:
-    60 % of a stacked figure's cost."""
+    found the room by measuring every text of the figure twice before ``savefig`` drew it (the
+    squeezer's five figures: 0.56 s of CPU to make, 0.32 s laid out here)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from .png import FIGURE_DPI

@@ -5,9 +5,11 @@ Drawing thirteen figures takes longer than the study, and importing matplotlib a
 the study: :class:`FigureWorkers` starts a worker process first (it imports matplotlib while
 this process computes), then draws the figures there from :class:`FigureData` (the numbers the
 figures need, no Pinocchio objects) into PNG bytes, sharing them with processes forked from that
-worker (they have matplotlib loaded already: it is imported once, not once per process); a
-writer per file puts them in place atomically. This module imports matplotlib only inside the
-functions that draw, so ``feeder cycle --no-figures`` never loads it.
+worker (they have matplotlib loaded already: it is imported once, not once per process), each
+time history on the figure of the one before (its axes and ticks kept); a writer per file puts
+them in place atomically. A sweep's figures are drawn alike in a process forked before its cases
+(:class:`SweepFigures`). This module imports matplotlib only inside the functions that draw, so
+``feeder cycle --no-figures`` never loads it.
 """
 
 from __future__ import annotations
