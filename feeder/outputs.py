@@ -18,31 +18,24 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .device.feeder import Feeder
-from .device.parameter_file import parameters_sha256
 from .files import LOCK as LOCK  # re-exported: the output folder's names, for its users
 from .files import MANIFEST as MANIFEST
 from .files import OutputFolder, Writer, write_text
-from .motion.cycle import CycleKinematics
-from .study.columns import kinematic_columns
 from .study.csv import write_csv
-from .study.cycle_study import CycleStudy
-from .viz.report import (
-    FigureData,
-    FigureWorkers,
-    kinematics_figures,
-    png_bytes,
-    write_png,
-)
+from .viz.png import png_bytes, write_png
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the device's modules load with the device's outputs only (issue 29)
     from matplotlib.figure import Figure
 
     from .chain.dynamics.inverse import ChainLoads
     from .chain.model.closure import ClosedChain
+    from .device.feeder import Feeder
+    from .motion.cycle import CycleKinematics
     from .study.analyze import Analysis
+    from .study.cycle_study import CycleStudy
     from .study.simulate import Simulation
     from .study.view import MechanismView
+    from .viz.report import FigureWorkers
 
 
 INDETERMINATE = "indeterminate.txt"
@@ -52,6 +45,8 @@ INDETERMINATE = "indeterminate.txt"
 
 def run_record(feeder: Feeder, cycle: CycleKinematics, command: str | None) -> dict[str, object]:
     """The manifest's description of a run: command, device, parameter hash, cycle inputs."""
+    from .device.parameter_file import parameters_sha256
+
     return {
         "command": command or "Python API (feeder.outputs)",
         "device": feeder.params.name,
@@ -82,6 +77,8 @@ def write_cycle_outputs(
             imported matplotlib meanwhile), which draw while the table is written; default:
             draw here, one figure after the other.
     """
+    from .viz.report import FigureData, FigureWorkers
+
     kinematics = study.dynamics.kinematics
     outputs: dict[str, Writer] = {"cycle.csv": lambda path: write_csv(path, study.columns())}
     if figures:
@@ -108,6 +105,9 @@ def write_kinematics_outputs(
     """Write the kinematic columns of ``cycle.csv``, Figs. 4 and 10 (if ``figures``) and the
     manifest into ``directory`` (as :func:`write_cycle_outputs`); returns the paths, the table
     first."""
+    from .study.columns import kinematic_columns
+    from .viz.report import kinematics_figures
+
     outputs: dict[str, Writer] = {
         "cycle.csv": lambda path: write_csv(path, kinematic_columns(cycle))
     }

@@ -3,6 +3,7 @@ matplotlib but the figures (issue 12: the command line's start-up time)."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -104,6 +105,10 @@ SCIPY = {"scipy"}
 """The device's own studies (its cycle, kinematics, sweeps, design sensitivities) use none of
 SciPy: only the generic chain's tracking, forward runs and mobility do."""
 
+DEVICE_STUDY = {"feeder.motion", "feeder.paper", "feeder.study.cycle_study", "feeder.viz.report"}
+"""What only the device's studies and their figures need: a user mechanism's outputs
+(:mod:`feeder.outputs`' tables, figures and report page) load none of it."""
+
 EXAMPLES = REPO / "examples"
 FOUR_BAR = [str(EXAMPLES / "four_bar" / "four_bar.urdf"), "--closures"]
 FOUR_BAR += [str(EXAMPLES / "four_bar" / "closures.toml")]
@@ -128,15 +133,15 @@ COMMANDS = {
     "analyze": (
         ["analyze", *FOUR_BAR, "--motion", str(EXAMPLES / "four_bar" / "motion.csv")]
         + ["--out", "{out}", "--no-figures"],
-        FORWARD | PLOTTING | VIEWER,
+        FORWARD | PLOTTING | VIEWER | DEVICE_STUDY,
     ),
     "simulate --no-figures": (
         ["simulate", *SQUEEZER, "--duration", "0.003", "--out", "{out}", "--no-figures"],
-        PLOTTING | VIEWER,
+        PLOTTING | VIEWER | DEVICE_STUDY,
     ),
     "simulate": (
         ["simulate", *SQUEEZER, "--duration", "0.003", "--samples", "31", "--out", "{out}"],
-        {"trimesh"},
+        {"trimesh"} | DEVICE_STUDY,
     ),
     "design sensitivities --no-figures": (
         ["design", "sensitivities", "--elevation", "30", "--parameter", "L1"]
@@ -147,8 +152,9 @@ COMMANDS = {
 """Each command as a user types it, and what it must not import: the plotting only where it
 draws in this process (``cycle`` draws in its figure workers), the viewer nowhere but ``view``
 and the report pages (and there without trimesh, which only Pinocchio's viser viewer would
-use: :mod:`feeder.viz._visualizer`), ``scipy.integrate`` only in the generic forward runs, no SciPy
-in the device's studies, and no Pinocchio where a command only prints or writes the device's
+use: :mod:`feeder.viz._visualizer`), ``scipy.integrate`` only in the generic forward runs,
+the device's studies (:data:`DEVICE_STUDY`) not in a user mechanism's, no SciPy in the device's
+studies, and no Pinocchio where a command only prints or writes the device's
 numbers."""
 
 
@@ -159,3 +165,25 @@ def test_each_command_imports_only_what_it_uses(command, tmp_path):
     loaded = _modules_after(f"from feeder.cli import main\nassert main({argv!r}) == 0", full=True)
     assert "feeder.cli" in loaded  # the command ran in that interpreter
     assert not {m for m in loaded for a in absent if m == a or m.startswith(a + ".")}
+
+
+def _blas_threads(environment: dict[str, str]) -> set[int]:
+    """The thread counts of the BLAS libraries loaded by ``import feeder.cli`` in a fresh
+    interpreter with ``environment`` (OPENBLAS_NUM_THREADS removed from this one's)."""
+    script = (
+        "import feeder.cli, numpy, scipy.linalg, threadpoolctl\n"
+        "print(' '.join(str(i['num_threads']) for i in threadpoolctl.threadpool_info() "
+        "if i['user_api'] == 'blas'))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"} | environment
+    argv = [sys.executable, "-c", script]
+    done = subprocess.run(argv, cwd=REPO, capture_output=True, text=True, check=True, env=env)
+    return {int(n) for n in done.stdout.split()}
+
+
+@pytest.mark.skipif(os.cpu_count() == 1, reason="one core: OpenBLAS starts one thread anyway")
+def test_the_command_line_runs_one_blas_thread_unless_told_otherwise():
+    """The commands' matrices are small: OpenBLAS is started with one thread (its threads cost
+    0.08 s of CPU to start in every process); a user's OPENBLAS_NUM_THREADS is kept."""
+    assert _blas_threads({}) == {1}
+    assert _blas_threads({"OPENBLAS_NUM_THREADS": "2"}) == {2}

@@ -33,14 +33,36 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import os
 import signal
 import sys
 import threading
 import warnings
 from collections.abc import Sequence
 
-from ..exceptions import FeederError, FeederWarning, InputError
-from . import analyze, cycle, design, errata, kinematics, parameters, simulate, sweep, urdf, view
+BLAS_THREADS = "1"
+"""OpenBLAS threads of a command's process, unless ``OPENBLAS_NUM_THREADS`` says otherwise: set
+before NumPy loads (the commands' imports below), since OpenBLAS starts its threads then. Every
+matrix of a command is small (a few dozen rows; 120 × 81 for the N = 40 four-bar), where more
+threads only wait for each other (:mod:`feeder.chain.blas`), and starting them alone costs 0.08 s
+of CPU in every process (NumPy's and SciPy's OpenBLAS each); parallel work is in processes
+(``sweep``'s cases, the figure workers)."""
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)
+
+from ..exceptions import FeederError, FeederWarning, InputError  # noqa: E402 (after the BLAS)
+from . import (  # noqa: E402 (the commands load NumPy: after the BLAS threads are set)
+    analyze,
+    cycle,
+    design,
+    errata,
+    kinematics,
+    parameters,
+    simulate,
+    sweep,
+    urdf,
+    view,
+)
 
 COMMANDS = (cycle, kinematics, view, parameters, urdf, errata, sweep, analyze, simulate, design)
 """The commands' modules, in the order ``feeder --help`` lists them."""

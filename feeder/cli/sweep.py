@@ -65,31 +65,33 @@ def add(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Peak loads over elevations × parameter variants × devices; resumable."""
+    import contextlib
     from functools import partial
 
     from ..study.grid import elevation_range
     from ..study.sweep_folder import run_sweep
-    from ..viz.report import png_bytes, sweep_figures, write_png
+    from ..viz.png import write_png
+    from ..viz.report import SweepFigures
 
     def figures(table: Path) -> dict[str, partial]:
-        return {
-            name: partial(write_png, png=png_bytes(fig))
-            for name, fig in sweep_figures(table).items()
-        }
+        return {name: partial(write_png, png=png) for name, png in drawing.pngs(table).items()}
 
     elevations = None if args.elevations is None else elevation_range(*args.elevations)
-    outputs = run_sweep(
-        args.grid,
-        args.out,
-        devices=args.device,
-        elevations=elevations,
-        scheduler=args.scheduler,
-        workers=args.workers,
-        progress=True,
-        parquet=args.parquet,
-        figures=figures if args.figures else None,
-        command=command_line(args),
-    )
+    # the figures' process first, forked while this one runs a single thread: it imports
+    # matplotlib while the cases compute
+    with SweepFigures() if args.figures else contextlib.nullcontext() as drawing:
+        outputs = run_sweep(
+            args.grid,
+            args.out,
+            devices=args.device,
+            elevations=elevations,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            progress=True,
+            parquet=args.parquet,
+            figures=figures if args.figures else None,
+            command=command_line(args),
+        )
     print(outputs.summary())
     count = sum(path.suffix == ".png" for path in outputs.files)
     drawn = f" and {count} figure{'' if count == 1 else 's'}" if count else ""

@@ -6,7 +6,7 @@
   are drawn at it and the legend says so (:func:`log_curves`);
 * a panel whose every curve is round-off shows a note instead of its axes (:func:`leave_out`);
 * tick labels carry their whole value: no offset or ×10ⁿ text beside an axis; a log axis
-  spans whole decades, at least two, labelled (:func:`label_ticks`).
+  spans whole decades, at least two, labelled 10ⁿ (:func:`label_ticks`).
 """
 
 from __future__ import annotations
@@ -34,6 +34,11 @@ STYLES = ("-", "--", "-.", ":")
 """Line styles of the curves of a panel, in turn with the colours: curves that meet stay apart."""
 
 SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+TITLE_Y = 1.0
+"""Height of a panel's title, in its axes' fraction (over the top edge, raised by the title's
+pad), given to every ``set_title``: given, matplotlib does not measure the axes' tick labels to
+place the title clear of any at the top (none has them here), 12 % of drawing a time history."""
 
 PLAIN_RANGE = (1e-3, 1e5)
 """Largest |tick| for which tick labels are plain decimals; outside, a × 10ⁿ."""
@@ -169,6 +174,19 @@ class FullTicks(ticker.Formatter):
         ]
 
 
+class DecadeTicks(ticker.Formatter):
+    """Tick labels of a log axis's decades as :class:`FullTicks` writes a power: ``10⁻¹²``, in
+    plain text (matplotlib's own, ``$10^{-12}$``, goes through its math-text parser: a fifth of
+    drawing a figure with a log axis). A tick that is not a whole power of ten is written as
+    :class:`FullTicks` writes it."""
+
+    def __call__(self, x: float, pos: int | None = None) -> str:
+        exponent = round(math.log10(x)) if x > 0.0 else 0
+        if x <= 0.0 or abs(x - 10.0**exponent) > 1e-9 * x:
+            return FullTicks()(x, pos)
+        return "10" + str(exponent).translate(SUPERSCRIPTS)
+
+
 def _decimals(values: np.ndarray, most: int = 12) -> int:
     """The fewest decimals that write every value to within 1e-9 of the smallest gap between
     them (of 1 for a single value)."""
@@ -182,7 +200,8 @@ def _decimals(values: np.ndarray, most: int = 12) -> int:
 
 def label_ticks(fig: Figure) -> None:
     """Every drawn axis of ``fig``: :class:`FullTicks` on a linear one; on a log one, whole
-    decades around its data, at least :data:`MIN_DECADES`, powers of ten labelled only."""
+    decades around its data, at least :data:`MIN_DECADES`, powers of ten labelled only
+    (:class:`DecadeTicks`)."""
     for ax in fig.axes:
         if not ax.axison:
             continue
@@ -192,6 +211,7 @@ def label_ticks(fig: Figure) -> None:
         ):
             if axis.get_scale() == "log":
                 limits(*_decades(*interval))
+                axis.set_major_formatter(DecadeTicks())
                 axis.set_minor_formatter(ticker.NullFormatter())
             elif isinstance(axis.get_major_formatter(), ticker.FixedFormatter):
                 continue  # named categories (a bar chart's): their own labels

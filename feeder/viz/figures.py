@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 
 from ..motion.cycle import CycleKinematics
 from ..study.cycle_study import CycleStudy
-from .axes import STYLES, distinct_curves, label_ticks, leave_out, zero_note
+from .axes import STYLES, TITLE_Y, distinct_curves, label_ticks, leave_out, zero_note
 from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text, file_name
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
@@ -96,6 +96,7 @@ def time_history(
     quantity: str,
     unit: str,
     magnitude: str | None = None,
+    reuse: Figure | None = None,
 ) -> Figure:
     """One figure: ``series`` (label, values (N,) in the SI ``unit``) against time, stages
     marked, in the display unit (:func:`display_unit`).
@@ -109,10 +110,16 @@ def time_history(
         unit: The SI unit of every curve.
         magnitude: Label of the curve that is a vector's magnitude: drawn last, black and
             thicker, over its components.
+        reuse: A figure this function returned before, whose picture is no longer needed
+            (written): drawn again with these curves, the same pixels as a new figure's; its
+            axes and their ticks are kept, whose making is a third of drawing a time history.
     """
     factor, shown = display_unit(unit)
-    fig = Figure(figsize=(8.0, 4.2))
-    ax = fig.subplots()
+    if reuse is None:
+        fig = Figure(figsize=(8.0, 4.2))
+        ax = fig.subplots()
+    else:
+        fig, ax = reuse, _emptied(reuse)
     curves = distinct_curves([(label, np.asarray(v) * factor) for label, v in series], shown)
     if all(curve.zero for curve in curves):
         leave_out(ax, zero_note(title, curves, shown))
@@ -132,7 +139,7 @@ def time_history(
     mark_stages(ax, boundaries)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"{quantity} [{shown}]" if shown else quantity)
-    ax.set_title(title, pad=16)
+    ax.set_title(title, pad=16, y=TITLE_Y)
     ax.grid(True, linewidth=0.4, alpha=0.6)
     legend = len(series) > 1
     if legend:
@@ -141,13 +148,32 @@ def time_history(
     return fig
 
 
+def _emptied(fig: Figure) -> Axes:
+    """The axes of a time history (:func:`time_history`) with nothing drawn on them: curves,
+    stage marks, note, legend, labels and title removed, shown, their data limits cleared (the
+    next curves set them), their ticks kept."""
+    (ax,) = fig.axes
+    for artist in [*ax.lines, *ax.texts]:
+        artist.remove()
+    if ax.get_legend() is not None:
+        ax.get_legend().remove()
+    ax.set_title("")
+    ax.set_xlabel("")
+    ax.set_ylabel("")
+    ax.set_axis_on()
+    ax.relim()
+    return ax
+
+
 def cycle_figure(
     spec: CycleFigure,
     columns: Mapping[str, np.ndarray],
     boundaries: Sequence[float],
     elevation: float,
+    reuse: Figure | None = None,
 ) -> Figure:
-    """One figure of :data:`CYCLE_FIGURES` from a cycle's columns and stage boundaries [s]."""
+    """One figure of :data:`CYCLE_FIGURES` from a cycle's columns and stage boundaries [s]
+    (``reuse``: as :func:`time_history`'s)."""
     return time_history(
         columns["t"],
         boundaries,
@@ -156,6 +182,7 @@ def cycle_figure(
         spec.quantity,
         spec.unit,
         magnitude=spec.magnitude,
+        reuse=reuse,
     )
 
 
@@ -174,9 +201,14 @@ def cycle_figures(study: CycleStudy) -> dict[str, Figure]:
 
 
 def payload_position_figure(
-    t: np.ndarray, position: np.ndarray, boundaries: Sequence[float], elevation: float
+    t: np.ndarray,
+    position: np.ndarray,
+    boundaries: Sequence[float],
+    elevation: float,
+    reuse: Figure | None = None,
 ) -> Figure:
-    """Paper Fig. 10: payload CG coordinates x, y, z [m] (N, 3) against time."""
+    """Paper Fig. 10: payload CG coordinates x, y, z [m] (N, 3) against time (``reuse``: as
+    :func:`time_history`'s)."""
     return time_history(
         t,
         boundaries,
@@ -184,6 +216,7 @@ def payload_position_figure(
         f"Payload CG position, {elevation_text(elevation)} (cf. paper Fig. 10)",
         "position",
         "m",
+        reuse=reuse,
     )
 
 

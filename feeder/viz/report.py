@@ -5,14 +5,16 @@ Drawing thirteen figures takes longer than the study, and importing matplotlib a
 the study: :class:`FigureWorkers` starts a worker process first (it imports matplotlib while
 this process computes), then draws the figures there from :class:`FigureData` (the numbers the
 figures need, no Pinocchio objects) into PNG bytes, sharing them with processes forked from that
-worker (they have matplotlib loaded already: it is imported once, not once per process); a
-writer per file puts them in place atomically. This module imports matplotlib only inside the
-functions that draw, so ``feeder cycle --no-figures`` never loads it.
+worker (they have matplotlib loaded already: it is imported once, not once per process), each
+time history on the figure of the one before (its axes and ticks kept); a writer per file puts
+them in place atomically. A sweep's figures are drawn alike in a process forked before its cases
+(:class:`SweepFigures`). This module imports matplotlib only inside the functions that draw, so
+``feeder cycle --no-figures`` never loads it.
 """
 
 from __future__ import annotations
 
-import io
+import contextlib
 import os
 import pickle
 import re
@@ -29,7 +31,6 @@ import numpy as np
 from ..device.feeder import Feeder
 from ..device.parameters import FeederParameters
 from ..exceptions import InputError
-from ..files import atomic_path
 from ..motion.cycle import CycleKinematics
 from ..motion.laws import CycleSpec
 from ..motion.workspace import workspace
@@ -40,13 +41,10 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
-from .png import png_file
+from .png import png_bytes, write_png
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-FIGURE_DPI = 150
-"""Resolution of the written figures [dots per inch]: an 8 × 4.2 in time history is 1200 × 630."""
 
 WORKSPACE_STEP_DEG = 10.0
 """Elevation step [deg] of the ramming poses drawn in the workspace figure (Fig. 4)."""
@@ -137,6 +135,10 @@ LOADING_FIGURE = "loading_error.png"
 KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
 
+TIME_HISTORIES = frozenset({"fig10_{payload}_position.png", *(s.file for s in CYCLE_FIGURES)})
+"""The figures of a study that are time histories (:func:`~feeder.viz.figures.time_history`):
+one is drawn on another's figure once that is written (:func:`draw`)."""
+
 _COST = {"lagrange_cross_check.png": 3.0, "device_side_view.png": 1.5}
 """Drawing time of a figure relative to a time history's (measured): for sharing the work."""
 
@@ -154,9 +156,10 @@ def study_figure_names() -> tuple[str, ...]:
     )
 
 
-def draw(name: str, data: FigureData) -> Figure:
+def draw(name: str, data: FigureData, reuse: Figure | None = None) -> Figure:
     """The figure ``name`` (one of :func:`study_figure_names`, or its file name for the data's
-    payload) of a cycle.
+    payload) of a cycle; a time history (:data:`TIME_HISTORIES`) is drawn on ``reuse`` if it is
+    one written already (:func:`~feeder.viz.figures.time_history`).
 
     Raises:
         InputError: An unknown name, or a figure that needs columns the data lack (a full
@@ -172,10 +175,10 @@ def draw(name: str, data: FigureData) -> Figure:
     cycle = {spec.file: spec for spec in CYCLE_FIGURES}
     try:
         if name in cycle:
-            return cycle_figure(cycle[name], data.columns, boundaries, data.elevation)
+            return cycle_figure(cycle[name], data.columns, boundaries, data.elevation, reuse)
         if name == "fig10_{payload}_position.png":
             position = np.column_stack([data.columns[f"projectile_{a}"] for a in "xyz"])
-            return payload_position_figure(t, position, boundaries, data.elevation)
+            return payload_position_figure(t, position, boundaries, data.elevation, reuse)
         if name == "lagrange_cross_check.png":
             return cross_check(data.params, data.columns, boundaries)
         if name == BASE_FIGURE and data.base is not None:
@@ -212,30 +215,15 @@ def kinematics_figures(feeder: Feeder, cycle: CycleKinematics) -> dict[str, Figu
     return {data.file_name(name): draw(name, data) for name in KINEMATICS_FIGURES}
 
 
-def png_bytes(fig: Figure, dpi: int = FIGURE_DPI) -> bytes:
-    """The figure as a PNG file's bytes: the pixels of ``savefig`` at ``dpi``, and its
-    ``Software`` text, encoded by :func:`~feeder.viz.png.png_file`."""
-    import matplotlib
-
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="rgba", dpi=dpi)
-    width = int(fig.get_figwidth() * dpi)  # matplotlib's canvas: whole pixels, truncated
-    pixels = np.frombuffer(buffer.getbuffer(), dtype=np.uint8).reshape(-1, width, 4)
-    software = f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"
-    return png_file(pixels, dpi, {"Software": software})
-
-
-def write_png(path: str | Path, png: bytes) -> Path:
-    """Write PNG bytes to ``path`` atomically."""
-    path = Path(path)
-    with atomic_path(path) as temporary:
-        temporary.write_bytes(png)
-    return path
-
-
 def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
-    """Draw ``names`` into PNG bytes (in a worker process)."""
-    return {name: png_bytes(draw(name, data)) for name in names}
+    """Draw ``names`` into PNG bytes (in a worker process), each time history on the figure of
+    the one before (:func:`draw`)."""
+    pngs, history = {}, None
+    for name in names:
+        fig = draw(name, data, history)
+        pngs[name] = png_bytes(fig)
+        history = fig if name in TIME_HISTORIES else history
+    return pngs
 
 
 def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[str, bytes]:
@@ -265,15 +253,21 @@ def _fork_render(names: Sequence[str], data: FigureData) -> tuple[int, int]:
         os.close(write)
         return pid, read
     os.close(read)  # the child: it inherits the worker's signal policy (feeder.workers)
+    _reply(write, partial(_render, names, data), f"drawing {names}")
+
+
+def _reply(write: int, work: Callable[[], dict[str, bytes]], what: str) -> None:
+    """In a forked process: write ``(True, work())`` or ``(False, the error it met)``, pickled,
+    to the pipe ``write`` (:func:`_answer` reads it), and end the process."""
     status = 1
     try:
         try:
-            answer = pickle.dumps((True, _render(names, data)))
-        except Exception as exc:  # sent to the worker, which raises it
+            answer = pickle.dumps((True, work()))
+        except Exception as exc:  # sent to the parent, which raises it
             try:
                 answer = pickle.dumps((False, exc))
             except Exception:  # an error that does not pickle: its text
-                answer = pickle.dumps((False, RuntimeError(f"drawing {names}: {exc!r}")))
+                answer = pickle.dumps((False, RuntimeError(f"{what}: {exc!r}")))
         with os.fdopen(write, "wb") as pipe:
             pipe.write(answer)
         status = 0
@@ -359,6 +353,82 @@ def _draw_and_write(name: str, data: FigureData, path: Path) -> Path:
 
 def _write_drawn(name: str, future: Future, path: Path) -> Path:
     return write_png(path, future.result()[name])
+
+
+def sweep_pngs(table: str | Path) -> dict[str, bytes]:
+    """The PNG bytes of :func:`sweep_figures`, by file name."""
+    return {name: png_bytes(fig) for name, fig in sweep_figures(table).items()}
+
+
+class SweepFigures:
+    """The figures of a sweep (:func:`sweep_pngs`) drawn in a process forked when this context
+    is entered, which imports matplotlib while the sweep computes its cases, then waits for the
+    finished table: what is left after the last case is the drawing alone (importing matplotlib
+    was half of that serial tail, issue 29). Where forking is not safe (a threaded process: the
+    sweep's own pool is made after this one is entered) or not possible, :meth:`pngs` draws in
+    this process.
+    """
+
+    def __init__(self) -> None:
+        self._child: tuple[int, int, int] | None = None  # id, request pipe, answer pipe
+
+    def __enter__(self) -> SweepFigures:
+        if hasattr(os, "fork") and threading.active_count() == 1:
+            self._child = _fork_waiting()
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        if self._child is not None:  # never asked: the process ends at its request's end
+            pid, request, answer = self._child
+            self._child = None
+            os.close(request)
+            _answer(pid, answer)
+
+    def pngs(self, table: str | Path) -> dict[str, bytes]:
+        """:func:`sweep_pngs` of ``table``, drawn by the forked process (once) or here.
+
+        Raises:
+            InputError: As :func:`sweep_figures`.
+        """
+        if self._child is None:
+            return sweep_pngs(table)
+        pid, request, answer = self._child
+        self._child = None
+        with os.fdopen(request, "wb") as pipe:
+            pipe.write(pickle.dumps(str(table)))
+        drawn, result = _answer(pid, answer)
+        if not drawn:
+            raise result
+        return result
+
+
+def _fork_waiting() -> tuple[int, int, int]:
+    """A process forked from this single-threaded one that imports matplotlib, then reads a
+    table's path from its request pipe and answers with :func:`sweep_pngs` of it (or ends at
+    once if the pipe closes empty): its id, the request pipe's end to write and the answer's
+    to read."""
+    from ..workers import _worker_signals
+
+    request_read, request_write = os.pipe()
+    answer_read, answer_write = os.pipe()
+    pid = os.fork()
+    if pid:
+        os.close(request_read)
+        os.close(answer_write)
+        return pid, request_write, answer_read
+    os.close(request_write)
+    os.close(answer_read)
+    request = b""
+    try:
+        _worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
+        with contextlib.suppress(Exception):  # an import error is met again, and sent, below
+            _warm_up()
+        with os.fdopen(request_read, "rb") as pipe:
+            request = pipe.read()
+    finally:  # the child never returns into the parent's code
+        if not request:  # the pipe closed unasked, or an interruption
+            os._exit(0)
+    _reply(answer_write, partial(sweep_pngs, pickle.loads(request)), "drawing the sweep")
 
 
 def sweep_figures(table: str | Path) -> dict[str, Figure]:

@@ -39,7 +39,8 @@ from feeder.study.sweep_table import (
     read_sweep_table,
     row_sha256,
 )
-from feeder.viz.report import png_bytes, sweep_figures, write_png
+from feeder.viz.png import write_png
+from feeder.viz.report import sweep_pngs
 
 SWEEP_SPEC = CycleSpec(rate=100.0)
 """100 Hz: below the forward run's minimum rate, which a sweep does not need; fast."""
@@ -224,7 +225,7 @@ def test_parquet_copy_holds_the_same_table(tmp_path):
 
 def figure_writers(table):
     """What ``feeder sweep`` passes: the figures of the finished table."""
-    return {name: partial(write_png, png=png_bytes(f)) for name, f in sweep_figures(table).items()}
+    return {name: partial(write_png, png=png) for name, png in sweep_pngs(table).items()}
 
 
 def test_the_table_and_a_figure_per_device_with_their_manifest(tmp_path):

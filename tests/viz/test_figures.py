@@ -9,6 +9,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,8 +21,10 @@ from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.viz.catalog import CYCLE_FIGURES, UNITS, display_unit, elevation_text
 from feeder.viz.comparisons import SWEEP_PANELS, sweep_figure
+from feeder.viz.png import png_bytes
 from feeder.viz.report import (
     KINEMATICS_FIGURES,
+    TIME_HISTORIES,
     FigureData,
     FigureWorkers,
     draw,
@@ -177,6 +180,25 @@ def test_workers_write_what_this_process_draws(data, tmp_path):
         assert a.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_a_time_history_drawn_on_anothers_figure_is_a_new_ones_byte_for_byte(data):
+    """Each time history drawn on the one before's figure (as the workers draw them, their axes
+    and ticks kept) gives the PNG of a new figure: after curves, after a note (a figure whose
+    curves are all zero) and before one."""
+    speed = "fig08_{payload}_speed.png"
+    zero = replace(data, columns=data.columns | {"projectile_speed": 0.0 * data.columns["t"]})
+    names = sorted(TIME_HISTORIES) + [speed, "fig14_piston_force.png"]
+    datas = [data] * len(TIME_HISTORIES) + [zero, data]
+    fresh = [png_bytes(draw(name, d)) for name, d in zip(names, datas, strict=True)]
+    fig, reused, shown = None, [], []
+    for name, d in zip(names, datas, strict=True):
+        fig = draw(name, d, fig)
+        reused.append(png_bytes(fig))
+        shown.append(fig.axes[0].axison)
+    assert shown == [True] * len(TIME_HISTORIES) + [False, True]  # the zero speed: a note
+    for name, a, b in zip(names, fresh, reused, strict=True):
+        assert a == b, name
+
+
 FORKED = """
 import sys
 from feeder.device.feeder import load_feeder
@@ -207,6 +229,46 @@ def test_an_error_in_a_forked_drawing_process_is_raised_by_its_writer(tmp_path):
     )
     assert "no figure named 'fig99.png'" in done.stdout, done.stdout + done.stderr
     assert not path.exists()
+
+
+SWEEP_FIGURES = """
+import os, sys
+from pathlib import Path
+from feeder.exceptions import InputError
+from feeder.motion.laws import CycleSpec
+from feeder.study.grid import make_grid
+from feeder.study.sweep_folder import run_sweep
+from feeder.viz.report import SweepFigures, sweep_pngs
+folder = Path(sys.argv[1])
+with SweepFigures() as drawing:
+    unasked = drawing._child[0]  # forked: this interpreter runs one thread
+try:
+    os.waitpid(unasked, os.WNOHANG)
+except ChildProcessError:
+    print("ended")
+(folder / "bad.csv").write_text("not,a,sweep,table")
+with SweepFigures() as drawing:
+    try:
+        drawing.pngs(folder / "bad.csv")
+    except InputError as error:
+        print("refused:", error)
+grid = make_grid(("projectile",), (20.0, 40.0), spec=CycleSpec(rate=100.0))
+with SweepFigures() as drawing:
+    assert drawing._child is not None
+    table = run_sweep(grid, folder / "sweep", progress=False, workers=1).table
+    there = drawing.pngs(table)
+print("same" if there == sweep_pngs(table) and there else "different")
+"""
+
+
+def test_a_sweeps_figures_are_drawn_in_a_process_forked_before_its_cases(tmp_path):
+    """SweepFigures forks before the sweep's pool (in a fresh, single-threaded interpreter:
+    pytest runs threads): its PNGs are the ones drawn here, byte for byte; a table it cannot
+    read is refused by its error, raised here; a process never asked ends with the context."""
+    argv = [sys.executable, "-c", SWEEP_FIGURES, str(tmp_path)]
+    done = subprocess.run(argv, capture_output=True, text=True, check=True)
+    lines = done.stdout.splitlines()
+    assert lines[0] == "ended" and lines[1].startswith("refused:") and lines[2] == "same", lines
 
 
 def test_figure_workers_count_is_checked():

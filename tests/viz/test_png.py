@@ -1,4 +1,4 @@
-"""The figures' PNG files (feeder.viz.png, feeder.viz.report.png_bytes): the pixels, size,
+"""The figures' PNG files (feeder.viz.png): the pixels, size,
 resolution and text of matplotlib's own PNG file of the same figure, read back by Pillow."""
 
 from __future__ import annotations
@@ -10,8 +10,7 @@ import pytest
 from matplotlib.figure import Figure
 from PIL import Image  # matplotlib's own PNG writer, and an independent reader
 
-from feeder.viz.png import png_file
-from feeder.viz.report import FIGURE_DPI, png_bytes
+from feeder.viz.png import FIGURE_DPI, png_bytes, png_file
 
 
 def _figure(width: float, height: float) -> Figure:
