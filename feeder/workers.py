@@ -43,7 +43,7 @@ def check_workers(what: str, workers: object) -> int:
     return workers
 
 
-def _worker_signals() -> None:
+def worker_signals() -> None:
     """In a worker: SIGINT ignored, SIGTERM at its default, then the signals that
     :func:`interrupts_held` kept back during the fork taken (module docstring)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -99,7 +99,7 @@ def process_pool(
         context.set_forkserver_preload(list(preload))
     else:
         context = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_worker_signals)
+    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=worker_signals)
     with interrupts_held():  # a fork pool starts every worker at the first submit
         for _ in range(workers):
             pool.submit(warm_up)

@@ -407,7 +407,7 @@ def _fork_waiting() -> tuple[int, int, int]:
     table's path from its request pipe and answers with :func:`sweep_pngs` of it (or ends at
     once if the pipe closes empty): its id, the request pipe's end to write and the answer's
     to read."""
-    from ..workers import _worker_signals
+    from ..workers import worker_signals
 
     request_read, request_write = os.pipe()
     answer_read, answer_write = os.pipe()
@@ -420,7 +420,7 @@ def _fork_waiting() -> tuple[int, int, int]:
     os.close(answer_read)
     request = b""
     try:
-        _worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
+        worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
         with contextlib.suppress(Exception):  # an import error is met again, and sent, below
             _warm_up()
         with os.fdopen(request_read, "rb") as pipe:
