@@ -130,12 +130,10 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
         for name, w in wrenches.items()
     }
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
-    largest |= {
-        model.names[j]: np.concatenate(
-            [np.abs(force[j]).max(axis=0), np.abs(moment[j]).max(axis=0) / size]
-        )
-        for j in joints
-    }
+    peaks = np.concatenate(
+        [np.abs(force[joints]).max(axis=1), np.abs(moment[joints]).max(axis=1) / size], axis=1
+    )  # (joints, 6)
+    largest |= {model.names[j]: peak for j, peak in zip(joints, peaks, strict=True)}
     scale = max(float(x.max()) for x in largest.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
@@ -158,7 +156,8 @@ def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
     """The placements of ``motion`` at the samples ``index`` (M,), at rest: what the self-
     stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads (the
     joints' columns, which it does not read, left empty)."""
-    zero = [np.zeros((index.size, 3))] * len(motion.origin)
-    empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
-    rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
-    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero)
+    zero = np.broadcast_to(0.0, (motion.origin.shape[0], index.size, 3))
+    empty = [np.zeros((index.size, 3, 0))] * motion.origin.shape[0]
+    return TreeMotion(
+        motion.rotation[:, index], motion.origin[:, index], empty, empty, zero, zero, zero, zero
+    )

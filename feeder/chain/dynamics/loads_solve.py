@@ -117,7 +117,10 @@ def solve_loads(
     moved = np.any(rows.jacobian, axis=(0, 2))
     system = load_equations(dyn, rows.jacobian, moved)
     # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
-    terms = np.abs(np.concatenate(force[1:] + moment[1:], axis=1)).max(axis=1, initial=0.0)
+    terms = np.maximum(
+        np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
+        np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
+    )
     solution = _solve(system, tree, n_act, terms)
     lam = np.zeros((solution.shape[0], dyn.chain.nc))
     lam[:, moved] = solution[:, n_act:] * dyn.row_scale[moved]
