@@ -35,7 +35,7 @@ import pinocchio as pin
 
 from ..assembly.rank import indeterminate_mask, self_stress_bases
 from ..blas import one_blas_thread
-from ..kinematics.rows import closure_kinematics
+from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import TreeMotion, reach, tree_motion
 from ..model.closure import ClosedChain
 from .newton_euler import joint_wrenches
@@ -97,20 +97,38 @@ class Indeterminacy:
         return lines
 
 
+def subsample(count: int) -> np.ndarray:
+    """The samples (indices) of a motion of ``count`` samples on which :func:`indeterminacy`
+    computes the self-stresses: at most about :data:`SUBSAMPLE`, evenly spread."""
+    return np.arange(0, count, max(1, count // SUBSAMPLE))
+
+
 @one_blas_thread
-def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) -> Indeterminacy:
+def indeterminacy(
+    chain: ClosedChain,
+    q: np.ndarray,
+    size: float | None = None,
+    kinematics: tuple[TreeMotion, ClosureKinematics] | None = None,
+) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
-    (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
+    (N, nq) (trusted): the union over the poses, computed on those of :func:`subsample` (the
+    self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
     self_stress_bases`; the statics pass of every self-stress at its pose reuses the poses'
     placements).
 
-    ``size``: the mechanism's reach [m] at its neutral pose, if the caller has it
-    (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+    Args:
+        size: The mechanism's reach [m] at its neutral pose, if the caller has it
+            (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+        kinematics: The tree's placements and the closure rows (with their Jacobian) at the
+            poses q[subsample(N)], if the caller has them (the inverse dynamics do: the same
+            values); computed otherwise.
     """
     model = chain.model
-    poses = tree_motion(model, q[:: max(1, q.shape[0] // SUBSAMPLE)])
-    rows = closure_kinematics(chain, poses)
+    if kinematics is None:
+        poses = tree_motion(model, q[subsample(q.shape[0])])
+        rows = closure_kinematics(chain, poses)
+    else:
+        poses, rows = kinematics
     bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
@@ -119,9 +137,8 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
     labels = chain.row_labels()
     index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    still = _at(poses, index)
-    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
-    force, moment = joint_wrenches(model, still, terms, inertia=False)
+    wrenches, terms = closure_wrenches(chain, rows.at(index), lam)
+    force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
     if size is None:
         size = reach(model, pin.neutral(model)[None])
     # each cut's and joint's largest force and moment components over the self-stresses (6,)
@@ -149,15 +166,4 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
         rows=tuple(label for label, flag in zip(labels, mask, strict=True) if flag),
         closures=changed(wrenches),
         joints=changed(model.names[j] for j in joints),
-    )
-
-
-def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
-    """The placements of ``motion`` at the samples ``index`` (M,), at rest: what the self-
-    stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads (the
-    joints' columns, which it does not read, left empty)."""
-    zero = np.broadcast_to(0.0, (motion.origin.shape[0], index.size, 3))
-    empty = [np.zeros((index.size, 3, 0))] * motion.origin.shape[0]
-    return TreeMotion(
-        motion.rotation[:, index], motion.origin[:, index], empty, empty, zero, zero, zero, zero
     )

@@ -58,7 +58,7 @@ from ..model.closure import ClosedChain
 from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
-from .indeterminacy import Indeterminacy, indeterminacy
+from .indeterminacy import Indeterminacy, indeterminacy, subsample
 from .loads_solve import row_scale, solve_loads
 from .newton_euler import held_wrench
 from .reactions import (
@@ -105,6 +105,9 @@ class ChainLoads:
         chain: The closed chain. q: The motion's configurations (N, nq).
         reach: The mechanism's size [m] (:attr:`Partition.length`), the moments' scale of
             :attr:`indeterminacy`; None: measured there.
+        kinematics: The tree's placements and the closure rows at the samples
+            :func:`~.indeterminacy.subsample` picks, which :attr:`indeterminacy` reads; None:
+            computed there.
     """
 
     actuators: dict[str, np.ndarray]
@@ -122,6 +125,7 @@ class ChainLoads:
     chain: ClosedChain | None = None
     q: np.ndarray | None = None
     reach: float | None = None
+    kinematics: tuple[TreeMotion, ClosureKinematics] | None = None
 
     @cached_property
     def indeterminacy(self) -> Indeterminacy:
@@ -129,7 +133,7 @@ class ChainLoads:
         not determine along the motion (:func:`~.indeterminacy.indeterminacy`; their values
         follow the convention :data:`CONVENTION`), computed when first asked (a few ms, which
         the device's many cycles need not spend)."""
-        return indeterminacy(self.chain, self.q, self.reach)
+        return indeterminacy(self.chain, self.q, self.reach, self.kinematics)
 
     def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
         """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
@@ -310,6 +314,8 @@ def inverse_dynamics(
             actuation).
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
+    picks = subsample(q.shape[0])
+    kinematics = (motion.at_rest(picks), rows.at(picks))
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     forces = {}
     t = _times(dyn, t, q.shape[0])
@@ -348,6 +354,7 @@ def inverse_dynamics(
         chain=dyn.chain,
         q=q,
         reach=dyn.partition.length,
+        kinematics=kinematics,
     )
 
 

@@ -4,7 +4,7 @@ the two frames' motion from the tree's, :mod:`.tree`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 import pinocchio as pin
@@ -35,6 +35,33 @@ class ClosureKinematics:
     acceleration: np.ndarray
     frames: list[CutFrames]
     hinge_alignment: dict[str, np.ndarray]
+
+    def at(self, index: np.ndarray) -> ClosureKinematics:
+        """The rows and the cuts' frames at the samples ``index`` (M,)."""
+        frames = [
+            replace(
+                f,
+                **{
+                    name: getattr(f, name)[index]
+                    for name in _SAMPLED
+                    if getattr(f, name) is not None
+                },
+                derived={},
+            )
+            for f in self.frames
+        ]
+        return ClosureKinematics(
+            self.jacobian[index],
+            self.residual[index],
+            self.rate[index],
+            self.acceleration[index],
+            frames,
+            {label: cosine[index] for label, cosine in self.hinge_alignment.items()},
+        )
+
+
+_SAMPLED = tuple(f.name for f in fields(CutFrames) if f.name != "derived")
+"""The fields of :class:`~feeder.chain.model.cuts.CutFrames` that hold one entry per sample."""
 
 
 def cut_frames(

@@ -72,6 +72,16 @@ class TreeMotion:
     linear_columns: np.ndarray | None = None
     angular_columns: np.ndarray | None = None
 
+    def at_rest(self, index: np.ndarray) -> TreeMotion:
+        """The placements at the samples ``index`` (M,), at rest: rates zero, no columns (what
+        a statics pass, :func:`~feeder.chain.dynamics.newton_euler.joint_wrenches` without
+        inertia, reads)."""
+        zero = np.broadcast_to(0.0, (self.origin.shape[0], index.size, 3))
+        empty = [np.zeros((index.size, 3, 0))] * self.origin.shape[0]
+        return TreeMotion(
+            self.rotation[:, index], self.origin[:, index], empty, empty, zero, zero, zero, zero
+        )
+
 
 def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Row-wise cross product of two (..., 3) arrays, broadcast (numpy's ``cross`` is several
