@@ -137,15 +137,14 @@ def indeterminacy(
     labels = chain.row_labels()
     index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    wrenches, terms = closure_wrenches(chain, rows.at(index), lam)
+    wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
     force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
     if size is None:
         size = reach(model, pin.neutral(model)[None])
     # each cut's and joint's largest force and moment components over the self-stresses (6,)
-    largest = {
-        name: np.concatenate([np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0) / size])
-        for name, w in wrenches.items()
-    }
+    cuts = np.abs([[w.force, w.moment] for w in wrenches.values()]).max(axis=2)  # (cuts, 2, 3)
+    cuts[:, 1] /= size
+    largest = dict(zip(wrenches, cuts.reshape(-1, 6), strict=True))
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
     peaks = np.concatenate(
         [np.abs(force[joints]).max(axis=1), np.abs(moment[joints]).max(axis=1) / size], axis=1

@@ -36,6 +36,7 @@ from ..assembly.newton import RANK_TOLERANCE
 from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
+from .block_inverse import block_inverse
 from .newton_euler import generalized_forces, joint_wrenches
 
 CONSISTENCY = 1e-9
@@ -138,11 +139,12 @@ def load_equations(
         jacobian = jacobian[:, moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    system = np.zeros((n, nv, n_act + nc))
-    system[:, dyn.columns, np.arange(n_act)] = 1.0
+    transposed = np.empty((n, n_act + nc, nv))  # [S; J] row by row (contiguous), then a view
+    transposed[:, :n_act] = 0.0
+    transposed[:, np.arange(n_act), dyn.columns] = 1.0
     scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
-    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * scale
-    return system
+    np.multiply(jacobian, scale[:, None], out=transposed[:, n_act:])
+    return np.swapaxes(transposed, 1, 2)
 
 
 def load_rank(dyn: LoadUnknowns, q: np.ndarray) -> int:
@@ -225,15 +227,13 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     bound cannot pass by accident — a full-rank A passes only with cond(A) below
     :data:`MAX_FORCE_GAIN` (square) or :data:`NORMAL_EQUATIONS` (Gram: ≤ 1e6 × ε of relative
     round-off); a doubtful sample takes the singular value decomposition, which also refuses a
-    singular one."""
+    singular one. The inverse is a block triangular one (:mod:`.block_inverse`: the square
+    systems of mechanisms with many loops are sparse), equal to a dense one to round-off."""
     rows, unknowns = system.shape[1:]
     square = rows == unknowns
     transposed = np.swapaxes(system, 1, 2)
     matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
-    try:
-        inverse = np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:  # some sample is exactly singular: the others one by one
-        inverse = np.array([_inverse_or_nan(m) for m in matrix])
+    inverse = block_inverse(matrix)
     with np.errstate(invalid="ignore", over="ignore"):
         bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
     fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
@@ -242,13 +242,6 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     elif rows > unknowns:
         inverse = inverse @ transposed
     return fast, inverse
-
-
-def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
-    try:
-        return np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:
-        return np.full_like(matrix, np.nan)
 
 
 def _solve_svd(

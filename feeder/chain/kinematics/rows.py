@@ -4,13 +4,14 @@ the two frames' motion from the tree's, :mod:`.tree`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
 
 from ..model.closure import ClosedChain
 from ..model.cuts import CutFrames
+from .layout import tree_layout
 from .tree import TreeMotion, frame_acceleration, frame_placements, point_jacobian
 
 
@@ -36,45 +37,46 @@ class ClosureKinematics:
     frames: list[CutFrames]
     hinge_alignment: dict[str, np.ndarray]
 
-    def at(self, index: np.ndarray) -> ClosureKinematics:
-        """The rows and the cuts' frames at the samples ``index`` (M,)."""
+    def at(self, index: np.ndarray, jacobian: bool = True) -> ClosureKinematics:
+        """The position-level rows at the samples ``index`` (M,): the Jacobian (if
+        ``jacobian``; else none, as a pass without it), the residual and the cuts' frames'
+        placements (the rates, the accelerations and the frames' motion left zero or out: what
+        the self-stresses and their wrenches read, :mod:`~feeder.chain.dynamics.indeterminacy`)."""
         frames = [
-            replace(
-                f,
-                **{
-                    name: getattr(f, name)[index]
-                    for name in _SAMPLED
-                    if getattr(f, name) is not None
-                },
-                derived={},
+            CutFrames(
+                f.rotation_a[index], f.rotation_b[index], f.origin_a[index], f.origin_b[index]
             )
             for f in self.frames
         ]
+        zero = np.zeros((index.size, self.residual.shape[1]))
         return ClosureKinematics(
-            self.jacobian[index],
+            self.jacobian[index] if jacobian else np.zeros((index.size, zero.shape[1], 0)),
             self.residual[index],
-            self.rate[index],
-            self.acceleration[index],
+            zero,
+            zero,
             frames,
             {label: cosine[index] for label, cosine in self.hinge_alignment.items()},
         )
 
 
-_SAMPLED = tuple(f.name for f in fields(CutFrames) if f.name != "derived")
-"""The fields of :class:`~feeder.chain.model.cuts.CutFrames` that hold one entry per sample."""
-
-
 def cut_frames(
-    model: pin.Model, motion: TreeMotion, a: int, b: int, jacobians: bool, rates: bool
+    model: pin.Model,
+    motion: TreeMotion,
+    a: int,
+    b: int,
+    jacobians: bool,
+    rates: bool,
+    columns: np.ndarray | None = None,
 ) -> CutFrames:
     """Frames a and b of a cut along a batched motion: placements, and if asked their
-    Jacobians (``jacobians``) and velocities and accelerations (``rates``)."""
+    Jacobians (``jacobians``; on the velocity ``columns`` only, if given: sorted, among them
+    every column that moves either frame) and velocities and accelerations (``rates``)."""
     rot_a, p_a = frame_placements(model, motion, a)
     rot_b, p_b = frame_placements(model, motion, b)
     frames = CutFrames(rot_a, rot_b, p_a, p_b)
     if jacobians:
-        frames.jacobian_a = point_jacobian(model, motion, a)
-        frames.jacobian_b = point_jacobian(model, motion, b)
+        frames.jacobian_a = point_jacobian(model, motion, a, columns)
+        frames.jacobian_b = point_jacobian(model, motion, b, columns)
     else:  # no columns
         frames.jacobian_a = frames.jacobian_b = np.zeros((p_a.shape[0], 6, 0))
     if rates:
@@ -99,9 +101,15 @@ def closure_kinematics(
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
     kept, alignment = [], {}
+    support = tree_layout(model).support
     for cut, rows, (a, b) in zip(chain.cuts, chain.row_slices, chain.frame_ids, strict=True):
-        frames = cut_frames(model, motion, a, b, with_jacobian, v is not None)
-        jacobian[:, rows] = cut.jacobian(frames)
+        # the columns that move either frame: a cut's rows are zero elsewhere
+        columns = np.union1d(
+            support[model.frames[a].parentJoint], support[model.frames[b].parentJoint]
+        )
+        frames = cut_frames(model, motion, a, b, with_jacobian, v is not None, columns)
+        if with_jacobian:
+            jacobian[:, rows][:, :, columns] = cut.jacobian(frames)
         residual[:, rows] = cut.residual(frames)
         if v is not None:
             acceleration[:, rows] = cut.acceleration(frames)

@@ -285,19 +285,26 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
     return max(max(distances, default=0.0), MIN_REACH)
 
 
-def point_jacobian(model: pin.Model, motion: TreeMotion, frame: int) -> np.ndarray:
+def point_jacobian(
+    model: pin.Model, motion: TreeMotion, frame: int, columns: np.ndarray | None = None
+) -> np.ndarray:
     """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
     velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
-    (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`)."""
+    (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`). ``columns``: only
+    these velocity columns (sorted, (c,) int, among them every column that moves the frame),
+    (N, 6, c)."""
     layout = tree_layout(model)
     n = motion.origin.shape[1]
     _, point = frame_placements(model, motion, frame)
-    jac = np.zeros((n, 6, model.nv))
-    columns = layout.support[model.frames[frame].parentJoint]
-    lever = point - motion.origin[layout.column_joint[columns]]  # (c, N, 3)
-    turning = np.moveaxis(motion.angular_columns[:, :, columns], 2, 0)  # (c, N, 3)
-    jac[:, :3, columns] = motion.linear_columns[:, :, columns] + np.moveaxis(
+    moving = layout.support[model.frames[frame].parentJoint]
+    if columns is None:
+        jac, place = np.zeros((n, 6, model.nv)), moving
+    else:
+        jac, place = np.zeros((n, 6, columns.size)), np.searchsorted(columns, moving)
+    lever = point - motion.origin[layout.column_joint[moving]]  # (c, N, 3)
+    turning = np.moveaxis(motion.angular_columns[:, :, moving], 2, 0)  # (c, N, 3)
+    jac[:, :3, place] = motion.linear_columns[:, :, moving] + np.moveaxis(
         cross(turning, lever), 0, 2
     )
-    jac[:, 3:, columns] = motion.angular_columns[:, :, columns]
+    jac[:, 3:, place] = motion.angular_columns[:, :, moving]
     return jac
