@@ -133,10 +133,11 @@ def indeterminacy(
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
         return Indeterminacy(0, (), {}, {})
-    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)
-    labels = chain.row_labels()
-    index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
+    sizes = np.array([basis.shape[0] for basis in bases])
+    index = np.repeat(np.arange(sizes.size), sizes)
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
+    mask = indeterminate_mask(lam, sizes)
+    labels = chain.row_labels()
     wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
     force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
     if size is None:

@@ -60,7 +60,7 @@ from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
 from .indeterminacy import Indeterminacy, indeterminacy, subsample
 from .loads_solve import row_scale, solve_loads
-from .newton_euler import held_wrench
+from .newton_euler import held_wrench, joint_wrenches
 from .reactions import (
     ClosureWrench,
     JointWrench,
@@ -333,10 +333,11 @@ def inverse_dynamics(
         motion = tree_motion(dyn.chain.model, q, v, a)
         if base is not None:
             motion = on_base(motion, base)
-    tau, lam = solve_loads(dyn, motion, rows, terms)
+    wrenches = joint_wrenches(dyn.chain.model, motion, terms)  # the loads' and the reactions'
+    tau, lam = solve_loads(dyn, motion, rows, terms, wrenches)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints, mount = joint_reactions(
-        dyn.chain, motion, closure_terms + terms, None if base is None else base.rotation
+        dyn.chain, motion, closure_terms, None if base is None else base.rotation, wrenches
     )
     return ChainLoads(
         actuators={name: tau[:, i] for i, name in enumerate(dyn.actuated)},

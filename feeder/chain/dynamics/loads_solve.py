@@ -105,11 +105,13 @@ def solve_loads(
     motion: TreeMotion,
     rows: ClosureKinematics,
     external: list[tuple[int, np.ndarray]] = (),
+    wrenches: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring)."""
+    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass with the ``external``
+    wrenches (:func:`~.newton_euler.joint_wrenches`), if the caller has it."""
     model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external)
+    force, moment = joint_wrenches(model, motion, external) if wrenches is None else wrenches
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
     # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their

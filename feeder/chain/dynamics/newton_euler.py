@@ -77,10 +77,10 @@ def _add_rows(target: np.ndarray, index: np.ndarray, values: np.ndarray) -> None
     """target[index] += values (k, ...) with the values of a repeated index summed (as
     ``np.add.at``, which is several times slower on these arrays): a product with the
     indices' incidence matrix where an index repeats."""
-    unique, inverse = np.unique(index, return_inverse=True)
-    if unique.size == index.size:
+    if len(set(index.tolist())) == index.size:
         target[index] += values
         return
+    unique, inverse = np.unique(index, return_inverse=True)
     incidence = (inverse == np.arange(unique.size)[:, None]).astype(float)  # (u, k)
     summed = incidence @ values.reshape(index.size, -1)
     target[unique] += summed.reshape((unique.size, *values.shape[1:]))

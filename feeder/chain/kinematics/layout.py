@@ -19,7 +19,7 @@ change in place and which the passes read at every call.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -71,6 +71,17 @@ class TreeLayout:
     slices: tuple[slice, ...]
     column_joint: np.ndarray
     support: tuple[np.ndarray, ...]
+    _pairs: dict[tuple[int, int], np.ndarray] = field(
+        default_factory=dict, repr=False, compare=False
+    )
+
+    def columns(self, a: int, b: int) -> np.ndarray:
+        """The velocity columns (sorted, (c,) int) that move joint a's or joint b's body: a
+        cut's rows between them are zero in the others (found once per pair)."""
+        pair = self._pairs.get((a, b))
+        if pair is None:
+            pair = self._pairs[(a, b)] = np.union1d(self.support[a], self.support[b])
+        return pair
 
 
 _layouts: weakref.WeakKeyDictionary[pin.Model, TreeLayout] = weakref.WeakKeyDictionary()

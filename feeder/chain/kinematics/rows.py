@@ -101,12 +101,9 @@ def closure_kinematics(
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
     kept, alignment = [], {}
-    support = tree_layout(model).support
+    layout = tree_layout(model)
     for cut, rows, (a, b) in zip(chain.cuts, chain.row_slices, chain.frame_ids, strict=True):
-        # the columns that move either frame: a cut's rows are zero elsewhere
-        columns = np.union1d(
-            support[model.frames[a].parentJoint], support[model.frames[b].parentJoint]
-        )
+        columns = layout.columns(model.frames[a].parentJoint, model.frames[b].parentJoint)
         frames = cut_frames(model, motion, a, b, with_jacobian, v is not None, columns)
         if with_jacobian:
             jacobian[:, rows][:, :, columns] = cut.jacobian(frames)
