@@ -141,11 +141,13 @@ def load_equations(
         jacobian = jacobian[:, moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    transposed = np.empty((n, n_act + nc, nv))  # [S; J] row by row (contiguous), then a view
-    transposed[:, :n_act] = 0.0
-    transposed[:, np.arange(n_act), dyn.columns] = 1.0
+    selection = np.zeros((n_act, nv))
+    selection[np.arange(n_act), dyn.columns] = 1.0
     scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
-    np.multiply(jacobian, scale[:, None], out=transposed[:, n_act:])
+    # [S; J] row by row (contiguous copies), then seen transposed
+    transposed = np.concatenate(
+        [np.broadcast_to(selection, (n, n_act, nv)), jacobian * scale[:, None]], axis=1
+    )
     return np.swapaxes(transposed, 1, 2)
 
 
@@ -237,7 +239,9 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
     inverse = block_inverse(matrix)
     with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
+        bound = np.sqrt(
+            np.einsum("nij,nij->n", matrix, matrix) * np.einsum("nij,nij->n", inverse, inverse)
+        )  # ‖B‖_F ‖B⁻¹‖_F
     fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
     if rows < unknowns:
         inverse = transposed @ inverse

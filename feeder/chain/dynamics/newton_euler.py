@@ -52,25 +52,37 @@ def joint_wrenches(
     else:
         force, moment = np.zeros((2, model.njoints, n, 3))
     if external:
-        frames = [frame for frame, _ in external]
-        joints = np.array([model.frames[frame].parentJoint for frame in frames])
-        wrench = np.stack([w for _, w in external])  # (terms, N, 6)
-        point = motion.origin[joints] + np.einsum(
-            "knij,kj->kni",
-            motion.rotation[joints],
-            np.array([model.frames[frame].placement.translation for frame in frames]),
-        )
-        _add_rows(force, joints, -wrench[:, :, :3])
-        _add_rows(
-            moment,
-            joints,
-            -wrench[:, :, 3:] - cross(point - motion.origin[joints], wrench[:, :, :3]),
-        )
+        _apply_external(model, motion, external, force, moment)
     for children, parents in tree_layout(model).backward:
         arm = motion.origin[children] - motion.origin[parents]
         _add_rows(moment, parents, moment[children] + cross(arm, force[children]))
         _add_rows(force, parents, force[children])
     return force, moment
+
+
+def _apply_external(
+    model: pin.Model,
+    motion: TreeMotion,
+    external: list[tuple[int, np.ndarray]],
+    force: np.ndarray,
+    moment: np.ndarray,
+) -> None:
+    """Subtract the external wrenches from their bodies' terms (force, moment: (njoints, N, 3),
+    about the joints' origins), only where a wrench is not zero (a self-stress loads a few cuts
+    of many: :mod:`.indeterminacy`), summed per joint and sample."""
+    n = motion.origin.shape[1]
+    frames = [frame for frame, _ in external]
+    wrench = np.stack([w for _, w in external])  # (terms, N, 6)
+    term, sample = np.nonzero(np.any(wrench != 0.0, axis=2))
+    values = wrench[term, sample]  # (E, 6)
+    joint = np.array([model.frames[frame].parentJoint for frame in frames])[term]
+    shift = np.array([model.frames[frame].placement.translation for frame in frames])[term]
+    lever = np.einsum("eij,ej->ei", motion.rotation[joint, sample], shift)  # joint → frame
+    turning = values[:, 3:] + cross(lever, values[:, :3])  # about the joint's origin
+    place, size = joint * n + sample, model.njoints * n
+    for k in range(3):
+        force[..., k] -= np.bincount(place, values[:, k], size).reshape(-1, n)
+        moment[..., k] -= np.bincount(place, turning[:, k], size).reshape(-1, n)
 
 
 def _add_rows(target: np.ndarray, index: np.ndarray, values: np.ndarray) -> None:
