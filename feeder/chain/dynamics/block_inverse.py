@@ -46,7 +46,8 @@ def block_inverse(matrices: np.ndarray) -> np.ndarray:
             rhs = np.zeros((n, rows.size, m))
             rhs[:, np.arange(rows.size), rows] = 1.0
             if earlier.size:
-                rhs -= matrices[:, rows[:, None], earlier] @ inverse[:, earlier, :]
+                used = np.take(np.take(matrices, rows, axis=1), earlier, axis=2)
+                rhs -= used @ np.take(inverse, earlier, axis=1)
             inverse[:, columns, :] = diagonal[k] @ rhs
     return inverse
 

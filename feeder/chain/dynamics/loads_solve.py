@@ -138,7 +138,7 @@ def load_equations(
     rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
     n_act + their count columns)."""
     if moved is not None:
-        jacobian = jacobian[:, moved]
+        jacobian = np.compress(moved, jacobian, axis=1)  # contiguous (a mask keeps strides)
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
     selection = np.zeros((n_act, nv))

@@ -149,7 +149,7 @@ def _along_every(columns: np.ndarray, vectors: np.ndarray, owner: np.ndarray) ->
     single = active[count[owner[active]] == 1]
     if single.size:
         joints = owner[single]
-        axis = np.moveaxis(columns[:, :, single], 2, 0)  # (k, N, 3)
+        axis = np.moveaxis(np.take(columns, single, axis=2), 2, 0)  # (k, N, 3)
         along = np.einsum("kni,kni->kn", axis, vectors[joints]) / np.einsum(
             "kni,kni->kn", axis, axis
         )

@@ -79,7 +79,14 @@ class TreeMotion:
         zero = np.broadcast_to(0.0, (self.origin.shape[0], index.size, 3))
         empty = [np.zeros((index.size, 3, 0))] * self.origin.shape[0]
         return TreeMotion(
-            self.rotation[:, index], self.origin[:, index], empty, empty, zero, zero, zero, zero
+            np.take(self.rotation, index, axis=1),  # take: contiguous (an index keeps strides)
+            np.take(self.origin, index, axis=1),
+            empty,
+            empty,
+            zero,
+            zero,
+            zero,
+            zero,
         )
 
 
@@ -302,9 +309,10 @@ def point_jacobian(
     else:
         jac, place = np.zeros((n, 6, columns.size)), np.searchsorted(columns, moving)
     lever = point - motion.origin[layout.column_joint[moving]]  # (c, N, 3)
-    turning = np.moveaxis(motion.angular_columns[:, :, moving], 2, 0)  # (c, N, 3)
-    jac[:, :3, place] = motion.linear_columns[:, :, moving] + np.moveaxis(
+    angular = np.take(motion.angular_columns, moving, axis=2)  # (N, 3, c)
+    turning = np.moveaxis(angular, 2, 0)  # (c, N, 3)
+    jac[:, :3, place] = np.take(motion.linear_columns, moving, axis=2) + np.moveaxis(
         cross(turning, lever), 0, 2
     )
-    jac[:, 3:, place] = motion.angular_columns[:, :, moving]
+    jac[:, 3:, place] = angular
     return jac
