@@ -71,20 +71,19 @@ def cut_frames(
     """Frames a and b of a cut along a batched motion: placements, and if asked their
     Jacobians (``jacobians``; on the velocity ``columns`` only, if given: sorted, among them
     every column that moves either frame) and velocities and accelerations (``rates``)."""
-    rot_a, p_a = frame_placements(model, motion, a)
-    rot_b, p_b = frame_placements(model, motion, b)
+    (rot_a, rot_b), (p_a, p_b) = placed = frame_placements(model, motion, (a, b))
     frames = CutFrames(rot_a, rot_b, p_a, p_b)
     if jacobians:
-        frames.jacobian_a = point_jacobian(model, motion, a, columns)
-        frames.jacobian_b = point_jacobian(model, motion, b, columns)
+        frames.jacobian_a = point_jacobian(model, motion, a, columns, p_a)
+        frames.jacobian_b = point_jacobian(model, motion, b, columns, p_b)
     else:  # no columns
         frames.jacobian_a = frames.jacobian_b = np.zeros((p_a.shape[0], 6, 0))
     if rates:
         ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
         frames.omega_a, frames.omega_b = motion.omega[ja], motion.omega[jb]
         frames.alpha_a, frames.alpha_b = motion.alpha[ja], motion.alpha[jb]
-        frames.acceleration_a = frame_acceleration(model, motion, a, p_a)
-        frames.acceleration_b = frame_acceleration(model, motion, b, p_b)
+        acceleration = frame_acceleration(model, motion, (a, b), placed[1])
+        frames.acceleration_a, frames.acceleration_b = acceleration
     return frames
 
 

@@ -28,6 +28,7 @@ with gravity turned into the moving axes.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -248,14 +249,28 @@ def on_base(motion: TreeMotion, base: BaseState) -> TreeMotion:
 
 
 def frame_placements(
-    model: pin.Model, motion: TreeMotion, frame: int
+    model: pin.Model, motion: TreeMotion, frame: int | Sequence[int]
 ) -> tuple[np.ndarray, np.ndarray]:
-    """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample."""
-    placement = model.frames[frame].placement
-    j = model.frames[frame].parentJoint
-    rotation = _rows(motion.rotation[j], placement.rotation)
-    origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
-    return rotation, origin
+    """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample; for several
+    frames (ids (F,)), (F, N, 3, 3) and (F, N, 3), all at once."""
+    if np.ndim(frame) == 0:
+        placement = model.frames[frame].placement
+        j = model.frames[frame].parentJoint
+        rotation = _rows(motion.rotation[j], placement.rotation)
+        origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
+        return rotation, origin
+    placed = [model.frames[f].placement for f in frame]
+    turn = motion.rotation[_parents(model, frame)]  # (F, N, 3, 3)
+    rotation = turn @ np.array([placement.rotation for placement in placed])[:, None]
+    shift = np.array([placement.translation for placement in placed])
+    return rotation, motion.origin[_parents(model, frame)] + np.einsum("fnij,fj->fni", turn, shift)
+
+
+def _parents(model: pin.Model, frame: int | Sequence[int]) -> int | np.ndarray:
+    """The joint id that moves a frame, or those of several frames (F,)."""
+    if np.ndim(frame) == 0:
+        return model.frames[frame].parentJoint
+    return np.array([model.frames[f].parentJoint for f in frame])
 
 
 def frame_velocity(
@@ -269,11 +284,12 @@ def frame_velocity(
 
 
 def frame_acceleration(
-    model: pin.Model, motion: TreeMotion, frame: int, point: np.ndarray
+    model: pin.Model, motion: TreeMotion, frame: int | Sequence[int], point: np.ndarray
 ) -> np.ndarray:
     """World (classical) acceleration (N, 3) of a point fixed on a frame's body, at the world
-    position ``point`` (N, 3): a_j + α_j × r + ω_j × (ω_j × r), r = point − o_j."""
-    j = model.frames[frame].parentJoint
+    position ``point`` (N, 3): a_j + α_j × r + ω_j × (ω_j × r), r = point − o_j; for several
+    frames (ids (F,), points (F, N, 3)), (F, N, 3)."""
+    j = _parents(model, frame)
     r = point - motion.origin[j]
     w = motion.omega[j]
     return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
@@ -293,16 +309,21 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
 
 
 def point_jacobian(
-    model: pin.Model, motion: TreeMotion, frame: int, columns: np.ndarray | None = None
+    model: pin.Model,
+    motion: TreeMotion,
+    frame: int,
+    columns: np.ndarray | None = None,
+    point: np.ndarray | None = None,
 ) -> np.ndarray:
     """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
     velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
     (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`). ``columns``: only
     these velocity columns (sorted, (c,) int, among them every column that moves the frame),
-    (N, 6, c)."""
+    (N, 6, c). ``point``: the frame's origin (N, 3), if the caller has it."""
     layout = tree_layout(model)
     n = motion.origin.shape[1]
-    _, point = frame_placements(model, motion, frame)
+    if point is None:
+        _, point = frame_placements(model, motion, frame)
     moving = layout.support[model.frames[frame].parentJoint]
     if columns is None:
         jac, place = np.zeros((n, 6, model.nv)), moving
