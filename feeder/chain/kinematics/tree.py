@@ -46,7 +46,9 @@ origin has none)."""
 @dataclass(frozen=True)
 class TreeMotion:
     """World placements and motion of every joint frame of a tree, N samples; arrays indexed by
-    joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint j's (N, 3)).
+    joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint j's (N, 3)), or in a
+    result (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.motion`) lists of them
+    (:meth:`per_joint`).
 
     Attributes:
         rotation: R_j, (njoints, N, 3, 3). origin: o_j [m], (njoints, N, 3).
@@ -72,6 +74,21 @@ class TreeMotion:
     gravity: np.ndarray | None = None
     linear_columns: np.ndarray | None = None
     angular_columns: np.ndarray | None = None
+
+    def per_joint(self) -> TreeMotion:
+        """The same motion with its joint-major arrays as lists of per-joint arrays (N, …)
+        (views; indexing by joint id unchanged): the layout of a result's per-sample arrays,
+        which code that selects or spreads a result's samples expects
+        (:func:`~feeder.chain.dynamics.singular.spread`)."""
+        return replace(
+            self,
+            rotation=list(self.rotation),
+            origin=list(self.origin),
+            omega=list(self.omega),
+            alpha=list(self.alpha),
+            velocity=list(self.velocity),
+            acceleration=list(self.acceleration),
+        )
 
     def at_rest(self, index: np.ndarray) -> TreeMotion:
         """The placements at the samples ``index`` (M,), at rest: rates zero, no columns (what
