@@ -35,6 +35,7 @@ def block_inverse(matrices: np.ndarray) -> np.ndarray:
     """The inverses (n, m, m) of the square ``matrices`` (n, m, m) (module docstring); NaN or
     inf where a matrix is singular."""
     n, m, _ = matrices.shape
+    matrices = np.ascontiguousarray(matrices)  # np.take copies a strided array whole each time
     pattern = np.any(matrices != 0.0, axis=0)
     blocks = _blocks(pattern.tobytes(), m)
     if blocks is None:
