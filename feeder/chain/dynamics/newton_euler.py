@@ -24,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..kinematics.layout import tree_layout
-from ..kinematics.tree import TreeMotion, cross
+from ..kinematics.tree import TreeMotion, apply_each, cross
 
 
 def joint_wrenches(
@@ -107,15 +107,15 @@ def _body_terms(model: pin.Model, motion: TreeMotion) -> tuple[np.ndarray, np.nd
     local = np.array([body.lever for body in bodies])  # origin → CG, joint axes (njoints, 3)
     rotational = np.array([body.inertia for body in bodies])  # about the CG (njoints, 3, 3)
     rot = motion.rotation
-    lever = np.einsum("knij,kj->kni", rot, local)  # origin → CG, world
+    lever = apply_each(rot, local)  # origin → CG, world
     w, dw = motion.omega, motion.alpha
     a_g = motion.acceleration + cross(dw, lever) + cross(w, cross(w, lever))
     force = mass * (a_g - gravity)
     # I ω̇ + ω × I ω with I = R I_local Rᵀ, evaluated in the body's axes
     w_local = np.einsum("knji,knj->kni", rot, w)
     dw_local = np.einsum("knji,knj->kni", rot, dw)
-    spin = np.einsum("kni,kij->knj", w_local, rotational)
-    n_local = np.einsum("kni,kij->knj", dw_local, rotational) + cross(w_local, spin)
+    spin = w_local @ rotational  # rotational inertia symmetric: (I ω)ᵀ = ωᵀ I
+    n_local = dw_local @ rotational + cross(w_local, spin)
     return force, np.einsum("knij,knj->kni", rot, n_local) + cross(lever, force)
 
 
