@@ -35,7 +35,7 @@ import pinocchio as pin
 
 from ..assembly.rank import indeterminate_mask, self_stress_bases
 from ..blas import one_blas_thread
-from ..kinematics.rows import closure_kinematics
+from ..kinematics.rows import ClosureKinematics, closure_kinematics
 from ..kinematics.tree import TreeMotion, reach, tree_motion
 from ..model.closure import ClosedChain
 from .newton_euler import joint_wrenches
@@ -97,45 +97,83 @@ class Indeterminacy:
         return lines
 
 
+class PoseKinematics:
+    """The tree's placements and the closure rows (with their Jacobian) at some closed poses q
+    (M, nq), kept with the poses: what :func:`indeterminacy` reads, which the inverse dynamics
+    compute anyway (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.kinematics`). A plain
+    object, not a dataclass or a tuple, so that code which selects or spreads a result's
+    samples leaves it alone; :func:`indeterminacy` uses it only at the very poses it holds
+    (:meth:`holds`).
+
+    Attributes:
+        q: The poses (M, nq). motion: Their placements (:meth:`TreeMotion.at_rest`).
+        rows: Their closure rows (:meth:`ClosureKinematics.at`).
+    """
+
+    __slots__ = ("motion", "q", "rows")
+
+    def __init__(self, q: np.ndarray, motion: TreeMotion, rows: ClosureKinematics):
+        self.q, self.motion, self.rows = q, motion, rows
+
+    def holds(self, q: np.ndarray) -> bool:
+        """Whether these are the kinematics of the poses q (M, nq)."""
+        return self.q.shape == q.shape and bool(np.array_equal(self.q, q))
+
+
+def subsample(count: int) -> np.ndarray:
+    """The samples (indices) of a motion of ``count`` samples on which :func:`indeterminacy`
+    computes the self-stresses: at most about :data:`SUBSAMPLE`, evenly spread."""
+    return np.arange(0, count, max(1, count // SUBSAMPLE))
+
+
 @one_blas_thread
-def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) -> Indeterminacy:
+def indeterminacy(
+    chain: ClosedChain,
+    q: np.ndarray,
+    size: float | None = None,
+    kinematics: PoseKinematics | None = None,
+) -> Indeterminacy:
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
-    (N, nq) (trusted): the union over the poses, computed on at most :data:`SUBSAMPLE` of them
-    (the self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
+    (N, nq) (trusted): the union over the poses, computed on those of :func:`subsample` (the
+    self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
     self_stress_bases`; the statics pass of every self-stress at its pose reuses the poses'
     placements).
 
-    ``size``: the mechanism's reach [m] at its neutral pose, if the caller has it
-    (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+    Args:
+        size: The mechanism's reach [m] at its neutral pose, if the caller has it
+            (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
+        kinematics: The kinematics of the poses q[subsample(N)], if the caller has them (the
+            inverse dynamics do: the same values); computed when absent or of other poses.
     """
     model = chain.model
-    poses = tree_motion(model, q[:: max(1, q.shape[0] // SUBSAMPLE)])
-    rows = closure_kinematics(chain, poses)
+    picked = q[subsample(q.shape[0])]
+    if kinematics is not None and kinematics.holds(picked):
+        poses, rows = kinematics.motion, kinematics.rows
+    else:
+        poses = tree_motion(model, picked)
+        rows = closure_kinematics(chain, poses)
     bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
     if count == 0:
         return Indeterminacy(0, (), {}, {})
-    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)
-    labels = chain.row_labels()
-    index = np.concatenate([np.full(basis.shape[0], k) for k, basis in enumerate(bases)])
+    sizes = np.array([basis.shape[0] for basis in bases])
+    index = np.repeat(np.arange(sizes.size), sizes)
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    still = _at(poses, index)
-    wrenches, terms = closure_wrenches(chain, closure_kinematics(chain, still, None, False), lam)
-    force, moment = joint_wrenches(model, still, terms, inertia=False)
+    mask = indeterminate_mask(lam, sizes)
+    labels = chain.row_labels()
+    wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
+    force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
     if size is None:
         size = reach(model, pin.neutral(model)[None])
     # each cut's and joint's largest force and moment components over the self-stresses (6,)
-    largest = {
-        name: np.concatenate([np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0) / size])
-        for name, w in wrenches.items()
-    }
+    cuts = np.abs([[w.force, w.moment] for w in wrenches.values()]).max(axis=2)  # (cuts, 2, 3)
+    cuts[:, 1] /= size
+    largest = dict(zip(wrenches, cuts.reshape(-1, 6), strict=True))
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
-    largest |= {
-        model.names[j]: np.concatenate(
-            [np.abs(force[j]).max(axis=0), np.abs(moment[j]).max(axis=0) / size]
-        )
-        for j in joints
-    }
+    peaks = np.concatenate(
+        [np.abs(force[joints]).max(axis=1), np.abs(moment[joints]).max(axis=1) / size], axis=1
+    )  # (joints, 6)
+    largest |= {model.names[j]: peak for j, peak in zip(joints, peaks, strict=True)}
     scale = max(float(x.max()) for x in largest.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
@@ -152,13 +190,3 @@ def indeterminacy(chain: ClosedChain, q: np.ndarray, size: float | None = None) 
         closures=changed(wrenches),
         joints=changed(model.names[j] for j in joints),
     )
-
-
-def _at(motion: TreeMotion, index: np.ndarray) -> TreeMotion:
-    """The placements of ``motion`` at the samples ``index`` (M,), at rest: what the self-
-    stresses' statics pass (:func:`~.newton_euler.joint_wrenches` without inertia) reads (the
-    joints' columns, which it does not read, left empty)."""
-    zero = [np.zeros((index.size, 3))] * len(motion.origin)
-    empty = [np.zeros((index.size, 3, 0))] * len(motion.origin)
-    rotation, origin = ([x[index] for x in values] for values in (motion.rotation, motion.origin))
-    return TreeMotion(rotation, origin, empty, empty, zero, zero, zero, zero)

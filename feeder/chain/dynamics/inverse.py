@@ -58,9 +58,9 @@ from ..model.closure import ClosedChain
 from ..model.forces import ForceElement
 from .elements import BoundElements
 from .idle import idle_accelerations, idle_basis
-from .indeterminacy import Indeterminacy, indeterminacy
+from .indeterminacy import Indeterminacy, PoseKinematics, indeterminacy, subsample
 from .loads_solve import row_scale, solve_loads
-from .newton_euler import held_wrench
+from .newton_euler import held_wrench, joint_wrenches
 from .reactions import (
     ClosureWrench,
     JointWrench,
@@ -98,13 +98,18 @@ class ChainLoads:
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
         mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
-        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, by joint
-            id) as the Newton–Euler pass took it: absolute, in the base's axes, idle included.
+        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, lists by
+            joint id of per-sample arrays: :meth:`~feeder.chain.kinematics.tree.TreeMotion.
+            per_joint`) as the Newton–Euler pass took it: absolute, in the base's axes, idle
+            included.
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
         chain: The closed chain. q: The motion's configurations (N, nq).
         reach: The mechanism's size [m] (:attr:`Partition.length`), the moments' scale of
             :attr:`indeterminacy`; None: measured there.
+        kinematics: The tree's placements and the closure rows at the samples
+            :func:`~.indeterminacy.subsample` picks (:class:`~.indeterminacy.PoseKinematics`),
+            which :attr:`indeterminacy` reads while they are its poses'; None: computed there.
     """
 
     actuators: dict[str, np.ndarray]
@@ -122,6 +127,7 @@ class ChainLoads:
     chain: ClosedChain | None = None
     q: np.ndarray | None = None
     reach: float | None = None
+    kinematics: PoseKinematics | None = None
 
     @cached_property
     def indeterminacy(self) -> Indeterminacy:
@@ -129,7 +135,7 @@ class ChainLoads:
         not determine along the motion (:func:`~.indeterminacy.indeterminacy`; their values
         follow the convention :data:`CONVENTION`), computed when first asked (a few ms, which
         the device's many cycles need not spend)."""
-        return indeterminacy(self.chain, self.q, self.reach)
+        return indeterminacy(self.chain, self.q, self.reach, self.kinematics)
 
     def held_wrench(self, joint: int, inertia: pin.Inertia) -> tuple[np.ndarray, np.ndarray]:
         """The wrench joint ``joint``'s body exerts on a part it holds, of spatial ``inertia`` in
@@ -310,6 +316,8 @@ def inverse_dynamics(
             actuation).
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
+    picks = subsample(q.shape[0])
+    kinematics = PoseKinematics(q[picks], motion.at_rest(picks), rows.at(picks))
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     forces = {}
     t = _times(dyn, t, q.shape[0])
@@ -327,10 +335,11 @@ def inverse_dynamics(
         motion = tree_motion(dyn.chain.model, q, v, a)
         if base is not None:
             motion = on_base(motion, base)
-    tau, lam = solve_loads(dyn, motion, rows, terms)
+    wrenches = joint_wrenches(dyn.chain.model, motion, terms)  # the loads' and the reactions'
+    tau, lam = solve_loads(dyn, motion, rows, terms, wrenches)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints, mount = joint_reactions(
-        dyn.chain, motion, closure_terms + terms, None if base is None else base.rotation
+        dyn.chain, motion, closure_terms, None if base is None else base.rotation, wrenches
     )
     return ChainLoads(
         actuators={name: tau[:, i] for i, name in enumerate(dyn.actuated)},
@@ -342,12 +351,13 @@ def inverse_dynamics(
         idle_motions=count,
         elements=forces,
         mount=mount,
-        motion=motion,
+        motion=motion.per_joint(),
         gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
         chain=dyn.chain,
         q=q,
         reach=dyn.partition.length,
+        kinematics=kinematics,
     )
 
 

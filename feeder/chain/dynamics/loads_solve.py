@@ -36,6 +36,7 @@ from ..assembly.newton import RANK_TOLERANCE
 from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
+from .block_inverse import block_inverse
 from .newton_euler import generalized_forces, joint_wrenches
 
 CONSISTENCY = 1e-9
@@ -104,11 +105,13 @@ def solve_loads(
     motion: TreeMotion,
     rows: ClosureKinematics,
     external: list[tuple[int, np.ndarray]] = (),
+    wrenches: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring)."""
+    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass with the ``external``
+    wrenches (:func:`~.newton_euler.joint_wrenches`), if the caller has it."""
     model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external)
+    force, moment = joint_wrenches(model, motion, external) if wrenches is None else wrenches
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
     # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their
@@ -117,7 +120,10 @@ def solve_loads(
     moved = np.any(rows.jacobian, axis=(0, 2))
     system = load_equations(dyn, rows.jacobian, moved)
     # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
-    terms = np.abs(np.concatenate(force[1:] + moment[1:], axis=1)).max(axis=1, initial=0.0)
+    terms = np.maximum(
+        np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
+        np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
+    )
     solution = _solve(system, tree, n_act, terms)
     lam = np.zeros((solution.shape[0], dyn.chain.nc))
     lam[:, moved] = solution[:, n_act:] * dyn.row_scale[moved]
@@ -132,14 +138,17 @@ def load_equations(
     rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
     n_act + their count columns)."""
     if moved is not None:
-        jacobian = jacobian[:, moved]
+        jacobian = np.compress(moved, jacobian, axis=1)  # contiguous (a mask keeps strides)
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    system = np.zeros((n, nv, n_act + nc))
-    system[:, dyn.columns, np.arange(n_act)] = 1.0
+    selection = np.zeros((n_act, nv))
+    selection[np.arange(n_act), dyn.columns] = 1.0
     scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
-    system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2) * scale
-    return system
+    # [S; J] row by row (contiguous copies), then seen transposed
+    transposed = np.concatenate(
+        [np.broadcast_to(selection, (n, n_act, nv)), jacobian * scale[:, None]], axis=1
+    )
+    return np.swapaxes(transposed, 1, 2)
 
 
 def load_rank(dyn: LoadUnknowns, q: np.ndarray) -> int:
@@ -222,30 +231,23 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     bound cannot pass by accident — a full-rank A passes only with cond(A) below
     :data:`MAX_FORCE_GAIN` (square) or :data:`NORMAL_EQUATIONS` (Gram: ≤ 1e6 × ε of relative
     round-off); a doubtful sample takes the singular value decomposition, which also refuses a
-    singular one."""
+    singular one. The inverse is a block triangular one (:mod:`.block_inverse`: the square
+    systems of mechanisms with many loops are sparse), equal to a dense one to round-off."""
     rows, unknowns = system.shape[1:]
     square = rows == unknowns
     transposed = np.swapaxes(system, 1, 2)
     matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
-    try:
-        inverse = np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:  # some sample is exactly singular: the others one by one
-        inverse = np.array([_inverse_or_nan(m) for m in matrix])
+    inverse = block_inverse(matrix)
     with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.linalg.norm(matrix, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
+        bound = np.sqrt(
+            np.einsum("nij,nij->n", matrix, matrix) * np.einsum("nij,nij->n", inverse, inverse)
+        )  # ‖B‖_F ‖B⁻¹‖_F
     fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
     if rows < unknowns:
         inverse = transposed @ inverse
     elif rows > unknowns:
         inverse = inverse @ transposed
     return fast, inverse
-
-
-def _inverse_or_nan(matrix: np.ndarray) -> np.ndarray:
-    try:
-        return np.linalg.inv(matrix)
-    except np.linalg.LinAlgError:
-        return np.full_like(matrix, np.nan)
 
 
 def _solve_svd(

@@ -23,7 +23,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..kinematics.tree import TreeMotion, cross, frame_placements
+from ..kinematics.layout import tree_layout
+from ..kinematics.tree import TreeMotion, apply_each, cross
 
 
 def joint_wrenches(
@@ -33,9 +34,11 @@ def joint_wrenches(
     inertia: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Backward Newton–Euler pass (module docstring): the wrench each joint transmits, parent on
-    child, world axes about the joint's origin — lists by joint id of force (N, 3) [N] and
-    moment (N, 3) [N·m] — with the motion's gravity (the model's by default). Entry 0 is the
-    mount's: the wrench on the base link from what holds it, about the model's origin.
+    child, world axes about the joint's origin — force [N] and moment [N·m], (njoints, N, 3)
+    each, indexed by joint id — with the motion's gravity (the model's by default). Entry 0 is
+    the mount's: the wrench on the base link from what holds it, about the model's origin. Every
+    body's term is computed at once, and the sums run one depth of the tree at a time, deepest
+    first (:attr:`~feeder.chain.kinematics.layout.TreeLayout.backward`).
 
     Args:
         external: (frame id, world wrench (N, 6) [force, moment about the frame's origin])
@@ -43,50 +46,89 @@ def joint_wrenches(
         inertia: False: the bodies' rates of momentum and weights left out (a statics pass:
             what the external wrenches alone make the joints transmit).
     """
-    n, count = motion.origin[0].shape[0], model.njoints
-    gravity = model.gravity.linear if motion.gravity is None else motion.gravity
-    force = [np.zeros((n, 3)) for _ in range(count)]
-    moment = [np.zeros((n, 3)) for _ in range(count)]
-    for j in range(count if inertia else 0):  # 0: the base link, moving with the base
-        body = model.inertias[j]
-        rot = motion.rotation[j]
-        lever = (rot.reshape(-1, 3) @ body.lever).reshape(-1, 3)  # origin → CG, world
-        w, dw = motion.omega[j], motion.alpha[j]
-        a_g = motion.acceleration[j] + cross(dw, lever) + cross(w, cross(w, lever))
-        f = body.mass * (a_g - gravity)
-        # I ω̇ + ω × I ω with I = R I_local Rᵀ, evaluated in the body's axes.
-        to_body = np.swapaxes(rot, 1, 2)
-        w_local = np.einsum("nij,nj->ni", to_body, w)
-        dw_local = np.einsum("nij,nj->ni", to_body, dw)
-        spin = w_local @ body.inertia
-        n_local = dw_local @ body.inertia + cross(w_local, spin)
-        force[j] = f
-        moment[j] = np.einsum("nij,nj->ni", rot, n_local) + cross(lever, f)
-    for frame, wrench in external:
-        j = model.frames[frame].parentJoint
-        _, point = frame_placements(model, motion, frame)
-        force[j] = force[j] - wrench[:, :3]
-        moment[j] = moment[j] - wrench[:, 3:] - cross(point - motion.origin[j], wrench[:, :3])
-    for j in range(count - 1, 0, -1):  # children have larger ids than their parents
-        p = model.parents[j]
-        force[p] = force[p] + force[j]
-        moment[p] = moment[p] + moment[j] + cross(motion.origin[j] - motion.origin[p], force[j])
+    n = motion.origin.shape[1]
+    if inertia:  # every body, the base link's (joint 0, moving with the base) included
+        force, moment = _body_terms(model, motion)
+    else:
+        force, moment = np.zeros((2, model.njoints, n, 3))
+    if external:
+        _apply_external(model, motion, external, force, moment)
+    for children, parents in tree_layout(model).backward:
+        arm = motion.origin[children] - motion.origin[parents]
+        _add_rows(moment, parents, moment[children] + cross(arm, force[children]))
+        _add_rows(force, parents, force[children])
     return force, moment
 
 
+def _apply_external(
+    model: pin.Model,
+    motion: TreeMotion,
+    external: list[tuple[int, np.ndarray]],
+    force: np.ndarray,
+    moment: np.ndarray,
+) -> None:
+    """Subtract the external wrenches from their bodies' terms (force, moment: (njoints, N, 3),
+    about the joints' origins), only where a wrench is not zero (a self-stress loads a few cuts
+    of many: :mod:`.indeterminacy`), summed per joint and sample."""
+    n = motion.origin.shape[1]
+    frames = [frame for frame, _ in external]
+    wrench = np.stack([w for _, w in external])  # (terms, N, 6)
+    term, sample = np.nonzero(np.any(wrench != 0.0, axis=2))
+    values = wrench[term, sample]  # (E, 6)
+    joint = np.array([model.frames[frame].parentJoint for frame in frames])[term]
+    shift = np.array([model.frames[frame].placement.translation for frame in frames])[term]
+    lever = np.einsum("eij,ej->ei", motion.rotation[joint, sample], shift)  # joint → frame
+    turning = values[:, 3:] + cross(lever, values[:, :3])  # about the joint's origin
+    place, size = joint * n + sample, model.njoints * n
+    for k in range(3):
+        force[..., k] -= np.bincount(place, values[:, k], size).reshape(-1, n)
+        moment[..., k] -= np.bincount(place, turning[:, k], size).reshape(-1, n)
+
+
+def _add_rows(target: np.ndarray, index: np.ndarray, values: np.ndarray) -> None:
+    """target[index] += values (k, ...) with the values of a repeated index summed (as
+    ``np.add.at``, which is several times slower on these arrays): a product with the
+    indices' incidence matrix where an index repeats."""
+    if len(set(index.tolist())) == index.size:
+        target[index] += values
+        return
+    unique, inverse = np.unique(index, return_inverse=True)
+    incidence = (inverse == np.arange(unique.size)[:, None]).astype(float)  # (u, k)
+    summed = incidence @ values.reshape(index.size, -1)
+    target[unique] += summed.reshape((unique.size, *values.shape[1:]))
+
+
+def _body_terms(model: pin.Model, motion: TreeMotion) -> tuple[np.ndarray, np.ndarray]:
+    """Every body's f = m (a_G − g) and n = I ω̇ + ω × I ω + c × f about its joint's origin
+    (module docstring), world axes, (njoints, N, 3) each."""
+    gravity = model.gravity.linear if motion.gravity is None else motion.gravity
+    bodies = model.inertias
+    mass = np.array([body.mass for body in bodies])[:, None, None]
+    local = np.array([body.lever for body in bodies])  # origin → CG, joint axes (njoints, 3)
+    rotational = np.array([body.inertia for body in bodies])  # about the CG (njoints, 3, 3)
+    rot = motion.rotation
+    lever = apply_each(rot, local)  # origin → CG, world
+    w, dw = motion.omega, motion.alpha
+    a_g = motion.acceleration + cross(dw, lever) + cross(w, cross(w, lever))
+    force = mass * (a_g - gravity)
+    # I ω̇ + ω × I ω with I = R I_local Rᵀ, evaluated in the body's axes
+    w_local = np.einsum("knji,knj->kni", rot, w)
+    dw_local = np.einsum("knji,knj->kni", rot, dw)
+    spin = w_local @ rotational  # rotational inertia symmetric: (I ω)ᵀ = ωᵀ I
+    n_local = dw_local @ rotational + cross(w_local, spin)
+    return force, np.einsum("knij,knj->kni", rot, n_local) + cross(lever, force)
+
+
 def generalized_forces(
-    model: pin.Model, motion: TreeMotion, force: list[np.ndarray], moment: list[np.ndarray]
+    model: pin.Model, motion: TreeMotion, force: np.ndarray, moment: np.ndarray
 ) -> np.ndarray:
     """Each joint's generalized forces (N, nv): its columns' components of the wrench it
     transmits, Lᵀ force + Wᵀ moment (e · moment for a revolute joint, e · force for a prismatic
-    one)."""
-    tau = np.zeros((force[0].shape[0], model.nv))
-    for j in range(1, model.njoints):
-        k = model.joints[j].idx_v
-        tau[:, k : k + model.joints[j].nv] = np.einsum(
-            "nik,ni->nk", motion.linear[j], force[j]
-        ) + np.einsum("nik,ni->nk", motion.angular[j], moment[j])
-    return tau
+    one), every column at once (``force``, ``moment``: :func:`joint_wrenches`'s)."""
+    owner = tree_layout(model).column_joint
+    return np.einsum("nik,kni->nk", motion.linear_columns, force[owner]) + np.einsum(
+        "nik,kni->nk", motion.angular_columns, moment[owner]
+    )
 
 
 def held_wrench(

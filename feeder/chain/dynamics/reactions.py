@@ -8,10 +8,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kinematics.layout import tree_layout
 from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
-from .newton_euler import joint_wrenches
+from .newton_euler import generalized_forces, joint_wrenches
 
 
 @dataclass(frozen=True)
@@ -94,14 +95,20 @@ def joint_reactions(
     motion: TreeMotion,
     external: list[tuple[int, np.ndarray]],
     rotation: np.ndarray | None = None,
+    wrenches: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[dict[str, JointWrench], MountWrench]:
     """Every joint's reaction wrench (but a free-flyer's, which is zero by definition: it
     transmits no force and no moment), and the mount's, with the wrenches ``external`` ((frame
     id, world wrench (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`)
     acting on the tree; ``rotation`` (N, 3, 3): the base's axes in the level ones
-    (:class:`~feeder.chain.model.base.BaseState`), None for a base at rest."""
+    (:class:`~feeder.chain.model.base.BaseState`), None for a base at rest; ``wrenches``: the
+    tree's Newton–Euler pass of the same motion with other loads (:func:`~.newton_euler.
+    joint_wrenches`), if the caller has it: the reactions are those plus what ``external``
+    alone makes the joints transmit (a statics pass: the pass is linear in the loads)."""
     model = chain.model
-    force, moment = joint_wrenches(model, motion, external)
+    force, moment = joint_wrenches(model, motion, external, inertia=wrenches is None)
+    if wrenches is not None:
+        force, moment = force + wrenches[0], moment + wrenches[1]
     if rotation is None:
         mount = MountWrench(force[0], moment[0], force[0], moment[0])
     else:
@@ -111,22 +118,45 @@ def joint_reactions(
             np.einsum("nij,nj->ni", rotation, force[0]),
             np.einsum("nij,nj->ni", rotation, moment[0]),
         )
+    layout = tree_layout(model)
+    drive = generalized_forces(model, motion, force, moment)
+    constraint_force = force - _along_every(motion.linear_columns, force, layout.column_joint)
+    constraint_moment = moment - _along_every(motion.angular_columns, moment, layout.column_joint)
     joints = {}
     for j in range(1, model.njoints):
         if model.joints[j].nv == 6:
             continue  # free in every direction (a free-flyer): it transmits no wrench
-        linear, angular = motion.linear[j], motion.angular[j]
-        drive = np.einsum("nik,ni->nk", linear, force[j]) + np.einsum(
-            "nik,ni->nk", angular, moment[j]
-        )
+        own = drive[:, layout.slices[j]]
         joints[model.names[j]] = JointWrench(
             force=force[j],
             moment=moment[j],
-            drive=drive[:, 0] if drive.shape[1] == 1 else drive,
-            constraint_force=force[j] - _along(linear, force[j]),
-            constraint_moment=moment[j] - _along(angular, moment[j]),
+            drive=own[:, 0] if own.shape[1] == 1 else own,
+            constraint_force=constraint_force[j],
+            constraint_moment=constraint_moment[j],
         )
     return joints, mount
+
+
+def _along_every(columns: np.ndarray, vectors: np.ndarray, owner: np.ndarray) -> np.ndarray:
+    """:func:`_along` for every joint at once: the part (njoints, N, 3) of each joint's vector
+    of ``vectors`` (njoints, N, 3) in the span of its columns of ``columns`` (N, 3, nv), whose
+    owners are ``owner`` (nv,) (:attr:`~feeder.chain.kinematics.layout.TreeLayout.
+    column_joint`). The joints with one non-zero column (revolute, prismatic) are projected
+    together, those with several one by one."""
+    out = np.zeros_like(vectors)
+    active = np.flatnonzero(np.abs(columns).max(axis=(0, 1)) > 0.0)
+    count = np.bincount(owner[active], minlength=vectors.shape[0])
+    single = active[count[owner[active]] == 1]
+    if single.size:
+        joints = owner[single]
+        axis = np.moveaxis(np.take(columns, single, axis=2), 2, 0)  # (k, N, 3)
+        along = np.einsum("kni,kni->kn", axis, vectors[joints]) / np.einsum(
+            "kni,kni->kn", axis, axis
+        )
+        out[joints] = along[..., None] * axis
+    for j in np.flatnonzero(count > 1):
+        out[j] = _along(columns[:, :, owner == j], vectors[j])
+    return out
 
 
 def _along(columns: np.ndarray, vector: np.ndarray) -> np.ndarray:

@@ -11,6 +11,7 @@ import pinocchio as pin
 
 from ..model.closure import ClosedChain
 from ..model.cuts import CutFrames
+from .layout import tree_layout
 from .tree import TreeMotion, frame_acceleration, frame_placements, point_jacobian
 
 
@@ -36,26 +37,53 @@ class ClosureKinematics:
     frames: list[CutFrames]
     hinge_alignment: dict[str, np.ndarray]
 
+    def at(self, index: np.ndarray, jacobian: bool = True) -> ClosureKinematics:
+        """The position-level rows at the samples ``index`` (M,): the Jacobian (if
+        ``jacobian``; else none, as a pass without it), the residual and the cuts' frames'
+        placements (the rates, the accelerations and the frames' motion left zero or out: what
+        the self-stresses and their wrenches read, :mod:`~feeder.chain.dynamics.indeterminacy`)."""
+        frames = [
+            CutFrames(
+                f.rotation_a[index], f.rotation_b[index], f.origin_a[index], f.origin_b[index]
+            )
+            for f in self.frames
+        ]
+        zero = np.zeros((index.size, self.residual.shape[1]))
+        return ClosureKinematics(
+            self.jacobian[index] if jacobian else np.zeros((index.size, zero.shape[1], 0)),
+            self.residual[index],
+            zero,
+            zero,
+            frames,
+            {label: cosine[index] for label, cosine in self.hinge_alignment.items()},
+        )
+
 
 def cut_frames(
-    model: pin.Model, motion: TreeMotion, a: int, b: int, jacobians: bool, rates: bool
+    model: pin.Model,
+    motion: TreeMotion,
+    a: int,
+    b: int,
+    jacobians: bool,
+    rates: bool,
+    columns: np.ndarray | None = None,
 ) -> CutFrames:
     """Frames a and b of a cut along a batched motion: placements, and if asked their
-    Jacobians (``jacobians``) and velocities and accelerations (``rates``)."""
-    rot_a, p_a = frame_placements(model, motion, a)
-    rot_b, p_b = frame_placements(model, motion, b)
+    Jacobians (``jacobians``; on the velocity ``columns`` only, if given: sorted, among them
+    every column that moves either frame) and velocities and accelerations (``rates``)."""
+    (rot_a, rot_b), (p_a, p_b) = placed = frame_placements(model, motion, (a, b))
     frames = CutFrames(rot_a, rot_b, p_a, p_b)
     if jacobians:
-        frames.jacobian_a = point_jacobian(model, motion, a)
-        frames.jacobian_b = point_jacobian(model, motion, b)
+        frames.jacobian_a = point_jacobian(model, motion, a, columns, p_a)
+        frames.jacobian_b = point_jacobian(model, motion, b, columns, p_b)
     else:  # no columns
         frames.jacobian_a = frames.jacobian_b = np.zeros((p_a.shape[0], 6, 0))
     if rates:
         ja, jb = model.frames[a].parentJoint, model.frames[b].parentJoint
         frames.omega_a, frames.omega_b = motion.omega[ja], motion.omega[jb]
         frames.alpha_a, frames.alpha_b = motion.alpha[ja], motion.alpha[jb]
-        frames.acceleration_a = frame_acceleration(model, motion, a, p_a)
-        frames.acceleration_b = frame_acceleration(model, motion, b, p_b)
+        acceleration = frame_acceleration(model, motion, (a, b), placed[1])
+        frames.acceleration_a, frames.acceleration_b = acceleration
     return frames
 
 
@@ -72,9 +100,12 @@ def closure_kinematics(
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
     kept, alignment = [], {}
+    layout = tree_layout(model)
     for cut, rows, (a, b) in zip(chain.cuts, chain.row_slices, chain.frame_ids, strict=True):
-        frames = cut_frames(model, motion, a, b, with_jacobian, v is not None)
-        jacobian[:, rows] = cut.jacobian(frames)
+        columns = layout.columns(model.frames[a].parentJoint, model.frames[b].parentJoint)
+        frames = cut_frames(model, motion, a, b, with_jacobian, v is not None, columns)
+        if with_jacobian:
+            jacobian[:, rows][:, :, columns] = cut.jacobian(frames)
         residual[:, rows] = cut.residual(frames)
         if v is not None:
             acceleration[:, rows] = cut.acceleration(frames)

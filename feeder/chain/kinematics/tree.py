@@ -28,13 +28,15 @@ with gravity turned into the moving axes.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
 
 from ..model.base import BaseState
-from .joints import joint_axes, kind_of, relative_motion
+from .joints import relative_motion
+from .layout import SINGLE_AXIS, tree_layout
 
 MIN_REACH = 1e-3
 """Smallest mechanism size [m] :func:`reach` gives (a mechanism whose frames all sit at the world
@@ -43,32 +45,72 @@ origin has none)."""
 
 @dataclass(frozen=True)
 class TreeMotion:
-    """World placements and motion of every joint frame of a tree, N samples; lists indexed by
-    joint id (0 is the world, at rest), each entry an array over the samples.
+    """World placements and motion of every joint frame of a tree, N samples; arrays indexed by
+    joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint j's (N, 3)), or in a
+    result (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.motion`) lists of them
+    (:meth:`per_joint`).
 
     Attributes:
-        rotation: R_j, (N, 3, 3). origin: o_j [m], (N, 3).
-        linear, angular: The joint's world columns at its origin (N, 3, nv_j) (module docstring;
-            for a revolute joint, angular is its world axis and linear is zero).
-        omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (N, 3).
-        velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin, (N, 3).
+        rotation: R_j, (njoints, N, 3, 3). origin: o_j [m], (njoints, N, 3).
+        linear, angular: Per joint id, the joint's world columns at its origin (N, 3, nv_j)
+            (module docstring; for a revolute joint, angular is its world axis and linear is
+            zero): views of ``linear_columns`` and ``angular_columns``.
+        omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (njoints, N, 3).
+        velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin,
+            (njoints, N, 3).
         gravity: Gravity [m/s²] in these axes (N, 3), or None: the model's (a base at rest).
+        linear_columns, angular_columns: Every joint's columns in the order of the velocity,
+            (N, 3, nv).
     """
 
-    rotation: list[np.ndarray]
-    origin: list[np.ndarray]
+    rotation: np.ndarray
+    origin: np.ndarray
     linear: list[np.ndarray]
     angular: list[np.ndarray]
-    omega: list[np.ndarray]
-    alpha: list[np.ndarray]
-    velocity: list[np.ndarray]
-    acceleration: list[np.ndarray]
+    omega: np.ndarray
+    alpha: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
     gravity: np.ndarray | None = None
+    linear_columns: np.ndarray | None = None
+    angular_columns: np.ndarray | None = None
+
+    def per_joint(self) -> TreeMotion:
+        """The same motion with its joint-major arrays as lists of per-joint arrays (N, …)
+        (views; indexing by joint id unchanged): the layout of a result's per-sample arrays,
+        which code that selects or spreads a result's samples expects
+        (:func:`~feeder.chain.dynamics.singular.spread`)."""
+        return replace(
+            self,
+            rotation=list(self.rotation),
+            origin=list(self.origin),
+            omega=list(self.omega),
+            alpha=list(self.alpha),
+            velocity=list(self.velocity),
+            acceleration=list(self.acceleration),
+        )
+
+    def at_rest(self, index: np.ndarray) -> TreeMotion:
+        """The placements at the samples ``index`` (M,), at rest: rates zero, no columns (what
+        a statics pass, :func:`~feeder.chain.dynamics.newton_euler.joint_wrenches` without
+        inertia, reads)."""
+        zero = np.broadcast_to(0.0, (self.origin.shape[0], index.size, 3))
+        empty = [np.zeros((index.size, 3, 0))] * self.origin.shape[0]
+        return TreeMotion(
+            np.take(self.rotation, index, axis=1),  # take: contiguous (an index keeps strides)
+            np.take(self.origin, index, axis=1),
+            empty,
+            empty,
+            zero,
+            zero,
+            zero,
+            zero,
+        )
 
 
 def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of two (N, 3) arrays (numpy's ``cross`` is several times slower
-    on many short rows)."""
+    """Row-wise cross product of two (..., 3) arrays, broadcast (numpy's ``cross`` is several
+    times slower on many short rows)."""
     out = np.empty(np.broadcast_shapes(u.shape, w.shape))
     out[..., 0] = u[..., 1] * w[..., 2] - u[..., 2] * w[..., 1]
     out[..., 1] = u[..., 2] * w[..., 0] - u[..., 0] * w[..., 2]
@@ -86,9 +128,27 @@ def _apply(stack: np.ndarray, vector: np.ndarray) -> np.ndarray:
     return (stack.reshape(-1, 3) @ vector).reshape(-1, 3)
 
 
+def apply_each(stacks: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """Each stack k of (3, 3)s of ``stacks`` (k, N, 3, 3) times its one 3-vector of ``vectors``
+    (k, 3), (k, N, 3): k products (3N × 3)(3) (BLAS; einsum's loop is several times slower)."""
+    k = stacks.shape[0]
+    return (stacks.reshape(k, -1, 3) @ vectors[:, :, None]).reshape(k, -1, 3)
+
+
 def _turn(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Each (3, 3) of a stack (N, 3, 3) times its own 3-vector of (N, 3)."""
     return np.einsum("nij,nj->ni", stack, vectors)
+
+
+def _rotations_about(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Rotations (k, N, 3, 3) by ``angles`` (k, N) [rad] about the unit ``axes`` (k, 3)
+    (Rodrigues, as :func:`~.joints.rotation_about` for one axis)."""
+    x, y, z = axes.T
+    skew = np.zeros((axes.shape[0], 3, 3))
+    skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -z, y, -x
+    skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = z, -y, x
+    s, c = np.sin(angles)[..., None, None], np.cos(angles)[..., None, None]
+    return np.eye(3) + s * skew[:, None] + (1.0 - c) * (skew @ skew)[:, None]
 
 
 def tree_motion(
@@ -96,96 +156,145 @@ def tree_motion(
 ) -> TreeMotion:
     """The forward recursion of the module docstring for configurations q (N, nq) and, if given,
     velocities v and accelerations a (N, nv) (zero otherwise; with neither, the velocity and
-    acceleration recursions are skipped: a position-level pass). q, v, a are trusted (checked by
-    the caller); a joint type that is not handled raises :class:`~feeder.exceptions.InputError`."""
+    acceleration recursions are skipped: a position-level pass), one depth of the tree at a
+    time (:mod:`.layout`). q, v, a are trusted (checked by the caller); a joint type that is not
+    handled raises :class:`~feeder.exceptions.InputError`."""
+    layout = tree_layout(model)
     n, count = q.shape[0], model.njoints
     moving = v is not None or a is not None
     v = np.zeros((n, model.nv)) if v is None else v
     a = np.zeros((n, model.nv)) if a is None else a
-    zero = np.zeros((n, 3))
-    rotation = [np.broadcast_to(np.eye(3), (n, 3, 3))]
-    origin, w, dw, vel, acc = ([zero] for _ in range(5))
-    linear, angular = [np.zeros((n, 3, 0))], [np.zeros((n, 3, 0))]
-    axes = joint_axes(model)
-    for j in range(1, count):
-        joint, p, placement = model.joints[j], model.parents[j], model.jointPlacements[j]
-        kind = kind_of(joint)
-        rel = relative_motion(
-            kind,
-            axes[j],
-            q[:, joint.idx_q : joint.idx_q + joint.nq],
-            v[:, joint.idx_v : joint.idx_v + joint.nv],
-            a[:, joint.idx_v : joint.idx_v + joint.nv],
-        )
-        before = _rows(rotation[p], placement.rotation)
-        here = origin[p] + _apply(rotation[p], placement.translation)
-        if rel.position.any():
-            here = here + _turn(before, rel.position)
-        rotation.append(before @ rel.rotation)
-        linear.append(before @ rel.linear)
-        angular.append(before @ rel.angular)
-        origin.append(here)
-        if not moving:
-            for rates in (w, dw, vel, acc):
-                rates.append(zero)
-            continue
-        turn, slide = _turn(before, rel.omega), _turn(before, rel.velocity)
-        w.append(w[p] + turn)
-        dw.append(dw[p] + _turn(before, rel.alpha) + cross(w[p], turn))
-        r = here - origin[p]
-        spin = cross(w[p], r)
-        vel.append(vel[p] + spin + slide)
-        acc.append(
-            acc[p]
-            + cross(dw[p], r)
-            + cross(w[p], spin)
-            + 2.0 * cross(w[p], slide)
-            + _turn(before, rel.acceleration)
-        )
-    return TreeMotion(rotation, origin, linear, angular, w, dw, vel, acc)
+    rotation = np.empty((count, n, 3, 3))
+    rotation[0] = np.eye(3)
+    origin = np.zeros((count, n, 3))
+    rates = np.zeros((4, count, n, 3)) if moving else np.broadcast_to(0.0, (4, count, n, 3))
+    w, dw, vel, acc = rates
+    linear, angular = np.zeros((n, 3, model.nv)), np.zeros((n, 3, model.nv))
+    placed = model.jointPlacements
+    turned = np.array([placement.rotation for placement in placed])
+    shifted = np.array([placement.translation for placement in placed])
+    for level in layout.levels:
+        for group in level:
+            j, p = group.joints, group.parents
+            before = rotation[p] @ turned[j][:, None]
+            here = origin[p] + apply_each(rotation[p], shifted[j])
+            if group.kind in SINGLE_AXIS:
+                e = apply_each(before, group.axes)  # world axes (k, N, 3)
+                rate, rate2 = v[:, group.iv].T[..., None], a[:, group.iv].T[..., None]
+                if group.kind == "prismatic":
+                    here = here + e * q[:, group.iq].T[..., None]
+                    rotation[j] = before
+                    linear[:, :, group.iv] = np.moveaxis(e, 0, 2)
+                    turn = alpha_rel = None
+                    slide, a_rel = e * rate, e * rate2
+                else:
+                    angle = (
+                        q[:, group.iq]
+                        if group.kind == "revolute"
+                        else np.arctan2(q[:, group.iq + 1], q[:, group.iq])
+                    )
+                    rotation[j] = before @ _rotations_about(group.axes, angle.T)
+                    angular[:, :, group.iv] = np.moveaxis(e, 0, 2)
+                    turn, alpha_rel = e * rate, e * rate2
+                    slide = a_rel = None
+            else:
+                joint, b = model.joints[int(j[0])], before[0]
+                iq, iv = joint.idx_q, joint.idx_v
+                rel = relative_motion(
+                    group.kind,
+                    group.axes,
+                    q[:, iq : iq + joint.nq],
+                    v[:, iv : iv + joint.nv],
+                    a[:, iv : iv + joint.nv],
+                )
+                if rel.position.any():
+                    here = here + _turn(b, rel.position)
+                rotation[j] = b @ rel.rotation
+                linear[:, :, iv : iv + joint.nv] = b @ rel.linear
+                angular[:, :, iv : iv + joint.nv] = b @ rel.angular
+                turn, alpha_rel = _turn(b, rel.omega)[None], _turn(b, rel.alpha)[None]
+                slide, a_rel = _turn(b, rel.velocity)[None], _turn(b, rel.acceleration)[None]
+            origin[j] = here
+            if moving:
+                _rates(w, dw, vel, acc, j, p, here - origin[p], turn, alpha_rel, slide, a_rel)
+    return TreeMotion(
+        rotation,
+        origin,
+        [linear[:, :, columns] for columns in layout.slices],
+        [angular[:, :, columns] for columns in layout.slices],
+        w,
+        dw,
+        vel,
+        acc,
+        None,
+        linear,
+        angular,
+    )
+
+
+def _rates(w, dw, vel, acc, j, p, r, turn, alpha_rel, slide, a_rel) -> None:
+    """The velocity and acceleration recursion (module docstring) of the joints j (k,) from
+    their parents p (k,), r = o_j − o_p (k, N, 3), and their relative terms in world axes
+    (k, N, 3) (R_b w_rel, R_b α_rel, R_b v_rel, R_b a_rel; None where zero: a revolute joint's
+    slide, a prismatic joint's turn), written into w, dw, vel, acc (njoints, N, 3)."""
+    w_p, dw_p = w[p], dw[p]
+    spin = cross(w_p, r)
+    omega, alpha = w_p, dw_p
+    if turn is not None:
+        omega = w_p + turn
+        alpha = dw_p + alpha_rel + cross(w_p, turn)
+    velocity = vel[p] + spin
+    acceleration = acc[p] + cross(dw_p, r) + cross(w_p, spin)
+    if slide is not None:
+        velocity = velocity + slide
+        acceleration = acceleration + 2.0 * cross(w_p, slide) + a_rel
+    w[j], dw[j], vel[j], acc[j] = omega, alpha, velocity, acceleration
 
 
 def on_base(motion: TreeMotion, base: BaseState) -> TreeMotion:
     """The absolute motion, in the base's moving axes, of a tree whose motion relative to its
-    base is ``motion``, the base moving as ``base`` (module docstring); placements and columns
-    are unchanged."""
+    base is ``motion``, the base moving as ``base`` (module docstring), every joint at once;
+    placements and columns are unchanged."""
     spin, turn = base.omega, base.alpha
-    omega, alpha, velocity, acceleration = [spin], [turn], [base.velocity], [base.acceleration]
-    for j in range(1, len(motion.origin)):
-        o, w_r, v_r = motion.origin[j], motion.omega[j], motion.velocity[j]
-        around = cross(spin, o)
-        omega.append(spin + w_r)
-        alpha.append(turn + motion.alpha[j] + cross(spin, w_r))
-        velocity.append(base.velocity + around + v_r)
-        acceleration.append(
-            base.acceleration
-            + cross(turn, o)
-            + cross(spin, around)
-            + 2.0 * cross(spin, v_r)
-            + motion.acceleration[j]
-        )
-    return TreeMotion(
-        motion.rotation,
-        motion.origin,
-        motion.linear,
-        motion.angular,
-        omega,
-        alpha,
-        velocity,
-        acceleration,
-        base.gravity,
+    o, w_r, v_r = motion.origin, motion.omega, motion.velocity
+    around = cross(spin, o)
+    return replace(
+        motion,
+        omega=spin + w_r,
+        alpha=turn + motion.alpha + cross(spin, w_r),
+        velocity=base.velocity + around + v_r,
+        acceleration=base.acceleration
+        + cross(turn, o)
+        + cross(spin, around)
+        + 2.0 * cross(spin, v_r)
+        + motion.acceleration,
+        gravity=base.gravity,
     )
 
 
 def frame_placements(
-    model: pin.Model, motion: TreeMotion, frame: int
+    model: pin.Model, motion: TreeMotion, frame: int | Sequence[int]
 ) -> tuple[np.ndarray, np.ndarray]:
-    """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample."""
-    placement = model.frames[frame].placement
-    j = model.frames[frame].parentJoint
-    rotation = _rows(motion.rotation[j], placement.rotation)
-    origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
-    return rotation, origin
+    """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample; for several
+    frames (ids (F,)), (F, N, 3, 3) and (F, N, 3), all at once."""
+    if np.ndim(frame) == 0:
+        placement = model.frames[frame].placement
+        j = model.frames[frame].parentJoint
+        rotation = _rows(motion.rotation[j], placement.rotation)
+        origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
+        return rotation, origin
+    placed = [model.frames[f].placement for f in frame]
+    turn = motion.rotation[_parents(model, frame)]  # (F, N, 3, 3)
+    rotation = turn @ np.array([placement.rotation for placement in placed])[:, None]
+    shift = np.array([placement.translation for placement in placed])
+    return rotation, motion.origin[_parents(model, frame)] + apply_each(turn, shift)
+
+
+def _parents(model: pin.Model, frame: int | Sequence[int]) -> int | np.ndarray:
+    """The joint id that moves a frame, or those of several frames (F,)."""
+    if np.ndim(frame) == 0:
+        return model.frames[frame].parentJoint
+    return np.array([model.frames[f].parentJoint for f in frame])
 
 
 def frame_velocity(
@@ -199,11 +308,12 @@ def frame_velocity(
 
 
 def frame_acceleration(
-    model: pin.Model, motion: TreeMotion, frame: int, point: np.ndarray
+    model: pin.Model, motion: TreeMotion, frame: int | Sequence[int], point: np.ndarray
 ) -> np.ndarray:
     """World (classical) acceleration (N, 3) of a point fixed on a frame's body, at the world
-    position ``point`` (N, 3): a_j + α_j × r + ω_j × (ω_j × r), r = point − o_j."""
-    j = model.frames[frame].parentJoint
+    position ``point`` (N, 3): a_j + α_j × r + ω_j × (ω_j × r), r = point − o_j; for several
+    frames (ids (F,), points (F, N, 3)), (F, N, 3)."""
+    j = _parents(model, frame)
     r = point - motion.origin[j]
     w = motion.omega[j]
     return motion.acceleration[j] + cross(motion.alpha[j], r) + cross(w, cross(w, r))
@@ -222,21 +332,32 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
     return max(max(distances, default=0.0), MIN_REACH)
 
 
-def point_jacobian(model: pin.Model, motion: TreeMotion, frame: int) -> np.ndarray:
+def point_jacobian(
+    model: pin.Model,
+    motion: TreeMotion,
+    frame: int,
+    columns: np.ndarray | None = None,
+    point: np.ndarray | None = None,
+) -> np.ndarray:
     """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
     velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
-    (L_k, W_k)."""
-    n = motion.origin[0].shape[0]
-    _, point = frame_placements(model, motion, frame)
-    jac = np.zeros((n, 6, model.nv))
-    j = model.frames[frame].parentJoint
-    while j > 0:
-        k = model.joints[j].idx_v
-        columns = slice(k, k + model.joints[j].nv)
-        lever = point - motion.origin[j]
-        jac[:, :3, columns] = motion.linear[j] + cross(
-            np.swapaxes(motion.angular[j], 1, 2), lever[:, None, :]
-        ).swapaxes(1, 2)
-        jac[:, 3:, columns] = motion.angular[j]
-        j = model.parents[j]
+    (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`). ``columns``: only
+    these velocity columns (sorted, (c,) int, among them every column that moves the frame),
+    (N, 6, c). ``point``: the frame's origin (N, 3), if the caller has it."""
+    layout = tree_layout(model)
+    n = motion.origin.shape[1]
+    if point is None:
+        _, point = frame_placements(model, motion, frame)
+    moving = layout.support[model.frames[frame].parentJoint]
+    if columns is None:
+        jac, place = np.zeros((n, 6, model.nv)), moving
+    else:
+        jac, place = np.zeros((n, 6, columns.size)), np.searchsorted(columns, moving)
+    lever = point - motion.origin[layout.column_joint[moving]]  # (c, N, 3)
+    angular = np.take(motion.angular_columns, moving, axis=2)  # (N, 3, c)
+    turning = np.moveaxis(angular, 2, 0)  # (c, N, 3)
+    jac[:, :3, place] = np.take(motion.linear_columns, moving, axis=2) + np.moveaxis(
+        cross(turning, lever), 0, 2
+    )
+    jac[:, 3:, place] = angular
     return jac

@@ -364,3 +364,29 @@ def test_a_tall_system_solved_by_the_shortcut_is_checked_for_consistency():
     off[1] += 1e-3 * np.linalg.svd(system[1])[0][:, -1]  # orthogonal to the range of A
     with pytest.raises(InputError, match="cannot produce the motion"):
         _solve(system, off, 1, terms)
+
+
+def test_loads_spread_over_flagged_samples_keep_their_motion_and_indeterminacy(four_bar):
+    """A forward run that flags samples spreads the loads of the others over every sample
+    (:func:`~feeder.chain.dynamics.singular.spread`, zero at the flagged ones): the motion the
+    loads carry is spread with them (a held part's wrench has every sample), and the
+    indeterminacy is that of the spread poses, not the kept ones' (the kinematics the inverse
+    dynamics computed for it belong to other poses and are not used)."""
+    from feeder.chain.dynamics.indeterminacy import indeterminacy
+    from feeder.chain.dynamics.singular import spread
+
+    q, v, a = _motion(four_bar, 41)
+    keep = np.ones(q.shape[0], dtype=bool)
+    keep[[3, 17, 18]] = False
+    dyn = ChainDynamics(four_bar, ["crank_joint"])
+    kept = inverse_dynamics(dyn, q[keep], v[keep], a[keep])
+    loads = spread(kept, keep)
+    joint = four_bar.model.getJointId("rocker_joint")
+    held = loads.held_wrench(joint, four_bar.model.inertias[joint])
+    own = kept.held_wrench(joint, four_bar.model.inertias[joint])
+    for spread_out, kept_out in zip(held, own, strict=True):
+        assert spread_out.shape == (q.shape[0], 3)
+        np.testing.assert_array_equal(spread_out[keep], kept_out)
+    assert loads.indeterminacy == indeterminacy(four_bar, loads.q, loads.reach)
+    whole = inverse_dynamics(dyn, q, v, a)
+    assert whole.indeterminacy == indeterminacy(four_bar, q, whole.reach)  # its own kinematics
