@@ -158,7 +158,8 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
     from feeder.paper import lagrange_loads
     from feeder.study.csv import write_csv
     from feeder.study.cycle_study import run_cycle_study
-    from feeder.viz.report import FigureData, draw, png_bytes, study_figure_names
+    from feeder.viz.png import png_bytes
+    from feeder.viz.report import FigureData, draw, study_figure_names
 
     elevation = math.radians(ELEVATION_DEG)
     figures["model"] = best_time(lambda: load_feeder("projectile"), repeats)

@@ -66,6 +66,12 @@ def interrupts_held() -> Iterator[None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
+def fork_safe() -> bool:
+    """Whether this process may fork: the platform has ``fork`` and no other thread runs (a
+    thread holding a lock when the process forks leaves the child's copy of it held)."""
+    return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
+
+
 def _nothing() -> None:
     """A first task that only makes the pool start its worker."""
 
@@ -81,7 +87,7 @@ def process_pool(
     forked, else as the warm-up tasks need them.
 
     Args:
-        workers: Processes, ≥ 2 (one computes in the caller's process: no pool).
+        workers: Processes, ≥ 1.
         fork_only: Return None rather than start interpreters where ``fork`` is not safe.
         preload: Modules a ``forkserver`` imports once for all its workers.
         warm_up: Run once in each worker as it starts (e.g. the imports it will need).
@@ -89,12 +95,11 @@ def process_pool(
     Returns:
         The pool, or None (``fork_only`` where forking is not safe here).
     """
-    methods = multiprocessing.get_all_start_methods()
-    if "fork" in methods and threading.active_count() == 1:
+    if fork_safe():
         context = multiprocessing.get_context("fork")
     elif fork_only:
         return None
-    elif "forkserver" in methods:
+    elif "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(list(preload))
     else:

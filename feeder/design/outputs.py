@@ -29,7 +29,7 @@ def figure_writer(module: str, function: str, data: object) -> Writer:
     matplotlib with it, is imported only when the file is written."""
 
     def write(path: Path) -> Path:
-        from ..viz.report import png_bytes, write_png
+        from ..viz.png import png_bytes, write_png
 
         draw = getattr(importlib.import_module(module, __package__), function)
         return write_png(path, png_bytes(draw(data)))

@@ -245,7 +245,7 @@ def controlled_cycle(
     actuated = [int(i) for i in dyn.index[[1, 3]]]  # r2, φ4 in Pinocchio's v
     poses = k.q[np.linspace(0, k.t.size - 1, INERTIA_SAMPLES).astype(int)]
     inertia = np.array([reduced_inertia(dyn, poses, gripped) for gripped in (False, True)])
-    kp, kd = (np.array(pair) for pair in zip(*(gains.gains(m) for m in inertia), strict=True))
+    kp, kd = gains.gains(inertia)
     low, high = gains.limits(dyn.feeder.params)
     step = 1.0 / k.spec.rate
     hold_t = k.t[-1] + step * np.arange(max(round(hold / step), 1) + 1)

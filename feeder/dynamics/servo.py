@@ -107,8 +107,9 @@ class ServoGains:
         )
 
     def gains(self, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """K_p [N/m, N·m/rad] and K_d [N·s/m, N·m·s/rad], (2,) each, for the reduced inertias
-        ``inertia`` (2,) [kg, kg·m²] of the piston and the forearm (module docstring)."""
+        """K_p [N/m, N·m/rad] and K_d [N·s/m, N·m·s/rad] for the reduced inertias ``inertia``
+        [kg, kg·m²] of the piston and the forearm (module docstring): each of inertia's shape,
+        (2,) or a row per load case (2, 2)."""
         omega = 2.0 * math.pi * self.bandwidth_hz
         inertia = np.asarray(inertia, dtype=float)
         return inertia * omega**2, 2.0 * self.damping * omega * inertia

@@ -18,7 +18,6 @@ import contextlib
 import os
 import pickle
 import re
-import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -39,7 +38,7 @@ from ..study.cycle_study import CycleStudy
 from ..study.elevation_sweeps import sweeps_of
 from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
-from ..workers import check_workers, local_workers, process_pool
+from ..workers import check_workers, fork_safe, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
 from .png import png_bytes, write_png
 
@@ -230,7 +229,7 @@ def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[st
     """Draw every share of figure names into PNG bytes: the first here (the figure worker), each
     other in a process forked from here, which has matplotlib loaded already and sends its PNG
     bytes back through a pipe (an error it meets is raised here)."""
-    if threading.active_count() > 1:  # forking a threaded process is not safe: draw here
+    if not fork_safe():  # draw here
         return _render([name for share in shares for name in share], data)
     children = [_fork_render(share, data) for share in shares[1:]]
     try:
@@ -373,7 +372,7 @@ class SweepFigures:
         self._child: tuple[int, int, int] | None = None  # id, request pipe, answer pipe
 
     def __enter__(self) -> SweepFigures:
-        if hasattr(os, "fork") and threading.active_count() == 1:
+        if fork_safe():
             self._child = _fork_waiting()
         return self
 

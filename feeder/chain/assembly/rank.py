@@ -173,14 +173,9 @@ def _decomposed(jac: np.ndarray) -> np.ndarray:
     return u[:, rank:].T.copy()
 
 
-def indeterminate_mask(basis: np.ndarray, sizes: np.ndarray | None = None) -> np.ndarray:
+def indeterminate_mask(basis: np.ndarray) -> np.ndarray:
     """Which closure rows (nc,) bool the self-stresses ``basis`` (k, nc) (:func:`self_stresses`,
     orthonormal) involve: the part of the row's unit vector in their span (the norm of the row's
     column of B), above :data:`SELF_STRESS_TOLERANCE` (a property of the span, not of
-    the basis chosen). ``sizes`` (poses,): ``basis`` stacks the bases of several poses, of
-    these numbers of rows; the rows that any of them involves."""
-    if sizes is None:
-        return np.linalg.norm(basis, axis=0) > SELF_STRESS_TOLERANCE
-    first = (np.cumsum(sizes) - sizes)[sizes > 0]
-    shares = np.sqrt(np.add.reduceat(basis * basis, first, axis=0))  # (poses, nc)
-    return np.any(shares > SELF_STRESS_TOLERANCE, axis=0)
+    the basis chosen)."""
+    return np.linalg.norm(basis, axis=0) > SELF_STRESS_TOLERANCE

@@ -43,9 +43,10 @@ is the controller's: one with a push or pressure of its own (not the constant 0)
 rather than silently replaced; its spring and damper act as before. A cylinder's push
 P = p_cap A_cap − p_rod A_ann is reported as the chamber pressures that give it: p_cap = P/A_cap
 for P ≥ 0, p_rod = −P/A_ann for P < 0, the other chamber at zero gauge [Pa]. The run's loads are
-those of the pushes applied (:meth:`ComputedTorque.applied`). A push that cannot accelerate the
-joints it controls (a line across the joint's motion, both ends on the ground) makes G singular:
-refused at the start, stopped in the run (:data:`RANK_TOLERANCE`).
+those of the pushes applied (:meth:`~.forward_equations.ForwardEquations.loads_dynamics`). A
+push that cannot accelerate the joints it controls (a line across the joint's motion, both ends
+on the ground) makes G singular: refused at the start, stopped in the run
+(:data:`RANK_TOLERANCE`).
 """
 
 from __future__ import annotations
@@ -65,7 +66,7 @@ from .elements import LineElement
 from .forward_equations import BAUMGARTE_RATE, PROXIMAL, ForwardEquations, IntegrationError
 from .hybrid_equations import Prescribed
 from .inverse import ChainDynamics, check_dynamics
-from .pushed_elements import carrying, chambers, pushed_element, pushed_joint
+from .pushed_elements import chambers, pushed_element, pushed_joint
 
 RANK_TOLERANCE = 1e-8
 """G_cc is taken as singular when its smallest singular value, each column divided by the norm
@@ -261,21 +262,6 @@ class ComputedTorque:
         u = np.zeros(self.n_actuated + len(self.lines))
         u[self.channels] = force
         return u, rate
-
-    def applied(
-        self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray | None = None
-    ) -> ChainDynamics:
-        """The chain's dynamics for a run's loads at its samples t (N,), q (N, nq), v (N, nv),
-        states x (N, n_states) (None without states): a copy whose pushed elements carry, as a
-        :class:`~feeder.chain.model.forces.Table` over t, the pushes the controller applied
-        there (a cylinder as the chamber pressures of the module docstring), so the loads,
-        evaluated at those times, are those of the run; ``dyn`` itself without pushes."""
-        if not self.lines:
-            return self.dyn
-        x = np.zeros((t.size, 0)) if x is None else x
-        samples = zip(t, q, v, x, strict=True)
-        pushes = np.array([self(*sample)[0][self.n_actuated :] for sample in samples])
-        return carrying(self.dyn, t, dict(zip(self.pushes, pushes.T, strict=True)))
 
     def record(
         self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray | None = None

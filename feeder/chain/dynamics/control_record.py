@@ -4,7 +4,6 @@ flags and pressures, and the summary's lines."""
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,8 +45,8 @@ class ControlRecord:
     saturated: np.ndarray
     rate_limited: np.ndarray
     pressure: dict[str, np.ndarray]
-    elements: tuple[str | None, ...] = ()
-    chambers: dict[str, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
+    elements: tuple[str | None, ...]
+    chambers: dict[str, tuple[np.ndarray, np.ndarray]]
 
     def peak_error(self) -> np.ndarray:
         """Largest |e| per joint [rad or m], (n,)."""
@@ -71,10 +70,9 @@ class ControlRecord:
         saturated_time = self.time_saturated()
         rows = zip(self.joints, self.units, self.peak_error(), self.rms_error(), saturated_time,
                    strict=True)  # fmt: skip
-        elements = self.elements or (None,) * len(self.joints)
         for j, (joint, unit, peak, rms, saturated) in enumerate(rows):
             flags = self.saturated[:, j]
-            pushed = "" if elements[j] is None else f" by the push of {elements[j]!r}"
+            pushed = "" if self.elements[j] is None else f" by the push of {self.elements[j]!r}"
             text = (
                 f"  control of {joint!r}{pushed}: peak error {peak:.3g} {unit}, RMS error "
                 f"{rms:.3g} {unit}; saturated {saturated:.4g} s ({saturated / span:.1%} of the "

@@ -75,8 +75,10 @@ class MovingBase:
         step evaluates the equations at (:func:`stage_times`). The base's state at one time
         costs 5 × the rest of an evaluation (numpy's overhead on its many small arrays; 140 µs
         against 30 µs on the device, measured), at 15 times hardly more than at one."""
-        q0, v0, a0 = self.roots(self.states(t))
-        self._roots = {time: (q0[k], v0[k], a0[k]) for k, time in enumerate(t.tolist())}
+        self._roots = {}
+        if t.size:  # none for an implicit method's step (stage_times)
+            q0, v0, a0 = self.roots(self.states(t))
+            self._roots = {time: (q0[k], v0[k], a0[k]) for k, time in enumerate(t.tolist())}
 
     def states(self, t: np.ndarray) -> BaseState:
         """The base's motion at the times t [s], (N,)."""

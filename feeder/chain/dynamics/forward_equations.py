@@ -44,6 +44,7 @@ from ...validation import check_finite
 from ..kinematics.joints import ConfigurationRate
 from .forward_base import MovingBase
 from .inverse import ChainDynamics
+from .pushed_elements import carrying
 
 BAUMGARTE_RATE = 20.0
 """Default Baumgarte rate ω [1/s]: a loop error decays in 1/ω = 50 ms, fast compared with a
@@ -75,8 +76,7 @@ class Controller(Protocol):
       chain whose push [N] (extending) the controller gives too: its u is then (n_actuated +
       len(pushes),), the pushes after the drives, and each push P_e adds P_e g_e(q) to τ
       (g_e = dℓ_e/dq, :meth:`~.elements.BoundElements.unit_pushes`) and P_e ℓ̇_e to the power;
-    * ``applied(t, q, v, x) -> ChainDynamics`` — with pushes: the chain's dynamics whose
-      elements carry the pushes the controller applied at a run's samples, for the run's loads
+      the run's loads take the pushes it applied at the samples
       (:meth:`ForwardEquations.loads_dynamics`).
     """
 
@@ -184,21 +184,15 @@ class ForwardEquations:
         u = self._checked("actuation", "[N or N·m]", t, out[0], size)
         return u, self._checked("controller state rates", "", t, out[1], self.n_states)
 
-    def drive(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
-        """u (n_actuated,), the actuated joints' drives [N or N·m], and ẋ (n_states,) of the
-        actuation at (t, q, q̇, x), checked (:meth:`command` without the pushes)."""
-        u, xdot = self.command(t, q, v, x)
-        return u[: self.columns.size], xdot
-
-    def loads_dynamics(
-        self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray
-    ) -> ChainDynamics:
-        """The dynamics for a run's loads at its samples t (N,), q (N, nq), v (N, nv) and the
-        controller's states x (N, n_states): the run's own, or, when the controller pushes
-        force elements, its ``applied`` copy whose elements carry the pushes it applied there."""
+    def loads_dynamics(self, t: np.ndarray, pushes: np.ndarray) -> ChainDynamics:
+        """The dynamics for a run's loads at its samples t [s] (N,), given the pushes [N]
+        (N, n_pushed) the controller applied there (:meth:`command`'s last columns): the run's
+        own, or, when the controller pushes force elements, a copy whose pushed elements carry
+        those pushes as tables over t (:func:`~.pushed_elements.carrying`: exact at t)."""
         if not self.pushed:
             return self.dyn
-        return self.controller.applied(t, q, v, x)
+        names = self.controller.pushes
+        return carrying(self.dyn, t, dict(zip(names, pushes.T, strict=True)))
 
     @staticmethod
     def _checked(what: str, unit: str, t: float, u: object, size: int) -> np.ndarray:

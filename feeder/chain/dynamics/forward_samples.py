@@ -98,14 +98,16 @@ def results(
             projected, a = _motion(equations, states, drift_tolerance, residual, line), None
     q, v, work = projected[:, :nq], projected[:, nq : nq + nv], projected[:, nq + nv]
     held = np.array([equations.states(y) for y in projected]).reshape(t.size, -1)
-    u = np.zeros((t.size, len(dyn.columns)))
+    # the drives and the pushed elements' pushes (the controller's u) at the samples
+    commands = np.zeros((t.size, len(dyn.columns) + len(equations.pushed)))
     if equations.actuation is not None:
         samples = zip(t, q, v, held, strict=True)
-        u[:] = [equations.drive(*sample)[0] for sample in samples]
+        commands[:] = [equations.command(*sample)[0] for sample in samples]
+    u, pushes = np.split(commands, [len(dyn.columns)], axis=1)
     indeterminate = np.zeros(t.size, dtype=bool)
     table, kinetic, energy = None, None, None
     if loads:
-        table, indeterminate = _loads(equations, t, q, v, a, watch, held)
+        table, indeterminate = _loads(equations, t, q, v, a, watch, pushes)
         kinetic, energy = _energies(equations, t, q, v)
     return ForwardRun(
         t=t,
@@ -176,13 +178,13 @@ def _motion(equations, states, drift_tolerance, residual, line):
     return projected
 
 
-def _loads(equations, t, q, v, a, watch, held):
+def _loads(equations, t, q, v, a, watch, pushes):
     """The inverse dynamics of the sampled motion and the samples whose loads are
     indeterminate (bool (N,)), or an :class:`IntegrationError` naming where they cannot be
-    computed; ``held``: the controller's states at the samples (N, n_states) (a controller
-    that pushes force elements gives the dynamics of the pushes it applied:
-    :meth:`~feeder.chain.dynamics.forward_equations.ForwardEquations.loads_dynamics`)."""
-    dyn = equations.loads_dynamics(t, q, v, held)
+    computed; ``pushes``: those the controller applied to force elements at the samples (N,
+    n_pushed), carried by them in the loads
+    (:meth:`~feeder.chain.dynamics.forward_equations.ForwardEquations.loads_dynamics`)."""
+    dyn = equations.loads_dynamics(t, pushes)
     try:
         if watch is not None and watch.passes:
             return determinate_loads(dyn, t, q, v, a, watch.passes)

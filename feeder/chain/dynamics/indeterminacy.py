@@ -159,7 +159,7 @@ def indeterminacy(
     sizes = np.array([basis.shape[0] for basis in bases])
     index = np.repeat(np.arange(sizes.size), sizes)
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    mask = indeterminate_mask(lam, sizes)
+    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)  # any pose's rows
     labels = chain.row_labels()
     wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
     force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)

@@ -153,8 +153,8 @@ def relative_motion(
     (N, nq_j), velocities v and accelerations a (N, nv_j)."""
     n = q.shape[0]
     zero = np.zeros((n, 3))
-    if kind in ("revolute", "continuous", "universal", "spherical_zyx"):
-        angles = np.arctan2(q[:, 1], q[:, 0])[:, None] if kind == "continuous" else q
+    if kind in ("universal", "spherical_zyx"):  # the single-axis kinds: tree.tree_motion
+        angles = q
         rotation = np.broadcast_to(np.eye(3), (n, 3, 3))
         omega, alpha = zero, zero
         columns = []
@@ -174,10 +174,8 @@ def relative_motion(
             rotation, zero, angular, np.zeros_like(angular), omega, zero, alpha, zero
         )
     identity = np.broadcast_to(np.eye(3), (n, 3, 3))
-    if kind in ("prismatic", "translation"):
-        linear = (
-            np.broadcast_to(axes[0][None, :, None], (n, 3, 1)) if kind == "prismatic" else identity
-        )
+    if kind == "translation":
+        linear = identity
         return RelativeMotion(
             identity,
             (linear @ q[:, :, None])[..., 0],

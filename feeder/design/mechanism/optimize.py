@@ -135,7 +135,7 @@ def _record(setup: MechanismSetup, command: str | None, status: str, runs: int) 
 
 
 def _figure(opt: Optimum) -> bytes:
-    from ...viz.report import png_bytes
+    from ...viz.png import png_bytes
     from .figure import mechanism_optimum_figure
 
     return png_bytes(mechanism_optimum_figure(opt))
@@ -151,7 +151,7 @@ def _write(
     command: str | None,
 ) -> list[Path]:
     """Every output and the manifest (marked with the status); the history first."""
-    from ...viz.report import write_png
+    from ...viz.png import write_png
     from ...viz.report_page import report_page
 
     urdf, closures = model_text

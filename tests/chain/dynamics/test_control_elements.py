@@ -17,7 +17,7 @@ import scipy.integrate
 from feeder.chain import ClosedChain
 from feeder.chain.dynamics.control import ComputedTorque
 from feeder.chain.dynamics.forward import simulate
-from feeder.chain.dynamics.inverse import ChainDynamics, inverse_dynamics
+from feeder.chain.dynamics.inverse import ChainDynamics
 from feeder.chain.model.control import ControlSpec
 from feeder.chain.model.forces import Cylinder, JointSpring, Spring
 from feeder.exceptions import InputError
@@ -120,8 +120,7 @@ def test_a_cylinder_lifts_a_pendulum_along_its_reference(anchor, chamber):
     # the work of the push P ℓ̇ is in W: the balance to the integrator's tolerance on the
     # swing's 2.2 J (rtol 1e-11; measured 6e-13 J), where a missing push power would be ~J
     assert np.abs(run.balance()).max() <= 1e-10
-    loads = inverse_dynamics(controller.applied(t, run.q, run.v, run.controller),
-                             run.q, run.v, run.a, t=t)  # fmt: skip
+    loads = run.loads  # the inverse dynamics of the run's samples with the pushes applied
     np.testing.assert_allclose(loads.elements["lift"], -push, rtol=0.0, atol=1e-7)  # as the push
     gravity = np.array([0.0, -GRAVITY])
     q, w, dw = run.q[:, 0], run.v[:, 0], run.a[:, 0]
@@ -236,8 +235,18 @@ T3 = np.linspace(0.0, 1.0, 3)
     [
         ((LIFT,), (), {"element": "lfit"}, "no force element 'lfit'; did you mean 'lift'"),
         ((JointSpring("hinge", 1.0, name="coil"),), (), {"element": "coil"}, "is a JointSpring"),
-        ((Spring(("anchor", "eye"), force=5.0, name="s"),), (), {"element": "s"}, "own"),
-        ((Cylinder(("anchor", "eye"), BORE, ROD, 1e5, name="c"),), (), {"element": "c"}, "own"),
+        (
+            (Spring(("anchor", "eye"), force=5.0, name="s"),),
+            (),
+            {"element": "s"},
+            "push law of its own",
+        ),
+        (
+            (Cylinder(("anchor", "eye"), BORE, ROD, 1e5, name="c"),),
+            (),
+            {"element": "c"},
+            "push law of its own",
+        ),
         ((LIFT,), ("hinge",), {"element": "lift"}, "'hinge' is actuated"),
         ((LIFT,), (), {"element": "lift", "area": 1e-3}, "area is for a joint's own drive"),
         ((LIFT,), ("hinge",), {}, None),  # the joint's own drive: accepted
