@@ -194,3 +194,10 @@ class CycleServo:
         if self.rate is None:
             return u, self._none
         return x, self.rate * (u - x)
+
+    def at_samples(self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray):
+        """The applied forces at N samples at once (the engine's ``Controller.at_samples``):
+        (N, 2), given times (N,), states q, q̇ (N, nv) and the drives' forces x (N, n_states)."""
+        if self.rate is None:
+            return np.clip(self.command(t, q, v), self.low, self.high)
+        return x

@@ -82,3 +82,15 @@ def test_the_command_of_many_instants_is_each_instants(rng):
     q, v = rng.normal(size=(7, 4)), rng.normal(size=(7, 4))
     each = np.array([servo.command(*row) for row in zip(t, q, v, strict=True)])
     np.testing.assert_array_equal(servo.command(t, q, v), each)
+
+
+@pytest.mark.parametrize("actuator_hz", [None, 10.0])
+def test_the_forces_applied_at_many_samples_are_each_samples(rng, actuator_hz):
+    """``at_samples`` (the engine's output samples) against ``__call__``'s u one sample at a
+    time, clipped or lagged: the same operations, the same floats."""
+    servo = _servo(actuator_hz)
+    t = rng.uniform(0.0, 1.0, 9)
+    q, v = rng.normal(scale=0.1, size=(9, 4)), rng.normal(size=(9, 4))
+    x = rng.normal(scale=100.0, size=(9, servo.n_states))
+    each = np.array([servo(*row)[0] for row in zip(t, q, v, x, strict=True)])
+    np.testing.assert_array_equal(servo.at_samples(t, q, v, x), each)

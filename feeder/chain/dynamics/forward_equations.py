@@ -78,6 +78,10 @@ class Controller(Protocol):
       (g_e = dℓ_e/dq, :meth:`~.elements.BoundElements.unit_pushes`) and P_e ℓ̇_e to the power;
       the run's loads take the pushes it applied at the samples
       (:meth:`ForwardEquations.loads_dynamics`).
+    * ``at_samples(t, q, v, x) -> u`` — u at N instants at once (times (N,), q (N, nq), q̇
+      (N, nv), x (N, n_states)), (N, len(u)): the values of ``__call__``'s u there, for the
+      run's output samples (:meth:`ForwardEquations.sample_commands`), where one call per sample
+      would cost more than the run's steps (a servo's 4 501 samples against its 253 steps).
     """
 
     n_states: int
@@ -167,9 +171,10 @@ class ForwardEquations:
         self.count = 0
 
     def states(self, y: np.ndarray) -> np.ndarray:
-        """The controller's states x of a state y (n_states,)."""
+        """The controller's states x of a state y (size,), (n_states,); of states (N, size),
+        (N, n_states)."""
         first = self.nq + self.nv + 1
-        return y[first : first + self.n_states]
+        return y[..., first : first + self.n_states]
 
     def command(self, t: float, q: np.ndarray, v: np.ndarray, x: np.ndarray = EMPTY):
         """u (n_actuated + n_pushed,): the drives [N or N·m] and the pushed elements' pushes [N],
@@ -183,6 +188,25 @@ class ForwardEquations:
         size = self.columns.size + len(self.pushed)
         u = self._checked("actuation", "[N or N·m]", t, out[0], size)
         return u, self._checked("controller state rates", "", t, out[1], self.n_states)
+
+    def sample_commands(
+        self, t: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray
+    ) -> np.ndarray:
+        """u (N, n_actuated + n_pushed) at the output samples t [s] (N,), q (N, nq), q̇ (N, nv),
+        x (N, n_states): :meth:`command`'s u at each (in one call where the controller has
+        ``at_samples``: :class:`Controller`), checked."""
+        size = self.columns.size + len(self.pushed)
+        many = getattr(self.controller, "at_samples", None)
+        if many is None:
+            samples = zip(t, q, v, x, strict=True)
+            return np.array([self.command(*sample)[0] for sample in samples]).reshape(-1, size)
+        u = check_finite(f"the controller's u at the {t.size} samples", many(t, q, v, x))
+        if u.shape != (t.size, size):
+            raise InputError(
+                f"the controller's u at the {t.size} samples must be ({t.size}, {size}) finite "
+                f"numbers [N or N·m], got shape {u.shape}"
+            )
+        return u
 
     def loads_dynamics(self, t: np.ndarray, pushes: np.ndarray) -> ChainDynamics:
         """The dynamics for a run's loads at its samples t [s] (N,), given the pushes [N]

@@ -44,18 +44,6 @@ DRIFT = 1e-8
 (~1e-10 m measured)."""
 
 
-@pytest.fixture(scope="module")
-def four_bar():
-    chain = load_closed_chain(
-        REPO / "examples" / "four_bar" / "four_bar.urdf",
-        [Closure("coupler_tip", "rocker_tip", "revolute")],
-    )
-    chain.model.gravity = pin.Motion(np.array([0.0, -9.81, 0.0]), np.zeros(3))
-    partition = Partition(chain, ["crank_joint"])
-    q0 = partition.assemble(np.array([math.radians(40.0), -0.35, 1.0]))
-    return chain, partition, q0
-
-
 def _kkt_accelerations(chain, q, v, tau, rate):
     """q̈ from [M Jᵀ; J 0] solved by least squares (numpy), with the chain's own closure rows and
     Baumgarte's terms: independent of Pinocchio's constraintDynamics."""
