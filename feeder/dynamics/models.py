@@ -68,7 +68,6 @@ class InertiaCase:
 
     Args:
         model: The open tree standing level (gravity −y).
-        constraint_models: The device's pin closure.
         base: The vehicle's motion, None for standing level.
         gravity: The forward run's gravity [m/s²] (3,) on a slope (in the tilted device's axes),
             None for the model's.
@@ -77,7 +76,8 @@ class InertiaCase:
         model: The open tree of the forward run: ``model``, with ``gravity`` if given.
         data: Its data.
         constraint_models: The pin closure (``CONTACT_3D``, LOCAL frame of ``piston_pin``), a
-            copy of the device's with the Baumgarte corrector set.
+            copy of the chain's with the Baumgarte corrector set
+            (:meth:`~feeder.chain.ClosedChain.corrected_constraints`).
         constraint_datas: Their data, initialised for ``constraintDynamics``.
         prox: Proximal settings of ``constraintDynamics``.
         dynamics: The closed-chain dynamics (:class:`~feeder.chain.ChainDynamics`) of the
@@ -88,7 +88,6 @@ class InertiaCase:
     def __init__(
         self,
         model: pin.Model,
-        constraint_models: pin.StdVec_RigidConstraintModel,
         base: BaseMotion | None = None,
         gravity: np.ndarray | None = None,
     ):
@@ -99,20 +98,11 @@ class InertiaCase:
             model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
         self.model = model
         self.data = model.createData()
-        self.constraint_models = pin.StdVec_RigidConstraintModel()
-        self.constraint_datas = pin.StdVec_RigidConstraintData()
-        for constraint in constraint_models:
-            own = pin.RigidConstraintModel(constraint)
-            # The generic run's Baumgarte rate ω (feeder.chain.simulate): critically damped, a
-            # loop error decays in 1/ω = 50 ms; hω = 0.02 at 1 kHz is well inside the
-            # integrator's stability region.
-            gains = own.m_baumgarte_parameters
-            gains.Kp = BAUMGARTE_RATE**2
-            gains.Kd = 2.0 * BAUMGARTE_RATE
-            self.constraint_models.append(own)
-            self.constraint_datas.append(own.createData())
-        pin.initConstraintDynamics(
-            self.model, self.data, self.constraint_models, self.constraint_datas
+        # the generic run's Baumgarte rate ω (feeder.chain.simulate): critically damped, a loop
+        # error decays in 1/ω = 50 ms; hω = 0.02 at 1 kHz is well inside the integrator's
+        # stability region
+        self.constraint_models, self.constraint_datas = chain.corrected_constraints(
+            self.data, BAUMGARTE_RATE
         )
         self.prox = pin.ProximalSettings(
             PROXIMAL_ACCURACY, PROXIMAL_ACCURACY, PROXIMAL_MU, PROXIMAL_MAX_ITERATIONS
@@ -150,10 +140,7 @@ class FeederDynamics:
         self.payload_inertia = payload_inertia(feeder)
         empty = pin.Model(loaded)
         empty.inertias[forearm] = loaded.inertias[forearm] - self.payload_inertia
-        constraints = feeder.chain.constraint_models
-        self.cases = tuple(
-            InertiaCase(model, constraints, base, tilt) for model in (empty, loaded)
-        )
+        self.cases = tuple(InertiaCase(model, base, tilt) for model in (empty, loaded))
         self.index = feeder.index
 
     def to_pinocchio(self, x: np.ndarray) -> np.ndarray:

@@ -100,22 +100,6 @@ EMPTY = np.zeros(0)
 """The states of an actuation without any."""
 
 
-def _constraints(chain, data: pin.Data, rate: float):
-    """Copies of the chain's constraint models with Baumgarte's gains K_p = ω², K_d = 2ω for the
-    rate ω [1/s], and their datas, initialised for ``constraintDynamics`` on ``data``."""
-    models = pin.StdVec_RigidConstraintModel()
-    for constraint in chain.constraint_models:
-        copy = pin.RigidConstraintModel(constraint)
-        copy.m_baumgarte_parameters.Kp = rate**2
-        copy.m_baumgarte_parameters.Kd = 2.0 * rate
-        models.append(copy)
-    datas = pin.StdVec_RigidConstraintData()
-    for constraint in models:
-        datas.append(constraint.createData())
-    pin.initConstraintDynamics(chain.model, data, models, datas)
-    return models, datas
-
-
 def _pushed(dyn: ChainDynamics, names: object) -> tuple:
     """The bound line elements of ``dyn`` named ``names`` (a controller's ``pushes``).
 
@@ -157,10 +141,12 @@ class ForwardEquations:
         self.pushed = _pushed(dyn, getattr(self.controller, "pushes", ()))
         """The line elements the controller pushes (Controller's ``pushes``), bound."""
         self.data = model.createData()
-        self.constraints, self.datas = _constraints(chain, self.data, rate)
+        self.constraints, self.datas = chain.corrected_constraints(self.data, rate)
         # the samples' accelerations: the closed chain's own, without the corrector
         self.sample_data = model.createData()
-        self.sample_constraints, self.sample_datas = _constraints(chain, self.sample_data, 0.0)
+        self.sample_constraints, self.sample_datas = chain.corrected_constraints(
+            self.sample_data, 0.0
+        )
         self.nq, self.nv = model.nq, model.nv
         self.rate = None if model.nq == model.nv else ConfigurationRate(model)
         self.normalize = normalize and self.rate is not None  # module docstring

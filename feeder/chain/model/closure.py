@@ -181,6 +181,25 @@ class ClosedChain:
             self.row_slices.append(slice(start, start + cut.rows))
             start += cut.rows
 
+    def corrected_constraints(
+        self, data: pin.Data, rate: float
+    ) -> tuple[pin.StdVec_RigidConstraintModel, pin.StdVec_RigidConstraintData]:
+        """Copies of :attr:`constraint_models` with Baumgarte's corrector K_p = ω², K_d = 2ω for
+        the rate ω [1/s] (critically damped: a loop error decays like (1 + ωt) e^(−ωt)), and
+        their datas, initialised for ``constraintDynamics`` on ``data`` (a Data of
+        :attr:`model`, or of a copy of it with other inertias or gravity)."""
+        models = pin.StdVec_RigidConstraintModel()
+        for constraint in self.constraint_models:
+            copy = pin.RigidConstraintModel(constraint)
+            copy.m_baumgarte_parameters.Kp = rate**2
+            copy.m_baumgarte_parameters.Kd = 2.0 * rate
+            models.append(copy)
+        datas = pin.StdVec_RigidConstraintData()
+        for constraint in models:
+            datas.append(constraint.createData())
+        pin.initConstraintDynamics(self.model, data, models, datas)
+        return models, datas
+
     def frame_id(self, name: str) -> int:
         """Pinocchio id of the frame ``name``.
 

@@ -151,6 +151,39 @@ def test_fourbar_constraint_is_ready_for_constrained_dynamics(fourbar):
     assert np.linalg.norm(residual) <= rounding
 
 
+def test_the_corrected_constraints_pull_an_open_loop_shut(fourbar):
+    """Baumgarte's copies (ClosedChain.corrected_constraints): constraintDynamics then meets
+    J q̈ + J̇ q̇ = −K_d J q̇ − K_p r with K_p = ω², K_d = 2ω at a pose off the loop and rates
+    that open it; the chain's own models keep no corrector (what the inverse dynamics and
+    another run's copies start from)."""
+    model, data = fourbar.model, fourbar.data
+    partition = Partition(fourbar, ["joint1"])
+    q = partition.assemble(fourbar_analytic(0.3)) + 1e-3  # the loop open by ~1 mm
+    v = np.array([1.5, -0.7, 0.4])[: model.nv]
+    omega = 7.0
+    models, datas = fourbar.corrected_constraints(data, omega)
+    settings = pin.ProximalSettings(PROXIMAL_ACCURACY, PROXIMAL_MU, PROXIMAL_ITERATIONS)
+    a = pin.constraintDynamics(model, data, q, v, np.zeros(model.nv), models, datas, settings)
+    jac, bias, r = fourbar.jacobian(q), fourbar.bias(q, v), fourbar.residual(q)
+    pull = -2.0 * omega * (jac @ v) - omega**2 * r
+    assert np.abs(pull).max() > 1e-2  # the corrector acts
+    # the loop's rows are points (3 per cut, world axes), where Pinocchio's LOCAL rows are the
+    # same rows turned: the rows agree to the rounding of the KKT solve (as the test above)
+    rounding = (
+        KKT_CONDITIONING
+        * np.finfo(float).eps
+        * (
+            np.linalg.norm(jac, 2) * np.linalg.norm(a)
+            + np.linalg.norm(bias)
+            + np.linalg.norm(pull)
+        )
+    )
+    assert np.linalg.norm(jac @ a + bias - pull) <= rounding
+    for constraint in fourbar.constraint_models:
+        assert constraint.m_baumgarte_parameters.Kp == 0.0
+        assert constraint.m_baumgarte_parameters.Kd == 0.0
+
+
 def test_closures_must_be_pairs_of_frames_on_two_bodies(fourbar_urdf, fourbar):
     for bad in (None, "rocker_tip", [("rocker_tip", "ground_pin", "link1")], [("rocker_tip",)]):
         with pytest.raises(InputError, match="pair|sequence") as info:
