@@ -136,6 +136,8 @@ class ComputedTorque:
         self.coordinates = np.array([joint.idx_q for joint in joints], dtype=int)
         self.turning = np.array([joint.nq == 2 for joint in joints])  # continuous: (cos, sin)
         self.curves = [Prescribed(s.t, s.q[:, None], s.v[:, None], s.a[:, None]) for s in specs]
+        self.kp = np.array([spec.kp for spec in specs])
+        self.kd = np.array([spec.kd for spec in specs])
         self.low = np.array([spec.force_limit[0] for spec in specs])
         self.high = np.array([spec.force_limit[1] for spec in specs])
         self.lag = np.array([spec.lag for spec in specs])
@@ -193,9 +195,7 @@ class ComputedTorque:
         """
         reference = self.reference(t)
         error, error_rate = self.errors(reference, q, v)
-        acceleration = reference[2]
-        gains = np.array([(spec.kp, spec.kd) for spec in self.specs])
-        target = acceleration + gains[:, 1] * error_rate + gains[:, 0] * error
+        target = reference[2] + self.kd * error_rate + self.kp * error
         free = self.equations.accelerations(t, q, v)[0]  # the drives at 0: what else acts
         zero = self._accelerations(q, v, np.zeros(v.size))
         inputs = self.inputs(q, t)
@@ -209,8 +209,11 @@ class ComputedTorque:
                 f"the accelerations are not finite at t = {t:.6g} s (a singular pose, bodies "
                 "without mass, or forces that are not finite)"
             )
-        shares = response / np.where(reach > 0.0, reach, 1.0)
-        if np.linalg.svd(shares, compute_uv=False).min() < RANK_TOLERANCE:
+        reach = np.where(reach > 0.0, reach, 1.0)
+        # G_cc = S D (D: each drive's reach): one decomposition of the shares S tests them and
+        # solves G_cc u = b as u = D⁻¹ V Σ⁻¹ Uᵀ b
+        left, shares, right = np.linalg.svd(response / reach)
+        if shares.min() < RANK_TOLERANCE:
             drives = ", ".join(
                 f"the drive of {joint!r}" if element is None else f"the push of {element!r}"
                 for joint, element in zip(self.joints, self.elements, strict=True)
@@ -220,7 +223,7 @@ class ComputedTorque:
                 f"accelerated independently by {drives} (a singular pose of the actuation, or a "
                 "force element whose push cannot move its joint)"
             )
-        return np.linalg.solve(response, target - free[self.columns])
+        return (right.T @ ((left.T @ (target - free[self.columns])) / shares)) / reach
 
     def _accelerations(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """q̈ (nv,) of the chain's constrained equations under the generalized forces tau alone

@@ -289,6 +289,50 @@ def test_an_element_that_cannot_move_its_joint_is_refused_at_the_start(frames, a
         simulate(dyn, np.linspace(0.0, 1.0, 3), np.zeros(1), np.zeros(1), controller)
 
 
+def _two_springs(angle: float, mass: float = 2.0) -> ChainDynamics:
+    """A point mass on two prismatic joints "x" and "y" (M = m I: the carriage between them is
+    massless), no gravity, pushed by two springs without stiffness from ground anchors 1 m away
+    along −n₁ and −n₂, n_k = (cos θ_k, sin θ_k): θ₁ = 0.7 rad, θ₂ = θ₁ + ``angle``."""
+    model = pin.Model()
+    x = model.addJoint(0, pin.JointModelPX(), pin.SE3.Identity(), "x")
+    model.appendBodyToJoint(x, pin.Inertia.Zero(), pin.SE3.Identity())
+    y = model.addJoint(x, pin.JointModelPY(), pin.SE3.Identity(), "y")
+    model.appendBodyToJoint(
+        y, pin.Inertia(mass, np.zeros(3), np.eye(3) * 1e-3), pin.SE3.Identity()
+    )
+    model.gravity = pin.Motion.Zero()
+    _frame(model, "mass", y, [0.0, 0.0, 0.0])
+    for name, theta in (("one", 0.7), ("two", 0.7 + angle)):
+        _frame(model, f"anchor_{name}", 0, [-math.cos(theta), -math.sin(theta), 0.0])
+    springs = [Spring((f"anchor_{name}", "mass"), name=name) for name in ("one", "two")]
+    return ChainDynamics(ClosedChain(model, []), [], elements=springs)
+
+
+def test_nearly_parallel_pushes_are_solved_or_refused_by_the_rank_tolerance():
+    """Two pushes whose lines meet at an angle δ control x and y: their shares' smallest
+    singular value is √(1 − cos δ) ≈ δ/√2 (unit columns n₁/m, n₂/m scaled by their reach).
+    At δ = 1e-6 (7e-7, above RANK_TOLERANCE 1e-8) the pushes are m [n₁ n₂]⁻¹ q̈* by hand, to the
+    conditioning's share of round-off (cond 1.4e6: 1e-9 relative); at δ = 1e-9 (7e-10, below)
+    the start is refused. The tolerance therefore sits between lines one microradian apart
+    (solved) and lines parallel to the round-off of their anchors (1e-16 rad)."""
+    mass, target = 2.0, np.array([1.0, 0.5])  # q̈* = q̈_ref on the reference (no error)
+    t = np.linspace(0.0, 1.0, 3)
+    specs = [
+        _spec(joint, t, 0.0, 0.0, a, element=name)
+        for joint, name, a in (("x", "one", target[0]), ("y", "two", target[1]))
+    ]
+    near = ComputedTorque(_two_springs(1e-6, mass), specs)
+    lines = np.array(
+        [[math.cos(0.7), math.cos(0.7 + 1e-6)], [math.sin(0.7), math.sin(0.7 + 1e-6)]]
+    )
+    expected = mass * np.linalg.solve(lines, target)
+    assert np.abs(expected).max() > 1e5  # huge pushes: the lines nearly cancel
+    np.testing.assert_allclose(near.demand(0.0, np.zeros(2), np.zeros(2)), expected, rtol=1e-8)
+    parallel = ComputedTorque(_two_springs(1e-9, mass), specs)
+    with pytest.raises(InputError, match="cannot be accelerated independently"):
+        simulate(parallel.dyn, t, np.zeros(2), np.zeros(2), parallel)
+
+
 def test_a_joint_s_drive_and_an_element_s_push_in_one_controller():
     """Two bodies on the ground: the pendulum lifted by its cylinder (not actuated) and a slider
     of 3 kg driven by its own actuator, the element's table listed first: u is the actuated
