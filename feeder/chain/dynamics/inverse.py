@@ -336,7 +336,7 @@ def inverse_dynamics(
         if base is not None:
             motion = on_base(motion, base)
     wrenches = joint_wrenches(dyn.chain.model, motion, terms)  # the loads' and the reactions'
-    tau, lam = solve_loads(dyn, motion, rows, terms, wrenches)
+    tau, lam = solve_loads(dyn, motion, rows, wrenches)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints, mount = joint_reactions(
         dyn.chain, motion, closure_terms, None if base is None else base.rotation, wrenches

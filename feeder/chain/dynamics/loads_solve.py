@@ -24,8 +24,9 @@ which often makes the system square: the N-four-bar's 2N + 1 equations in 1 + 3N
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Protocol
 
 import numpy as np
@@ -104,14 +105,14 @@ def solve_loads(
     dyn: LoadUnknowns,
     motion: TreeMotion,
     rows: ClosureKinematics,
-    external: list[tuple[int, np.ndarray]] = (),
     wrenches: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass with the ``external``
-    wrenches (:func:`~.newton_euler.joint_wrenches`), if the caller has it."""
+    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass
+    (:func:`~.newton_euler.joint_wrenches`: force, moment (njoints, N, 3)) with whatever
+    external wrenches act on it, if the caller has it; else the pass without external wrenches."""
     model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external) if wrenches is None else wrenches
+    force, moment = joint_wrenches(model, motion) if wrenches is None else wrenches
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
     # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their
@@ -119,11 +120,14 @@ def solve_loads(
     # solution the same without them (a square system, often: one inverse, no decomposition)
     moved = np.any(rows.jacobian, axis=(0, 2))
     system = load_equations(dyn, rows.jacobian, moved)
-    # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
-    terms = np.maximum(
-        np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
-        np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
-    )
+
+    @functools.cache
+    def terms() -> np.ndarray:  # the terms the tree's forces are summed from (N,)
+        return np.maximum(
+            np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
+            np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
+        )
+
     solution = _solve(system, tree, n_act, terms)
     lam = np.zeros((solution.shape[0], dyn.chain.nc))
     lam[:, moved] = solution[:, n_act:] * dyn.row_scale[moved]
@@ -134,21 +138,21 @@ def load_equations(
     dyn: LoadUnknowns, jacobian: np.ndarray, moved: np.ndarray | None = None
 ) -> np.ndarray:
     """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
-    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
-    rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
-    n_act + their count columns)."""
+    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), contiguous,
+    from the closure rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows'
+    columns (then n_act + their count columns)."""
+    scale = dyn.row_scale
     if moved is not None:
-        jacobian = np.compress(moved, jacobian, axis=1)  # contiguous (a mask keeps strides)
+        jacobian, scale = np.compress(moved, jacobian, axis=1), scale[moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    selection = np.zeros((n_act, nv))
-    selection[np.arange(n_act), dyn.columns] = 1.0
-    scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
-    # [S; J] row by row (contiguous copies), then seen transposed
-    transposed = np.concatenate(
-        [np.broadcast_to(selection, (n, n_act, nv)), jacobian * scale[:, None]], axis=1
-    )
-    return np.swapaxes(transposed, 1, 2)
+    system = np.zeros((n, nv, n_act + nc))
+    system[:, dyn.columns, np.arange(n_act)] = 1.0  # Sᵀ
+    if np.all(scale == 1.0):  # the default stiffness: Jᵀ as it is
+        system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2)
+    else:
+        np.multiply(np.swapaxes(jacobian, 1, 2), scale, out=system[:, :, n_act:])
+    return system
 
 
 def load_rank(dyn: LoadUnknowns, q: np.ndarray) -> int:
@@ -180,11 +184,13 @@ def load_gain(dyn: LoadUnknowns, q: np.ndarray, rank: int) -> float:
     return float(s[0] / s[rank - 1]) if s[rank - 1] > RANK_TOLERANCE * s[0] else math.inf
 
 
-def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -> np.ndarray:
+def _solve(
+    system: np.ndarray, rhs: np.ndarray, n_act: int, terms: Callable[[], np.ndarray]
+) -> np.ndarray:
     """Minimum-norm solutions x (n, nx) of system[k] x = rhs[k] (n, nv, nx), after the checks of
-    the module docstring. ``terms`` (n,): the largest term each sample's right-hand side is summed
-    from (its round-off's scale, for the consistency check where the sum cancels: a mechanism at
-    rest in equilibrium).
+    the module docstring. ``terms()`` (n,): the largest term each sample's right-hand side is
+    summed from (its round-off's scale, for the consistency check where the sum cancels: a
+    mechanism at rest in equilibrium), computed only where a check needs it.
 
     Where a sample's system has full rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
@@ -195,15 +201,20 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
         return np.zeros((n, 0))
     fast, inverse = _shortcut(system)
-    solution = np.empty((n, system.shape[2]))
-    if np.any(fast):
-        solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
-        if system.shape[1] > system.shape[2]:  # a least-squares answer: is it a solution?
-            _check_consistency(system[fast], rhs[fast], solution[fast], terms[fast])
-    if fast.all() and system.shape[1] == system.shape[2]:
-        # every sample square and invertible within MAX_FORCE_GAIN: full rank, no null space,
-        # consistent: nothing the decomposition checks can fail
-        return solution
+    square = system.shape[1] == system.shape[2]
+    if fast.all():  # every sample: no mask (a masked copy of the inverses costs as much)
+        solution = np.einsum("nij,nj->ni", inverse, rhs)
+        if square:
+            # every sample square and invertible within MAX_FORCE_GAIN: full rank, no null
+            # space, consistent: nothing the decomposition checks can fail
+            return solution
+        _check_consistency(system, rhs, solution, terms())  # a least-squares answer
+    else:
+        solution = np.empty((n, system.shape[2]))
+        if np.any(fast):
+            solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
+            if not square:  # a least-squares answer: is it a solution?
+                _check_consistency(system[fast], rhs[fast], solution[fast], terms()[fast])
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True
@@ -211,7 +222,9 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     structural = int(_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
     indices = np.flatnonzero(detailed)
-    exact = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed])
+    exact = _solve_svd(
+        system[detailed], rhs[detailed], n_act, expected, indices, terms()[detailed]
+    )
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
     return solution
 

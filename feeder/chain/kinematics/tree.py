@@ -140,15 +140,24 @@ def _turn(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     return np.einsum("nij,nj->ni", stack, vectors)
 
 
-def _rotations_about(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """Rotations (k, N, 3, 3) by ``angles`` (k, N) [rad] about the unit ``axes`` (k, 3)
-    (Rodrigues, as :func:`~.joints.rotation_about` for one axis)."""
+def _placed_rotations(
+    placed: np.ndarray, axes: np.ndarray, cosine: np.ndarray, sine: np.ndarray
+) -> np.ndarray:
+    """R₀ R(s, θ) (k, N, 3, 3): joints placed at the rotations ``placed`` R₀ (k, 3, 3), turned
+    by θ about their unit ``axes`` s (k, 3), of cosines and sines (k, N) — Rodrigues,
+    R₀ + sin θ R₀ S + (1 − cos θ) R₀ S², S the axis' skew matrix (as
+    :func:`~.joints.rotation_about` for one axis), the products with R₀ taken once per joint."""
     x, y, z = axes.T
     skew = np.zeros((axes.shape[0], 3, 3))
     skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -z, y, -x
     skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = z, -y, x
-    s, c = np.sin(angles)[..., None, None], np.cos(angles)[..., None, None]
-    return np.eye(3) + s * skew[:, None] + (1.0 - c) * (skew @ skew)[:, None]
+    once = placed @ skew
+    twice = once @ skew
+    return (
+        placed[:, None]
+        + sine[..., None, None] * once[:, None]
+        + (1.0 - cosine)[..., None, None] * twice[:, None]
+    )
 
 
 def tree_motion(
@@ -176,29 +185,40 @@ def tree_motion(
     for level in layout.levels:
         for group in level:
             j, p = group.joints, group.parents
-            before = rotation[p] @ turned[j][:, None]
-            here = origin[p] + apply_each(rotation[p], shifted[j])
             if group.kind in SINGLE_AXIS:
-                e = apply_each(before, group.axes)  # world axes (k, N, 3)
+                # a group on the world (an N-four-bar's rockers) needs no product with its
+                # parents' placements: the world's is the identity, at rest
+                root = not p.any()
+                axes = np.einsum("kij,kj->ki", turned[j], group.axes)  # in the parents' axes
+                if root:
+                    e = np.broadcast_to(axes[:, None], (j.size, n, 3))  # world axes (k, N, 3)
+                    here = np.broadcast_to(shifted[j][:, None], (j.size, n, 3))
+                else:
+                    e = apply_each(rotation[p], axes)
+                    here = origin[p] + apply_each(rotation[p], shifted[j])
                 rate, rate2 = v[:, group.iv].T[..., None], a[:, group.iv].T[..., None]
                 if group.kind == "prismatic":
                     here = here + e * q[:, group.iq].T[..., None]
-                    rotation[j] = before
+                    local = turned[j][:, None]
                     linear[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn = alpha_rel = None
                     slide, a_rel = e * rate, e * rate2
                 else:
-                    angle = (
-                        q[:, group.iq]
-                        if group.kind == "revolute"
-                        else np.arctan2(q[:, group.iq + 1], q[:, group.iq])
-                    )
-                    rotation[j] = before @ _rotations_about(group.axes, angle.T)
+                    if group.kind == "revolute":
+                        angle = q[:, group.iq].T
+                        cosine, sine = np.cos(angle), np.sin(angle)
+                    else:  # continuous: q = (cos θ, sin θ), taken as a direction
+                        cosine, sine = q[:, group.iq].T, q[:, group.iq + 1].T
+                        size = np.hypot(cosine, sine)
+                        cosine, sine = cosine / size, sine / size
+                    local = _placed_rotations(turned[j], group.axes, cosine, sine)
                     angular[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn, alpha_rel = e * rate, e * rate2
                     slide = a_rel = None
+                rotation[j] = local if root else rotation[p] @ local
             else:
-                joint, b = model.joints[int(j[0])], before[0]
+                joint, b = model.joints[int(j[0])], (rotation[p] @ turned[j][:, None])[0]
+                here = origin[p] + apply_each(rotation[p], shifted[j])
                 iq, iv = joint.idx_q, joint.idx_v
                 rel = relative_motion(
                     group.kind,
@@ -236,7 +256,15 @@ def _rates(w, dw, vel, acc, j, p, r, turn, alpha_rel, slide, a_rel) -> None:
     """The velocity and acceleration recursion (module docstring) of the joints j (k,) from
     their parents p (k,), r = o_j − o_p (k, N, 3), and their relative terms in world axes
     (k, N, 3) (R_b w_rel, R_b α_rel, R_b v_rel, R_b a_rel; None where zero: a revolute joint's
-    slide, a prismatic joint's turn), written into w, dw, vel, acc (njoints, N, 3)."""
+    slide, a prismatic joint's turn), written into w, dw, vel, acc (njoints, N, 3). Joints on
+    the world (parents all 0, at rest: w, dw, vel, acc zero there) take their relative terms
+    as they are, the same values without the products with the world's zero rates."""
+    if not p.any():
+        if turn is not None:
+            w[j], dw[j] = turn, alpha_rel
+        if slide is not None:
+            vel[j], acc[j] = slide, a_rel
+        return
     w_p, dw_p = w[p], dw[p]
     spin = cross(w_p, r)
     omega, alpha = w_p, dw_p
