@@ -151,3 +151,17 @@ def test_the_layout_goes_with_its_model():
     del model
     gc.collect()
     assert len(layout_module._layouts) == count - 1  # noqa: SLF001
+
+
+def test_a_row_sum_adds_repeated_rows_as_numpy_add_at(rng):
+    """RowSum (the backward pass's sum into parents, found once per model) against numpy's own
+    unbuffered ``np.add.at``, with and without a repeated index: the same sums of a few terms
+    (round-off ~1e-16 of values of size 1, 1e-14 leaves room for the order of the sums)."""
+    for index in (np.array([4, 1, 3]), np.array([2, 0, 2, 2, 5, 0])):
+        target = rng.normal(size=(6, 7, 3))
+        values = rng.normal(size=(index.size, 7, 3))
+        expected = target.copy()
+        np.add.at(expected, index, values)
+        layout_module.RowSum.of(index).add(target, values)
+        assert np.allclose(target, expected, rtol=0.0, atol=1e-14)
+    assert layout_module.RowSum.of(np.array([4, 1, 3])).incidence is None
