@@ -118,7 +118,7 @@ def solve_loads(
     # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their
     # columns of the equations are zero, their minimum-norm forces exactly 0, and the others'
     # solution the same without them (a square system, often: one inverse, no decomposition)
-    moved = np.any(rows.jacobian, axis=(0, 2))
+    moved = (rows.jacobian != 0.0).any(axis=0).any(axis=1)  # samples first: a long axis
     system = load_equations(dyn, rows.jacobian, moved)
 
     @functools.cache

@@ -77,7 +77,7 @@ def _apply_external(
     joints = np.array([model.frames[frame].parentJoint for frame in frames])
     shifts = np.array([model.frames[frame].placement.translation for frame in frames])
     wrench = np.stack([w for _, w in external])  # (terms, N, 6)
-    acting = np.any(wrench != 0.0, axis=2)
+    acting = np.abs(wrench) @ np.ones(6) > 0.0  # (terms, N); any() on 6 entries is slower
     if acting.all():
         lever = apply_each(motion.rotation[joints], shifts)  # joint → frame, world (terms, N, 3)
         turning = wrench[..., 3:] + cross(lever, wrench[..., :3])  # about the joint's origin
