@@ -118,21 +118,19 @@ def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
     return out
 
 
-def _rows(stack: np.ndarray, matrix: np.ndarray) -> np.ndarray:
-    """Each (3, 3) of a stack (N, 3, 3) times one (3, 3), as one (3N × 3) product."""
-    return (stack.reshape(-1, 3) @ matrix).reshape(stack.shape)
-
-
-def _apply(stack: np.ndarray, vector: np.ndarray) -> np.ndarray:
-    """Each (3, 3) of a stack (N, 3, 3) times one 3-vector, (N, 3)."""
-    return (stack.reshape(-1, 3) @ vector).reshape(-1, 3)
-
-
 def apply_each(stacks: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Each stack k of (3, 3)s of ``stacks`` (k, N, 3, 3) times its one 3-vector of ``vectors``
     (k, 3), (k, N, 3): k products (3N × 3)(3) (BLAS; einsum's loop is several times slower)."""
     k = stacks.shape[0]
     return (stacks.reshape(k, -1, 3) @ vectors[:, :, None]).reshape(k, -1, 3)
+
+
+def turn_each(stacks: np.ndarray, matrices: np.ndarray) -> np.ndarray:
+    """Each stack k of (3, 3)s of ``stacks`` (k, N, 3, 3) times its one (3, 3) of ``matrices``
+    (k, 3, 3), (k, N, 3, 3): k products (3N × 3)(3 × 3) (BLAS; a stacked product of (3, 3)s is
+    several times slower)."""
+    k = stacks.shape[0]
+    return (stacks.reshape(k, -1, 3) @ matrices).reshape(stacks.shape)
 
 
 def _turn(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
@@ -141,23 +139,29 @@ def _turn(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
 
 
 def _placed_rotations(
-    placed: np.ndarray, axes: np.ndarray, cosine: np.ndarray, sine: np.ndarray
+    parents: np.ndarray | None,
+    placed: np.ndarray,
+    axes: np.ndarray,
+    cosine: np.ndarray,
+    sine: np.ndarray,
 ) -> np.ndarray:
-    """R₀ R(s, θ) (k, N, 3, 3): joints placed at the rotations ``placed`` R₀ (k, 3, 3), turned
-    by θ about their unit ``axes`` s (k, 3), of cosines and sines (k, N) — Rodrigues,
-    R₀ + sin θ R₀ S + (1 − cos θ) R₀ S², S the axis' skew matrix (as
-    :func:`~.joints.rotation_about` for one axis), the products with R₀ taken once per joint."""
+    """R_p R₀ R(s, θ) (k, N, 3, 3): joints on parents of rotations R_p (k, N, 3, 3) (None: on
+    the world, R_p = I), placed at the rotations ``placed`` R₀ (k, 3, 3), turned by θ about
+    their unit ``axes`` s (k, 3), of cosines and sines (k, N) — Rodrigues,
+    R_p R₀ + sin θ R_p R₀ S + (1 − cos θ) R_p R₀ S², S the axis' skew matrix (as
+    :func:`~.joints.rotation_about` for one axis): three products of each joint's stack with
+    one (3, 3) (:func:`turn_each`), not a stacked product of (3, 3)s."""
     x, y, z = axes.T
     skew = np.zeros((axes.shape[0], 3, 3))
     skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -z, y, -x
     skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = z, -y, x
     once = placed @ skew
-    twice = once @ skew
-    return (
-        placed[:, None]
-        + sine[..., None, None] * once[:, None]
-        + (1.0 - cosine)[..., None, None] * twice[:, None]
-    )
+    fixed = (placed, once, once @ skew)
+    if parents is None:
+        base, first, second = (matrix[:, None] for matrix in fixed)
+    else:
+        base, first, second = (turn_each(parents, matrix) for matrix in fixed)
+    return base + sine[..., None, None] * first + (1.0 - cosine)[..., None, None] * second
 
 
 def tree_motion(
@@ -199,7 +203,7 @@ def tree_motion(
                 rate, rate2 = v[:, group.iv].T[..., None], a[:, group.iv].T[..., None]
                 if group.kind == "prismatic":
                     here = here + e * q[:, group.iq].T[..., None]
-                    local = turned[j][:, None]
+                    rotation[j] = turned[j][:, None] if root else turn_each(rotation[p], turned[j])
                     linear[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn = alpha_rel = None
                     slide, a_rel = e * rate, e * rate2
@@ -211,11 +215,11 @@ def tree_motion(
                         cosine, sine = q[:, group.iq].T, q[:, group.iq + 1].T
                         size = np.hypot(cosine, sine)
                         cosine, sine = cosine / size, sine / size
-                    local = _placed_rotations(turned[j], group.axes, cosine, sine)
+                    parents = None if root else rotation[p]
+                    rotation[j] = _placed_rotations(parents, turned[j], group.axes, cosine, sine)
                     angular[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn, alpha_rel = e * rate, e * rate2
                     slide = a_rel = None
-                rotation[j] = local if root else rotation[p] @ local
             else:
                 joint, b = model.joints[int(j[0])], (rotation[p] @ turned[j][:, None])[0]
                 here = origin[p] + apply_each(rotation[p], shifted[j])
@@ -305,17 +309,14 @@ def frame_placements(
 ) -> tuple[np.ndarray, np.ndarray]:
     """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample; for several
     frames (ids (F,)), (F, N, 3, 3) and (F, N, 3), all at once."""
-    if np.ndim(frame) == 0:
-        placement = model.frames[frame].placement
-        j = model.frames[frame].parentJoint
-        rotation = _rows(motion.rotation[j], placement.rotation)
-        origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
-        return rotation, origin
-    placed = [model.frames[f].placement for f in frame]
-    turn = motion.rotation[_parents(model, frame)]  # (F, N, 3, 3)
-    rotation = turn @ np.array([placement.rotation for placement in placed])[:, None]
+    ids = [int(f) for f in np.atleast_1d(frame)]
+    placed = [model.frames[f].placement for f in ids]
+    joints = _parents(model, ids)
+    turn = motion.rotation[joints]  # (F, N, 3, 3)
+    rotation = turn_each(turn, np.array([placement.rotation for placement in placed]))
     shift = np.array([placement.translation for placement in placed])
-    return rotation, motion.origin[_parents(model, frame)] + apply_each(turn, shift)
+    origin = motion.origin[joints] + apply_each(turn, shift)
+    return (rotation[0], origin[0]) if np.ndim(frame) == 0 else (rotation, origin)
 
 
 def _parents(model: pin.Model, frame: int | Sequence[int]) -> int | np.ndarray:
@@ -352,12 +353,8 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
     frame's origin (joints, links, cut frames) from the world origin, at least
     :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this; a
     prismatic speed divided by it compares with an angular one."""
-    motion = tree_motion(model, q)
-    distances = (
-        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
-        for f in range(model.nframes)
-    )
-    return max(max(distances, default=0.0), MIN_REACH)
+    _, origins = frame_placements(model, tree_motion(model, q), np.arange(model.nframes))
+    return max(float(np.linalg.norm(origins, axis=2).max(initial=0.0)), MIN_REACH)
 
 
 def point_jacobian(
