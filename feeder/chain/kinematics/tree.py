@@ -365,24 +365,41 @@ def point_jacobian(
     point: np.ndarray | None = None,
 ) -> np.ndarray:
     """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
-    velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
-    (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`). ``columns``: only
-    these velocity columns (sorted, (c,) int, among them every column that moves the frame),
-    (N, 6, c). ``point``: the frame's origin (N, 3), if the caller has it."""
-    layout = tree_layout(model)
-    n = motion.origin.shape[1]
+    velocity] (:func:`point_jacobians` of one frame). ``columns``: only these velocity columns
+    (sorted, (c,) int, among them every column that moves the frame), (N, 6, c). ``point``: the
+    frame's origin (N, 3), if the caller has it."""
     if point is None:
         _, point = frame_placements(model, motion, frame)
-    moving = layout.support[model.frames[frame].parentJoint]
-    if columns is None:
-        jac, place = np.zeros((n, 6, model.nv)), moving
-    else:
-        jac, place = np.zeros((n, 6, columns.size)), np.searchsorted(columns, moving)
-    lever = point - motion.origin[layout.column_joint[moving]]  # (c, N, 3)
-    angular = np.take(motion.angular_columns, moving, axis=2)  # (N, 3, c)
-    turning = np.moveaxis(angular, 2, 0)  # (c, N, 3)
-    jac[:, :3, place] = np.take(motion.linear_columns, moving, axis=2) + np.moveaxis(
-        cross(turning, lever), 0, 2
-    )
-    jac[:, 3:, place] = angular
+    columns = np.arange(model.nv) if columns is None else columns
+    return point_jacobians(model, motion, [frame], [columns], point[None])[0]
+
+
+def point_jacobians(
+    model: pin.Model,
+    motion: TreeMotion,
+    frames: Sequence[int],
+    columns: Sequence[np.ndarray],
+    points: np.ndarray,
+) -> np.ndarray:
+    """World-aligned Jacobians (F, N, 6, C) of several frames (ids (F,)) at once: frame f's on
+    its velocity columns ``columns[f]`` (sorted, (c_f,) int, among them every column that moves
+    it), padded with zero columns to the most, C; ``points``: the frames' origins (F, N, 3).
+    A frame's columns are L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
+    (L_k, W_k) (:attr:`~.layout.TreeLayout.support`), every frame's every column in one set of
+    array operations."""
+    layout = tree_layout(model)
+    which, slot, moved = [], [], []
+    for f, (frame, own) in enumerate(zip(frames, columns, strict=True)):
+        moving = layout.support[model.frames[frame].parentJoint]
+        which.append(np.full(moving.size, f))
+        slot.append(np.searchsorted(own, moving))
+        moved.append(moving)
+    which, slot, moved = (np.concatenate(x) for x in (which, slot, moved))
+    width = max((own.size for own in columns), default=0)
+    jac = np.zeros((len(frames), points.shape[1], 6, width))
+    angular = np.moveaxis(np.take(motion.angular_columns, moved, axis=2), 2, 0)  # (E, N, 3)
+    linear = np.moveaxis(np.take(motion.linear_columns, moved, axis=2), 2, 0)
+    lever = points[which] - motion.origin[layout.column_joint[moved]]
+    jac[which, :, :3, slot] = linear + cross(angular, lever)
+    jac[which, :, 3:, slot] = angular
     return jac
