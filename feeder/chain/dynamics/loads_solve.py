@@ -138,21 +138,23 @@ def load_equations(
     dyn: LoadUnknowns, jacobian: np.ndarray, moved: np.ndarray | None = None
 ) -> np.ndarray:
     """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
-    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), contiguous,
-    from the closure rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows'
-    columns (then n_act + their count columns)."""
+    columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
+    rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
+    n_act + their count columns). It is the transposed view of a contiguous [S; J] (the
+    shortcut inverts that one: no transposed copy)."""
     scale = dyn.row_scale
     if moved is not None:
         jacobian, scale = np.compress(moved, jacobian, axis=1), scale[moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    system = np.zeros((n, nv, n_act + nc))
-    system[:, dyn.columns, np.arange(n_act)] = 1.0  # Sᵀ
-    if np.all(scale == 1.0):  # the default stiffness: Jᵀ as it is
-        system[:, :, n_act:] = np.swapaxes(jacobian, 1, 2)
+    transposed = np.empty((n, n_act + nc, nv))
+    transposed[:, :n_act] = 0.0
+    transposed[:, np.arange(n_act), dyn.columns] = 1.0  # S
+    if np.all(scale == 1.0):  # the default stiffness: J as it is
+        transposed[:, n_act:] = jacobian
     else:
-        np.multiply(np.swapaxes(jacobian, 1, 2), scale, out=system[:, :, n_act:])
-    return system
+        np.multiply(jacobian, scale[:, None], out=transposed[:, n_act:])
+    return np.swapaxes(transposed, 1, 2)
 
 
 def load_rank(dyn: LoadUnknowns, q: np.ndarray) -> int:
@@ -249,8 +251,11 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rows, unknowns = system.shape[1:]
     square = rows == unknowns
     transposed = np.swapaxes(system, 1, 2)
-    matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
-    inverse = block_inverse(matrix)
+    if square:  # (A⁻¹)ᵀ = (Aᵀ)⁻¹: Aᵀ is the contiguous one (load_equations)
+        matrix, inverse = system, np.swapaxes(block_inverse(transposed), 1, 2)
+    else:
+        matrix = system @ transposed if rows < unknowns else transposed @ system
+        inverse = block_inverse(matrix)
     with np.errstate(invalid="ignore", over="ignore"):
         bound = np.sqrt(
             np.einsum("nij,nij->n", matrix, matrix) * np.einsum("nij,nij->n", inverse, inverse)

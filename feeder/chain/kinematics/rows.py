@@ -153,8 +153,8 @@ def closure_kinematics(
     together (:func:`_stacked_frames`)."""
     model = chain.model
     n = motion.origin.shape[1]
-    # one column more than nv: the padding of the cuts' columns lands there, and is dropped
-    jacobian = np.zeros((n, chain.nc, model.nv + 1 if with_jacobian else 0))
+    # one row more than nc: the padding of the cuts' columns lands there, and is dropped
+    jacobian = np.zeros((n, chain.nc + 1, model.nv if with_jacobian else 0))
     residual = np.zeros((n, chain.nc))
     acceleration = np.zeros((n, chain.nc))
     kept: list[CutFrames | None] = [None] * len(chain.cuts)
@@ -173,10 +173,12 @@ def closure_kinematics(
         )
 
         if with_jacobian:
-            place = np.full((count, frames.jacobian_a.shape[2]), model.nv)
+            place = np.zeros((count, 1, frames.jacobian_a.shape[2]), int)
+            target = np.broadcast_to(rows[:, :, None], (count, cut.rows, place.shape[2])).copy()
             for k, own in enumerate(columns):
-                place[k, : own.size] = own
-            jacobian[:, rows[:, :, None], place[:, None, :]] = _by_cut(cut.jacobian(frames), count)
+                place[k, 0, : own.size] = own
+                target[k, :, own.size :] = chain.nc  # the padding: the dropped row
+            jacobian[:, target, place] = _by_cut(cut.jacobian(frames), count)
         residual[:, rows] = _by_cut(cut.residual(frames), count)
         if v is not None:
             acceleration[:, rows] = _by_cut(cut.acceleration(frames), count)
@@ -186,7 +188,7 @@ def closure_kinematics(
             if cosine is not None:
                 cosines[i] = cosine[samples]
             kept[i] = _cut_samples(frames, samples)
-    jacobian = jacobian[:, :, : model.nv]
+    jacobian = jacobian[:, : chain.nc]
     rate = (
         np.einsum("ncv,nv->nc", jacobian, v)
         if v is not None and with_jacobian
