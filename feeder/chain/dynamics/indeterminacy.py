@@ -166,13 +166,15 @@ def indeterminacy(
     if size is None:
         size = reach(model, pin.neutral(model)[None])
     # each cut's and joint's largest force and moment components over the self-stresses (6,)
-    cuts = np.abs([[w.force, w.moment] for w in wrenches.values()]).max(axis=2)  # (cuts, 2, 3)
+    cuts = np.array(
+        [[np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0)] for w in wrenches.values()]
+    ).reshape(-1, 2, 3)  # (cuts, 2, 3)
     cuts[:, 1] /= size
     largest = dict(zip(wrenches, cuts.reshape(-1, 6), strict=True))
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
     peaks = np.concatenate(
-        [np.abs(force[joints]).max(axis=1), np.abs(moment[joints]).max(axis=1) / size], axis=1
-    )  # (joints, 6)
+        [np.abs(force[1:]).max(axis=1), np.abs(moment[1:]).max(axis=1) / size], axis=1
+    )[np.array(joints, int) - 1]  # (joints, 6); every joint's first (a slice, not a gather)
     largest |= {model.names[j]: peak for j, peak in zip(joints, peaks, strict=True)}
     scale = max(float(x.max()) for x in largest.values())
 
