@@ -97,27 +97,19 @@ class Indeterminacy:
         return lines
 
 
+@dataclass(frozen=True)
 class PoseKinematics:
-    """The tree's placements and the closure rows (with their Jacobian) at some closed poses q
-    (M, nq), kept with the poses: what :func:`indeterminacy` reads, which the inverse dynamics
-    compute anyway (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.kinematics`). A plain
-    object, not a dataclass or a tuple, so that code which selects or spreads a result's
-    samples leaves it alone; :func:`indeterminacy` uses it only at the very poses it holds
-    (:meth:`holds`).
+    """The tree's placements and the closure rows (with their Jacobian) at the closed poses
+    :func:`subsample` picks of a motion: what :func:`indeterminacy` reads, which the inverse
+    dynamics compute anyway (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.kinematics`).
 
     Attributes:
-        q: The poses (M, nq). motion: Their placements (:meth:`TreeMotion.at_rest`).
+        motion: Their placements (:meth:`TreeMotion.at_rest`).
         rows: Their closure rows (:meth:`ClosureKinematics.at`).
     """
 
-    __slots__ = ("motion", "q", "rows")
-
-    def __init__(self, q: np.ndarray, motion: TreeMotion, rows: ClosureKinematics):
-        self.q, self.motion, self.rows = q, motion, rows
-
-    def holds(self, q: np.ndarray) -> bool:
-        """Whether these are the kinematics of the poses q (M, nq)."""
-        return self.q.shape == q.shape and bool(np.array_equal(self.q, q))
+    motion: TreeMotion
+    rows: ClosureKinematics
 
 
 def subsample(count: int) -> np.ndarray:
@@ -143,14 +135,13 @@ def indeterminacy(
         size: The mechanism's reach [m] at its neutral pose, if the caller has it
             (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
         kinematics: The kinematics of the poses q[subsample(N)], if the caller has them (the
-            inverse dynamics do: the same values); computed when absent or of other poses.
+            inverse dynamics do: the same values); computed when absent.
     """
     model = chain.model
-    picked = q[subsample(q.shape[0])]
-    if kinematics is not None and kinematics.holds(picked):
+    if kinematics is not None:
         poses, rows = kinematics.motion, kinematics.rows
     else:
-        poses = tree_motion(model, picked)
+        poses = tree_motion(model, q[subsample(q.shape[0])])
         rows = closure_kinematics(chain, poses)
     bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)

@@ -98,18 +98,17 @@ class ChainLoads:
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
         mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
-        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, lists by
-            joint id of per-sample arrays: :meth:`~feeder.chain.kinematics.tree.TreeMotion.
-            per_joint`) as the Newton–Euler pass took it: absolute, in the base's axes, idle
-            included.
+        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`) as the
+            Newton–Euler pass took it: absolute, in the base's axes, idle included.
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
         chain: The closed chain. q: The motion's configurations (N, nq).
         reach: The mechanism's size [m] (:attr:`Partition.length`), the moments' scale of
             :attr:`indeterminacy`; None: measured there.
-        kinematics: The tree's placements and the closure rows at the samples
+        kinematics: The tree's placements and the closure rows at the samples of ``q`` that
             :func:`~.indeterminacy.subsample` picks (:class:`~.indeterminacy.PoseKinematics`),
-            which :attr:`indeterminacy` reads while they are its poses'; None: computed there.
+            which :attr:`indeterminacy` reads; None: computed there (code that changes the
+            samples, :func:`~.singular.spread`, drops them).
     """
 
     actuators: dict[str, np.ndarray]
@@ -322,7 +321,7 @@ def inverse_dynamics(
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     picks = subsample(q.shape[0])
-    kinematics = PoseKinematics(q[picks], motion.at_rest(picks), rows.at(picks))
+    kinematics = PoseKinematics(motion.at_rest(picks), rows.at(picks))
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     forces = {}
     t = _times(dyn, t, q.shape[0])
@@ -356,7 +355,7 @@ def inverse_dynamics(
         idle_motions=count,
         elements=forces,
         mount=mount,
-        motion=motion.per_joint(),
+        motion=motion,
         gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
         chain=dyn.chain,

@@ -45,67 +45,52 @@ origin has none)."""
 
 @dataclass(frozen=True)
 class TreeMotion:
-    """World placements and motion of every joint frame of a tree, N samples; arrays indexed by
-    joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint j's (N, 3)), or in a
-    result (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.motion`) lists of them
-    (:meth:`per_joint`).
+    """World placements and motion of every joint frame of a tree, N samples; the placements
+    and rates indexed by joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint
+    j's (N, 3), :data:`JOINT_FIRST`), the columns by sample first.
 
     Attributes:
         rotation: R_j, (njoints, N, 3, 3). origin: o_j [m], (njoints, N, 3).
-        linear, angular: Per joint id, the joint's world columns at its origin (N, 3, nv_j)
-            (module docstring; for a revolute joint, angular is its world axis and linear is
-            zero): views of ``linear_columns`` and ``angular_columns``.
         omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (njoints, N, 3).
         velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin,
             (njoints, N, 3).
+        linear_columns, angular_columns: Every joint's world columns at its origin in the order
+            of the velocity (module docstring; a joint's are its velocity slice's,
+            :attr:`~.layout.TreeLayout.slices`: for a revolute joint, angular is its world axis
+            and linear is zero), (N, 3, nv).
         gravity: Gravity [m/s²] in these axes (N, 3), or None: the model's (a base at rest).
-        linear_columns, angular_columns: Every joint's columns in the order of the velocity,
-            (N, 3, nv).
     """
 
     rotation: np.ndarray
     origin: np.ndarray
-    linear: list[np.ndarray]
-    angular: list[np.ndarray]
     omega: np.ndarray
     alpha: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+    linear_columns: np.ndarray
+    angular_columns: np.ndarray
     gravity: np.ndarray | None = None
-    linear_columns: np.ndarray | None = None
-    angular_columns: np.ndarray | None = None
-
-    def per_joint(self) -> TreeMotion:
-        """The same motion with its joint-major arrays as lists of per-joint arrays (N, …)
-        (views; indexing by joint id unchanged): the layout of a result's per-sample arrays,
-        which code that selects or spreads a result's samples expects
-        (:func:`~feeder.chain.dynamics.singular.spread`)."""
-        return replace(
-            self,
-            rotation=list(self.rotation),
-            origin=list(self.origin),
-            omega=list(self.omega),
-            alpha=list(self.alpha),
-            velocity=list(self.velocity),
-            acceleration=list(self.acceleration),
-        )
 
     def at_rest(self, index: np.ndarray) -> TreeMotion:
         """The placements at the samples ``index`` (M,), at rest: rates zero, no columns (what
         a statics pass, :func:`~feeder.chain.dynamics.newton_euler.joint_wrenches` without
         inertia, reads)."""
         zero = np.broadcast_to(0.0, (self.origin.shape[0], index.size, 3))
-        empty = [np.zeros((index.size, 3, 0))] * self.origin.shape[0]
+        empty = np.zeros((index.size, 3, 0))
         return TreeMotion(
             np.take(self.rotation, index, axis=1),  # take: contiguous (an index keeps strides)
             np.take(self.origin, index, axis=1),
+            zero,
+            zero,
+            zero,
+            zero,
             empty,
             empty,
-            zero,
-            zero,
-            zero,
-            zero,
         )
+
+
+JOINT_FIRST = ("rotation", "origin", "omega", "alpha", "velocity", "acceleration")
+"""The :class:`TreeMotion` fields indexed by joint id first, their samples on axis 1."""
 
 
 def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -241,19 +226,7 @@ def tree_motion(
             origin[j] = here
             if moving:
                 _rates(w, dw, vel, acc, j, p, here - origin[p], turn, alpha_rel, slide, a_rel)
-    return TreeMotion(
-        rotation,
-        origin,
-        [linear[:, :, columns] for columns in layout.slices],
-        [angular[:, :, columns] for columns in layout.slices],
-        w,
-        dw,
-        vel,
-        acc,
-        None,
-        linear,
-        angular,
-    )
+    return TreeMotion(rotation, origin, w, dw, vel, acc, linear, angular)
 
 
 def _rates(w, dw, vel, acc, j, p, r, turn, alpha_rel, slide, a_rel) -> None:
