@@ -34,6 +34,7 @@ import numpy as np
 from ...exceptions import InputError, SingularPoseError
 from ...validation import check_finite
 from ..assembly.newton import RANK_TOLERANCE
+from ..assembly.rank import condition_bound
 from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
@@ -241,9 +242,10 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     side (the other, of rank nx < nv or nv < nx, is singular: a shortcut through it would never
     pass and would send every sample to the singular value decomposition), and it squares the
     condition number: cond(B) = cond(A)². The test needs no decomposition: cond(B) ≤ ‖B‖_F
-    ‖B⁻¹‖_F for B = A or the Gram matrix. A near-singular B gives a computed inverse of huge
-    norm (backward stability: it is the inverse of a matrix within round-off of B), so the
-    bound cannot pass by accident — a full-rank A passes only with cond(A) below
+    ‖B⁻¹‖_F for B = A or the Gram matrix (:func:`~feeder.chain.assembly.rank.condition_bound`).
+    A near-singular B gives a computed inverse of huge norm (backward stability: it is the
+    inverse of a matrix within round-off of B), so the bound cannot pass by accident — a
+    full-rank A passes only with cond(A) below
     :data:`MAX_FORCE_GAIN` (square) or :data:`NORMAL_EQUATIONS` (Gram: ≤ 1e6 × ε of relative
     round-off); a doubtful sample takes the singular value decomposition, which also refuses a
     singular one. The inverse is a block triangular one (:mod:`.block_inverse`: the square
@@ -256,11 +258,7 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     else:
         matrix = system @ transposed if rows < unknowns else transposed @ system
         inverse = block_inverse(matrix)
-    with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.sqrt(
-            np.einsum("nij,nij->n", matrix, matrix) * np.einsum("nij,nij->n", inverse, inverse)
-        )  # ‖B‖_F ‖B⁻¹‖_F
-    fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
+    fast = condition_bound(matrix, inverse) < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2)
     if rows < unknowns:
         inverse = transposed @ inverse
     elif rows > unknowns:
