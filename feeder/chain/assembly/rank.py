@@ -152,9 +152,11 @@ def self_stress_bases(jacobians: np.ndarray) -> list[np.ndarray]:
     tolerance = RANK_TOLERANCE * np.where(scale > 0.0, scale, 1.0)
     still = np.linalg.norm(jacobians, axis=2) <= tolerance[:, None]  # (n, nc)
     bases: list[np.ndarray | None] = [None] * n
-    patterns, group = np.unique(still, axis=0, return_inverse=True)
-    for g, pattern in enumerate(patterns):
-        poses = np.flatnonzero(group.ravel() == g)
+    groups: dict[bytes, list[int]] = {}  # the poses of each pattern of still rows
+    for k, row in enumerate(still):
+        groups.setdefault(row.tobytes(), []).append(k)
+    for poses in groups.values():
+        pattern = still[poses[0]]
         moving = jacobians[poses][:, ~pattern]
         passed = _independent(moving)
         unit = np.eye(nc)[pattern]
@@ -189,5 +191,6 @@ def indeterminate_mask(basis: np.ndarray) -> np.ndarray:
     """Which closure rows (nc,) bool the self-stresses ``basis`` (k, nc) (:func:`self_stresses`,
     orthonormal) involve: the part of the row's unit vector in their span (the norm of the row's
     column of B), above :data:`SELF_STRESS_TOLERANCE` (a property of the span, not of
-    the basis chosen)."""
-    return np.linalg.norm(basis, axis=0) > SELF_STRESS_TOLERANCE
+    the basis chosen); for a stack of bases (n, k, nc), each one's (n, nc) (zero rows added to
+    a basis change nothing: a stack of bases of different sizes is padded with them)."""
+    return np.linalg.norm(basis, axis=-2) > SELF_STRESS_TOLERANCE

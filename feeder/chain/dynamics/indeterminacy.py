@@ -150,7 +150,10 @@ def indeterminacy(
     sizes = np.array([basis.shape[0] for basis in bases])
     index = np.repeat(np.arange(sizes.size), sizes)
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)  # any pose's rows
+    within = np.arange(index.size) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    padded = np.zeros((sizes.size, count, lam.shape[1]))  # every pose's basis, zero rows added
+    padded[index, within] = lam
+    mask = indeterminate_mask(padded).any(axis=0)  # any pose's rows
     labels = chain.row_labels()
     wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
     force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
