@@ -68,32 +68,17 @@ def _apply_external(
     moment: np.ndarray,
 ) -> None:
     """Subtract the external wrenches from their bodies' terms (force, moment: (njoints, N, 3),
-    about the joints' origins). Wrenches that act at every sample (closure forces, force
-    elements) are moved to their joints' origins whole; otherwise only where a wrench is not
-    zero (a self-stress loads a few cuts of many: :mod:`.indeterminacy`), summed per joint and
-    sample."""
-    n = motion.origin.shape[1]
+    about the joints' origins), each moved to its joint's origin (one product per term) and
+    summed per joint."""
     frames = [frame for frame, _ in external]
     joints = np.array([model.frames[frame].parentJoint for frame in frames])
     shifts = np.array([model.frames[frame].placement.translation for frame in frames])
     wrench = np.stack([w for _, w in external])  # (terms, N, 6)
-    acting = np.abs(wrench) @ np.ones(6) > 0.0  # (terms, N); any() on 6 entries is slower
-    if acting.all():
-        lever = apply_each(motion.rotation[joints], shifts)  # joint → frame, world (terms, N, 3)
-        turning = wrench[..., 3:] + cross(lever, wrench[..., :3])  # about the joint's origin
-        into = RowSum.of(joints)
-        into.add(force, -wrench[..., :3])
-        into.add(moment, -turning)
-        return
-    term, sample = np.nonzero(acting)
-    values = wrench[term, sample]  # (E, 6)
-    joint = joints[term]
-    lever = np.einsum("eij,ej->ei", motion.rotation[joint, sample], shifts[term])
-    turning = values[:, 3:] + cross(lever, values[:, :3])  # about the joint's origin
-    place, size = joint * n + sample, model.njoints * n
-    for k in range(3):
-        force[..., k] -= np.bincount(place, values[:, k], size).reshape(-1, n)
-        moment[..., k] -= np.bincount(place, turning[:, k], size).reshape(-1, n)
+    lever = apply_each(motion.rotation[joints], shifts)  # joint → frame, world (terms, N, 3)
+    turning = wrench[..., 3:] + cross(lever, wrench[..., :3])  # about the joint's origin
+    into = RowSum.of(joints)
+    into.add(force, -wrench[..., :3])
+    into.add(moment, -turning)
 
 
 def _body_terms(model: pin.Model, motion: TreeMotion) -> tuple[np.ndarray, np.ndarray]:

@@ -95,6 +95,7 @@ class TreeLayout:
         slices: Per joint id, its velocity columns (a slice; empty for the world).
         column_joint: The joint id of each velocity column, (nv,) int.
         support: Per joint id, the velocity columns of the joint and its ancestors, (c,) int.
+        ancestors: Per joint id, the joint and its ancestors but the world, (d,) int.
     """
 
     size: tuple[int, int, int]
@@ -103,6 +104,7 @@ class TreeLayout:
     slices: tuple[slice, ...]
     column_joint: np.ndarray
     support: tuple[np.ndarray, ...]
+    ancestors: tuple[np.ndarray, ...]
     _pairs: dict[tuple[int, int], np.ndarray] = field(
         default_factory=dict, repr=False, compare=False
     )
@@ -161,11 +163,12 @@ def _find(model: pin.Model) -> TreeLayout:
         ]
         levels.append(tuple(groups))
     column_joint = np.zeros(model.nv, int)
-    support = [np.zeros(0, int)]
+    support, ancestors = [np.zeros(0, int)], [np.zeros(0, int)]
     for j in range(1, count):
         column_joint[slices[j]] = j
         own = np.arange(slices[j].start, slices[j].stop)
         support.append(np.concatenate([own, support[parents[j]]]))
+        ancestors.append(np.concatenate([[j], ancestors[parents[j]]]).astype(int))
     return TreeLayout(
         (count, model.nq, model.nv),
         tuple(levels),
@@ -173,6 +176,7 @@ def _find(model: pin.Model) -> TreeLayout:
         tuple(slices),
         column_joint,
         tuple(support),
+        tuple(ancestors),
     )
 
 

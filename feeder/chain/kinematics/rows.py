@@ -37,11 +37,11 @@ class ClosureKinematics:
     frames: list[CutFrames]
     hinge_alignment: dict[str, np.ndarray]
 
-    def at(self, index: np.ndarray, jacobian: bool = True) -> ClosureKinematics:
-        """The position-level rows at the samples ``index`` (M,): the Jacobian (if
-        ``jacobian``; else none, as a pass without it), the residual and the cuts' frames'
-        placements (the rates, the accelerations and the frames' motion left zero or out: what
-        the self-stresses and their wrenches read, :mod:`~feeder.chain.dynamics.indeterminacy`)."""
+    def at(self, index: np.ndarray) -> ClosureKinematics:
+        """The position-level rows at the samples ``index`` (M,): the Jacobian, the residual
+        and the cuts' frames' placements (the rates, the accelerations and the frames' motion
+        left zero or out: what the self-stresses and their wrenches read,
+        :mod:`~feeder.chain.dynamics.indeterminacy`)."""
         frames = [
             CutFrames(
                 f.rotation_a[index], f.rotation_b[index], f.origin_a[index], f.origin_b[index]
@@ -50,7 +50,7 @@ class ClosureKinematics:
         ]
         zero = np.zeros((index.size, self.residual.shape[1]))
         return ClosureKinematics(
-            self.jacobian[index] if jacobian else np.zeros((index.size, zero.shape[1], 0)),
+            self.jacobian[index],
             self.residual[index],
             zero,
             zero,
@@ -171,7 +171,6 @@ def closure_kinematics(
         rows = np.array(
             [np.arange(chain.row_slices[i].start, chain.row_slices[i].stop) for i in group]
         )
-
         if with_jacobian:
             place = np.zeros((count, 1, frames.jacobian_a.shape[2]), int)
             target = np.broadcast_to(rows[:, :, None], (count, cut.rows, place.shape[2])).copy()
