@@ -19,7 +19,8 @@ loads, every reaction; then ``ChainLoads.indeterminacy``, which the summaries an
 columns ask for) against one bare ``constraintDynamics`` call per sample. A call of the inverse
 dynamics costs a fixed part (a few hundred numpy calls of a few µs each, the indeterminacy's
 subsample) plus a part per sample; each N is timed at two sample counts (``--large-samples``,
-default 200, and ``--large-fit``, default 1000) and the line time = fixed + per_sample × samples
+default 200, and ``--large-fit``, default 1000; the two counts' runs interleaved, so that a
+change of the machine's load weighs on both) and the line time = fixed + per_sample × samples
 through both gives the fixed cost per call [ms] and the marginal cost per sample [µs]. The goal,
 ≤ 2 × at every N, is judged on the marginal cost per sample against the bare call's (whose own
 fixed part is nil); the ratio at the default count, which the fixed cost inflates at small N, is
@@ -80,6 +81,18 @@ def best_time(function, repeats: int = REPEATS) -> float:
     return min(times)
 
 
+def best_times(functions, repeats: int = REPEATS) -> list[float]:
+    """:func:`best_time` of each function, over ``repeats`` rounds that call every function once
+    in turn: a change of the machine's load meanwhile weighs on all of them alike."""
+    times = [math.inf] * len(functions)
+    for _ in range(repeats):
+        for i, function in enumerate(functions):
+            start = time.process_time()
+            function()
+            times[i] = min(times[i], time.process_time() - start)
+    return times
+
+
 def four_bar(samples: int):
     chain = load_closed_chain(
         EXAMPLES / "four_bar" / "four_bar.urdf", [Closure("coupler_tip", "rocker_tip", "revolute")]
@@ -119,8 +132,8 @@ def device(samples: int):
     )
 
 
-def bare_call(chain: ClosedChain, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> float:
-    """Best time [s] of one bare ``constraintDynamics`` call, over every sample."""
+def bare_run(chain: ClosedChain, q: np.ndarray, v: np.ndarray, tau: np.ndarray):
+    """A function that makes one bare ``constraintDynamics`` call per sample."""
     model, data = chain.model, chain.model.createData()
     pin.initConstraintDynamics(model, data, chain.constraint_models, chain.constraint_datas)
     settings = pin.ProximalSettings(1e-12, 1e-8, 20)
@@ -138,7 +151,12 @@ def bare_call(chain: ClosedChain, q: np.ndarray, v: np.ndarray, tau: np.ndarray)
                 settings,
             )
 
-    return best_time(bare) / q.shape[0]
+    return bare
+
+
+def bare_call(chain: ClosedChain, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> float:
+    """Best time [s] of one bare ``constraintDynamics`` call, over every sample."""
+    return best_time(bare_run(chain, q, v, tau)) / q.shape[0]
 
 
 def cad(name: str, samples: int):
@@ -249,18 +267,16 @@ def n_four_bar(n: int, samples: int, folder: Path):
     return chain, ["r0"], motion.q, motion.v, motion.a
 
 
-def _time_large(n: int, samples: int, folder: Path) -> tuple[float, float, float]:
-    """Best CPU times [s] at ``samples`` samples of the N-four-bar ``n``: the bare call per
-    sample, and per call the inverse dynamics with their indeterminacy and without it."""
+def _large_runs(n: int, samples: int, folder: Path) -> tuple:
+    """The N-four-bar ``n`` at ``samples`` samples: functions that make the bare calls (one
+    per sample), the inverse dynamics with their indeterminacy, and without it."""
     chain, actuated, q, v, a = n_four_bar(n, samples, folder)
     dyn = ChainDynamics(chain, actuated)
     loads = inverse_dynamics(dyn, q, v, a)
     tau = np.zeros((q.shape[0], chain.model.nv))
     tau[:, dyn.columns] = loads.actuators["r0"][:, None]
-    bare = bare_call(chain, q, v, tau)
     run = lambda: inverse_dynamics(dyn, q, v, a)  # noqa: E731
-    loads_only = best_time(run)  # as many repeats as the bare call's
-    return bare, best_time(lambda: run().indeterminacy), loads_only
+    return bare_run(chain, q, v, tau), lambda: run().indeterminacy, run
 
 
 def measure_large(samples: int, loops: tuple[int, ...] = LOOPS, fit: int = 1000) -> dict:
@@ -271,9 +287,13 @@ def measure_large(samples: int, loops: tuple[int, ...] = LOOPS, fit: int = 1000)
     bare, feeder, loads_only, fixed, marginal = [], [], [], [], []
     with tempfile.TemporaryDirectory() as folder:
         for n in loops:
-            call, whole, alone = _time_large(n, samples, Path(folder))
-            call_fit, whole_fit, _ = _time_large(n, fit, Path(folder))
-            bare.append(min(call, call_fit))  # no fixed part: the same per sample
+            (call, whole, alone), (call_fit, whole_fit, _) = (
+                _large_runs(n, count, Path(folder)) for count in (samples, fit)
+            )
+            call, whole, alone, call_fit, whole_fit = best_times(
+                [call, whole, alone, call_fit, whole_fit]
+            )
+            bare.append(min(call / samples, call_fit / fit))  # no fixed part: per sample
             feeder.append(whole / samples)
             loads_only.append(alone / samples)
             marginal.append((whole_fit - whole) / (fit - samples))
