@@ -62,23 +62,6 @@ class ClosureKinematics:
 def cut_frames(
     model: pin.Model,
     motion: TreeMotion,
-    a: int,
-    b: int,
-    jacobians: bool,
-    rates: bool,
-    columns: np.ndarray | None = None,
-) -> CutFrames:
-    """Frames a and b of a cut along a batched motion: placements, and if asked their
-    Jacobians (``jacobians``; on the velocity ``columns`` only, if given: sorted, among them
-    every column that moves either frame) and velocities and accelerations (``rates``)
-    (:func:`_stacked_frames` of one cut)."""
-    columns = np.arange(model.nv) if columns is None else columns
-    return _stacked_frames(model, motion, [(a, b)], [columns], jacobians, rates)
-
-
-def _stacked_frames(
-    model: pin.Model,
-    motion: TreeMotion,
     pairs: list[tuple[int, int]],
     columns: list[np.ndarray],
     jacobians: bool,
@@ -125,7 +108,7 @@ def _cut_groups(chain: ClosedChain) -> list[list[int]]:
 
 
 def _by_cut(values: np.ndarray, count: int) -> np.ndarray:
-    """Values (K N, …) of K cuts, cut by cut (:func:`_stacked_frames`) → (N, K, …)."""
+    """Values (K N, …) of K cuts, cut by cut (:func:`cut_frames`) → (N, K, …)."""
     return np.moveaxis(values.reshape(count, -1, *values.shape[1:]), 0, 1)
 
 
@@ -150,7 +133,7 @@ def closure_kinematics(
     velocities v (N, nv); without v, at rest (a position-level pass: rates and accelerations
     zero, not computed). ``with_jacobian=False`` skips the Jacobian and the rates (zero)
     where only the accelerations are wanted. The cuts of one kind and axes are computed
-    together (:func:`_stacked_frames`)."""
+    together (:func:`cut_frames`)."""
     model = chain.model
     n = motion.origin.shape[1]
     # one row more than nc: the padding of the cuts' columns lands there, and is dropped
@@ -167,7 +150,7 @@ def closure_kinematics(
             layout.columns(model.frames[a].parentJoint, model.frames[b].parentJoint)
             for a, b in pairs
         ]
-        frames = _stacked_frames(model, motion, pairs, columns, with_jacobian, v is not None)
+        frames = cut_frames(model, motion, pairs, columns, with_jacobian, v is not None)
         rows = np.array(
             [np.arange(chain.row_slices[i].start, chain.row_slices[i].stop) for i in group]
         )

@@ -330,23 +330,6 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
     return max(float(np.linalg.norm(origins, axis=2).max(initial=0.0)), MIN_REACH)
 
 
-def point_jacobian(
-    model: pin.Model,
-    motion: TreeMotion,
-    frame: int,
-    columns: np.ndarray | None = None,
-    point: np.ndarray | None = None,
-) -> np.ndarray:
-    """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
-    velocity] (:func:`point_jacobians` of one frame). ``columns``: only these velocity columns
-    (sorted, (c,) int, among them every column that moves the frame), (N, 6, c). ``point``: the
-    frame's origin (N, 3), if the caller has it."""
-    if point is None:
-        _, point = frame_placements(model, motion, frame)
-    columns = np.arange(model.nv) if columns is None else columns
-    return point_jacobians(model, motion, [frame], [columns], point[None])[0]
-
-
 def point_jacobians(
     model: pin.Model,
     motion: TreeMotion,

@@ -12,7 +12,7 @@ from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.dynamics.newton_euler import generalized_forces, joint_wrenches
 from feeder.chain.kinematics.joints import kind_of
 from feeder.chain.kinematics.rows import closure_kinematics
-from feeder.chain.kinematics.tree import frame_placements, point_jacobian, tree_motion
+from feeder.chain.kinematics.tree import frame_placements, point_jacobians, tree_motion
 from feeder.device import load_feeder
 from feeder.exceptions import InputError
 
@@ -23,6 +23,14 @@ ROUND_OFF = 1e-11
 round-off ~1e-13; 1e-11 would still catch any missing term (≥ 1e-3 here)."""
 
 SAMPLES = 40
+
+
+def frame_jacobian(model, motion, frame, columns=None):
+    """The world-aligned Jacobian (N, 6, nv) of one frame on every velocity column, or on
+    ``columns`` (sorted): :func:`point_jacobians` of that frame alone."""
+    columns = np.arange(model.nv) if columns is None else columns
+    _, origin = frame_placements(model, motion, frame)
+    return point_jacobians(model, motion, [frame], [columns], origin[None])[0]
 
 
 def every_joint_model() -> pin.Model:
@@ -104,7 +112,7 @@ def test_frame_jacobians_and_placements(device_model, rng):
     names = ("piston_pin", "arm_pin", "projectile") if model.existFrame("arm_pin") else ("tip",)
     for name in names:
         frame = model.getFrameId(name)
-        jacobian = point_jacobian(model, motion, frame)
+        jacobian = frame_jacobian(model, motion, frame)
         rotation, origin = frame_placements(model, motion, frame)
         for k in range(SAMPLES):
             pin.computeJointJacobians(model, data, q[k])
