@@ -41,7 +41,7 @@ from ..kinematics.tree import tree_motion
 from .check import PoseCheck
 from .continuation import advance
 from .newton import CONTINUATION_STEP, POSITION_TOLERANCE, RANK_TOLERANCE
-from .rank import velocity_gain
+from .rank import condition_bound, velocity_gain
 from .trajectory import Trajectory
 
 STRIDE = 32
@@ -284,8 +284,7 @@ def _rates(
     # Rank test without a decomposition: σ_max/σ_min ≤ ‖J‖_F ‖J⁺‖_F, so this passes only where
     # the singular values of J_r,dep stay above RANK_TOLERANCE of the largest (conservative: a
     # doubtful sample sends the trajectory the sequential way, which tests exactly).
-    squares = np.einsum("nij,nij->n", jac_dep, jac_dep) * np.einsum("nij,nij->n", inverse, inverse)
-    if not np.all(squares < RANK_TOLERANCE**-2):
+    if not np.all(condition_bound(jac_dep, inverse) < 1.0 / RANK_TOLERANCE):
         raise BatchFallback("a rank drop")
     gains_map = inverse @ jac_ind  # J_dep⁺ J_ind, (n, n_dep, n_ind)
     scale = partition.speed_scale

@@ -25,6 +25,20 @@ def rank_tolerance(jac: np.ndarray) -> float:
     return RANK_TOLERANCE * (float(np.abs(jac).max(initial=0.0)) or 1.0)
 
 
+def condition_bound(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
+    """‖B‖_F ‖B⁺‖_F of each matrix B of a stack (n, m, k) and its computed inverse or
+    pseudo-inverse B⁺ (n, k, m), (n,): a bound on its condition number σ_max/σ_min that needs
+    no decomposition. A near-singular B has a computed inverse of huge norm (backward stability:
+    it is the inverse of a matrix within round-off of B), so a test on the bound cannot pass by
+    accident; inf where the inverse overflowed or is NaN (an exactly singular B)."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        squares = np.einsum("nij,nij->n", matrices, matrices) * np.einsum(
+            "nij,nij->n", inverses, inverses
+        )
+        bound = np.sqrt(squares)
+    return np.where(np.isfinite(bound), bound, np.inf)
+
+
 def locked_motions(
     jac: np.ndarray, dependent: np.ndarray, tolerance: float
 ) -> tuple[int, np.ndarray]:
@@ -138,9 +152,11 @@ def self_stress_bases(jacobians: np.ndarray) -> list[np.ndarray]:
     tolerance = RANK_TOLERANCE * np.where(scale > 0.0, scale, 1.0)
     still = np.linalg.norm(jacobians, axis=2) <= tolerance[:, None]  # (n, nc)
     bases: list[np.ndarray | None] = [None] * n
-    patterns, group = np.unique(still, axis=0, return_inverse=True)
-    for g, pattern in enumerate(patterns):
-        poses = np.flatnonzero(group.ravel() == g)
+    groups: dict[bytes, list[int]] = {}  # the poses of each pattern of still rows
+    for k, row in enumerate(still):
+        groups.setdefault(row.tobytes(), []).append(k)
+    for poses in groups.values():
+        pattern = still[poses[0]]
         moving = jacobians[poses][:, ~pattern]
         passed = _independent(moving)
         unit = np.eye(nc)[pattern]
@@ -151,7 +167,7 @@ def self_stress_bases(jacobians: np.ndarray) -> list[np.ndarray]:
 
 def _independent(rows: np.ndarray) -> np.ndarray:
     """Which stacks of rows (n, m, nv) are certainly independent (bool (n,)): the Gram bound of
-    :data:`GRAM_LIMIT`, no decomposition."""
+    :data:`GRAM_LIMIT` (:func:`condition_bound`), no decomposition."""
     if rows.shape[1] == 0:
         return np.ones(rows.shape[0], dtype=bool)
     if rows.shape[1] > rows.shape[2]:  # more rows than columns: dependent
@@ -161,9 +177,7 @@ def _independent(rows: np.ndarray) -> np.ndarray:
         inverse = np.linalg.inv(gram)
     except np.linalg.LinAlgError:  # some pose is exactly singular: the decomposition decides
         return np.zeros(rows.shape[0], dtype=bool)
-    with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.linalg.norm(gram, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2))
-    return np.isfinite(bound) & (bound < GRAM_LIMIT)
+    return condition_bound(gram, inverse) < GRAM_LIMIT
 
 
 def _decomposed(jac: np.ndarray) -> np.ndarray:
@@ -177,5 +191,6 @@ def indeterminate_mask(basis: np.ndarray) -> np.ndarray:
     """Which closure rows (nc,) bool the self-stresses ``basis`` (k, nc) (:func:`self_stresses`,
     orthonormal) involve: the part of the row's unit vector in their span (the norm of the row's
     column of B), above :data:`SELF_STRESS_TOLERANCE` (a property of the span, not of
-    the basis chosen)."""
-    return np.linalg.norm(basis, axis=0) > SELF_STRESS_TOLERANCE
+    the basis chosen); for a stack of bases (n, k, nc), each one's (n, nc) (zero rows added to
+    a basis change nothing: a stack of bases of different sizes is padded with them)."""
+    return np.linalg.norm(basis, axis=-2) > SELF_STRESS_TOLERANCE

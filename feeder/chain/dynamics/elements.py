@@ -272,7 +272,7 @@ class JointElement(BoundElement):
     def wrenches(self, motion, q, v, t):
         model, j = self.model, self.joint
         resistance = self.element.resistance(q[:, self.iq], v[:, self.iv])
-        axis = (motion.angular[j] if self.revolute else motion.linear[j])[:, :, 0]
+        axis = (motion.angular_columns if self.revolute else motion.linear_columns)[:, :, self.iv]
         action = -resistance[:, None] * axis  # on the child: a moment, or a force at o_j
         zero = np.zeros((t.size, 3))
         terms = []

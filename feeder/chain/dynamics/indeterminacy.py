@@ -35,11 +35,11 @@ import pinocchio as pin
 
 from ..assembly.rank import indeterminate_mask, self_stress_bases
 from ..blas import one_blas_thread
+from ..kinematics.layout import tree_layout
 from ..kinematics.rows import ClosureKinematics, closure_kinematics
-from ..kinematics.tree import TreeMotion, reach, tree_motion
+from ..kinematics.tree import TreeMotion, cross, reach, tree_motion
 from ..model.closure import ClosedChain
-from .newton_euler import joint_wrenches
-from .reactions import closure_wrenches
+from ..model.cuts import CutFrames
 
 COMPONENTS = ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")
 """The wrench components a cut's or joint's entry of :class:`Indeterminacy` names (world axes;
@@ -97,27 +97,73 @@ class Indeterminacy:
         return lines
 
 
+@dataclass(frozen=True)
 class PoseKinematics:
-    """The tree's placements and the closure rows (with their Jacobian) at some closed poses q
-    (M, nq), kept with the poses: what :func:`indeterminacy` reads, which the inverse dynamics
-    compute anyway (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.kinematics`). A plain
-    object, not a dataclass or a tuple, so that code which selects or spreads a result's
-    samples leaves it alone; :func:`indeterminacy` uses it only at the very poses it holds
-    (:meth:`holds`).
+    """The tree's placements and the closure rows (with their Jacobian) at the closed poses
+    :func:`subsample` picks of a motion: what :func:`indeterminacy` reads, which the inverse
+    dynamics compute anyway (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.kinematics`).
 
     Attributes:
-        q: The poses (M, nq). motion: Their placements (:meth:`TreeMotion.at_rest`).
+        motion: Their placements (:meth:`TreeMotion.at_rest`).
         rows: Their closure rows (:meth:`ClosureKinematics.at`).
     """
 
-    __slots__ = ("motion", "q", "rows")
+    motion: TreeMotion
+    rows: ClosureKinematics
 
-    def __init__(self, q: np.ndarray, motion: TreeMotion, rows: ClosureKinematics):
-        self.q, self.motion, self.rows = q, motion, rows
 
-    def holds(self, q: np.ndarray) -> bool:
-        """Whether these are the kinematics of the poses q (M, nq)."""
-        return self.q.shape == q.shape and bool(np.array_equal(self.q, q))
+def _largest_components(
+    chain: ClosedChain,
+    poses: TreeMotion,
+    rows: ClosureKinematics,
+    lam: np.ndarray,
+    index: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The largest force and moment components (world axes; N, N·m) of each cut's wrench and of
+    each joint's reaction under the self-stresses ``lam`` (S, nc), self-stress s acting at the
+    pose ``index[s]`` of ``poses`` and ``rows``: (cuts, 2, 3) and (njoints, 2, 3). What the
+    backward pass of :mod:`.newton_euler` at rest gives with a self-stress as the only load
+    (the cut's wrench, and its opposite, on the two frames' bodies, each joint transmitting
+    minus the sum of those of the frames it carries, moments about its origin), written for a
+    few loads of many: each cut is evaluated where its rows carry force, and each joint sums
+    the terms of the frames it carries at those samples only."""
+    model = chain.model
+    layout = tree_layout(model)
+    count = lam.shape[0]
+    cuts = np.zeros((len(chain.cuts), 2, 3))
+    parts: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
+    for c, (cut, span, pair, frames) in enumerate(
+        zip(chain.cuts, chain.row_slices, chain.frame_ids, rows.frames, strict=True)
+    ):
+        acting = np.flatnonzero(np.any(lam[:, span] != 0.0, axis=1))
+        if not acting.size:
+            continue
+        pose = index[acting]
+        placed = CutFrames(
+            frames.rotation_a[pose], frames.rotation_b[pose], frames.origin_a[pose],
+            frames.origin_b[pose],
+        )  # fmt: skip
+        force, moment = cut.wrench(placed, lam[acting][:, span])
+        cuts[c] = np.abs(force).max(axis=0), np.abs(moment).max(axis=0)
+        for frame, origin, sign in zip(
+            pair, (placed.origin_a, placed.origin_b), (-1.0, 1.0), strict=True
+        ):
+            for j in layout.ancestors[model.frames[frame].parentJoint]:
+                lever = origin - poses.origin[j, pose]  # the joint's origin → the frame's
+                turning = moment + cross(lever, force)
+                parts.append((j * count + acting, sign * force, sign * turning))
+    peaks = np.zeros((model.njoints, 2, 3))
+    if parts:
+        keys = np.concatenate([key for key, _, _ in parts])
+        values = np.concatenate([np.hstack([f, m]) for _, f, m in parts])  # (E, 6)
+        keys, where = np.unique(keys, return_inverse=True)  # one per joint and sample
+        sums = np.zeros((keys.size, 6))
+        for k in range(6):
+            sums[:, k] = np.bincount(where, values[:, k], keys.size)
+        largest = np.zeros((model.njoints, 6))
+        np.maximum.at(largest, keys // count, np.abs(sums))
+        peaks = largest.reshape(-1, 2, 3)
+    return cuts, peaks
 
 
 def subsample(count: int) -> np.ndarray:
@@ -136,21 +182,20 @@ def indeterminacy(
     """The indeterminate rows and wrench components (module docstring) at the closed poses q
     (N, nq) (trusted): the union over the poses, computed on those of :func:`subsample` (the
     self-stresses of all of them at once: :func:`~feeder.chain.assembly.rank.
-    self_stress_bases`; the statics pass of every self-stress at its pose reuses the poses'
-    placements).
+    self_stress_bases`; the wrenches every self-stress makes the cuts and joints transmit, from
+    the poses' placements: :func:`_largest_components`).
 
     Args:
         size: The mechanism's reach [m] at its neutral pose, if the caller has it
             (:attr:`~feeder.chain.assembly.partition.Partition.length`); measured otherwise.
         kinematics: The kinematics of the poses q[subsample(N)], if the caller has them (the
-            inverse dynamics do: the same values); computed when absent or of other poses.
+            inverse dynamics do: the same values); computed when absent.
     """
     model = chain.model
-    picked = q[subsample(q.shape[0])]
-    if kinematics is not None and kinematics.holds(picked):
+    if kinematics is not None:
         poses, rows = kinematics.motion, kinematics.rows
     else:
-        poses = tree_motion(model, picked)
+        poses = tree_motion(model, q[subsample(q.shape[0])])
         rows = closure_kinematics(chain, poses)
     bases = self_stress_bases(rows.jacobian)
     count = max((basis.shape[0] for basis in bases), default=0)
@@ -159,21 +204,20 @@ def indeterminacy(
     sizes = np.array([basis.shape[0] for basis in bases])
     index = np.repeat(np.arange(sizes.size), sizes)
     lam = np.vstack(bases)  # one sample per self-stress, at its pose
-    mask = np.any([indeterminate_mask(basis) for basis in bases], axis=0)  # any pose's rows
+    within = np.arange(index.size) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    padded = np.zeros((sizes.size, count, lam.shape[1]))  # every pose's basis, zero rows added
+    padded[index, within] = lam
+    mask = indeterminate_mask(padded).any(axis=0)  # any pose's rows
     labels = chain.row_labels()
-    wrenches, terms = closure_wrenches(chain, rows.at(index, jacobian=False), lam)
-    force, moment = joint_wrenches(model, poses.at_rest(index), terms, inertia=False)
+    cuts, peaks = _largest_components(chain, poses, rows, lam, index)
     if size is None:
         size = reach(model, pin.neutral(model)[None])
     # each cut's and joint's largest force and moment components over the self-stresses (6,)
-    cuts = np.abs([[w.force, w.moment] for w in wrenches.values()]).max(axis=2)  # (cuts, 2, 3)
     cuts[:, 1] /= size
-    largest = dict(zip(wrenches, cuts.reshape(-1, 6), strict=True))
+    peaks[:, 1] /= size
+    largest = {cut.label: peak for cut, peak in zip(chain.cuts, cuts.reshape(-1, 6), strict=True)}
     joints = [j for j in range(1, model.njoints) if model.joints[j].nv != 6]  # free-flyers: none
-    peaks = np.concatenate(
-        [np.abs(force[joints]).max(axis=1), np.abs(moment[joints]).max(axis=1) / size], axis=1
-    )  # (joints, 6)
-    largest |= {model.names[j]: peak for j, peak in zip(joints, peaks, strict=True)}
+    largest |= {model.names[j]: peaks[j].reshape(6) for j in joints}
     scale = max(float(x.max()) for x in largest.values())
 
     def changed(names) -> dict[str, tuple[str, ...]]:
@@ -187,6 +231,6 @@ def indeterminacy(
     return Indeterminacy(
         self_stresses=count,
         rows=tuple(label for label, flag in zip(labels, mask, strict=True) if flag),
-        closures=changed(wrenches),
+        closures=changed(cut.label for cut in chain.cuts),
         joints=changed(model.names[j] for j in joints),
     )

@@ -98,18 +98,17 @@ class ChainLoads:
         elements: Force element name → its force (N,): a spring's or cylinder's tension [N]
             (positive pulls its frames together), a joint spring's resistance [N·m or N].
         mount: The wrench the mount exerts on the mechanism (:class:`MountWrench`).
-        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`, lists by
-            joint id of per-sample arrays: :meth:`~feeder.chain.kinematics.tree.TreeMotion.
-            per_joint`) as the Newton–Euler pass took it: absolute, in the base's axes, idle
-            included.
+        motion: The tree's motion (:class:`~feeder.chain.kinematics.tree.TreeMotion`) as the
+            Newton–Euler pass took it: absolute, in the base's axes, idle included.
         gravity: Gravity [m/s²] in the same axes: the model's (3,), or (N, 3) on a moving base.
         base: The base's motion at the samples, or None for a base at rest.
         chain: The closed chain. q: The motion's configurations (N, nq).
         reach: The mechanism's size [m] (:attr:`Partition.length`), the moments' scale of
             :attr:`indeterminacy`; None: measured there.
-        kinematics: The tree's placements and the closure rows at the samples
+        kinematics: The tree's placements and the closure rows at the samples of ``q`` that
             :func:`~.indeterminacy.subsample` picks (:class:`~.indeterminacy.PoseKinematics`),
-            which :attr:`indeterminacy` reads while they are its poses'; None: computed there.
+            which :attr:`indeterminacy` reads; None: computed there (code that changes the
+            samples, :func:`~.singular.spread`, drops them).
     """
 
     actuators: dict[str, np.ndarray]
@@ -247,15 +246,13 @@ def check_motion(
                 f"sample {k}: the revolute cut {label!r} is assembled with its two hinge axes "
                 "opposite (upside down): not a closed configuration of the mechanism"
             )
-    scale = np.maximum.reduce(
-        [np.ones(v.shape[0]), np.abs(v).max(axis=1) ** 2, np.abs(a).max(axis=1)]
-    )
+    scale = np.maximum.reduce([np.ones(v.shape[0]), _row_peaks(v) ** 2, _row_peaks(a)])
     for what, values, limit, error in (
         ("configuration", rows.residual, np.ones_like(scale), UnreachablePoseError),
         ("velocities", rows.rate, np.sqrt(scale), InputError),
         ("accelerations", rows.acceleration, scale, InputError),
     ):
-        worst = np.abs(values).max(axis=1, initial=0.0) / limit
+        worst = _row_peaks(values) / limit
         k = int(np.argmax(worst))
         if worst[k] > CLOSURE_TOLERANCE:
             if error is UnreachablePoseError:
@@ -268,6 +265,13 @@ def check_motion(
                 "motion (Partition.velocity / acceleration, feeder.chain.track give one)"
             )
     return q, v, a, motion, rows
+
+
+def _row_peaks(values: np.ndarray) -> np.ndarray:
+    """The largest magnitude in each row of ``values`` (N, k), (N,) (0 for k = 0), reduced
+    along the samples of a transposed copy (numpy reduces a short last axis several times
+    slower)."""
+    return np.ascontiguousarray(np.abs(values).T).max(axis=0, initial=0.0)
 
 
 def _external_terms(
@@ -317,7 +321,7 @@ def inverse_dynamics(
     """
     q, v, a, motion, rows = check_motion(dyn, q, v, a)
     picks = subsample(q.shape[0])
-    kinematics = PoseKinematics(q[picks], motion.at_rest(picks), rows.at(picks))
+    kinematics = PoseKinematics(motion.at_rest(picks), rows.at(picks))
     terms = _external_terms(dyn.chain, q.shape[0], external or {})
     forces = {}
     t = _times(dyn, t, q.shape[0])
@@ -336,7 +340,7 @@ def inverse_dynamics(
         if base is not None:
             motion = on_base(motion, base)
     wrenches = joint_wrenches(dyn.chain.model, motion, terms)  # the loads' and the reactions'
-    tau, lam = solve_loads(dyn, motion, rows, terms, wrenches)
+    tau, lam = solve_loads(dyn, motion, rows, wrenches)
     closures, closure_terms = closure_wrenches(dyn.chain, rows, lam)
     joints, mount = joint_reactions(
         dyn.chain, motion, closure_terms, None if base is None else base.rotation, wrenches
@@ -351,7 +355,7 @@ def inverse_dynamics(
         idle_motions=count,
         elements=forces,
         mount=mount,
-        motion=motion.per_joint(),
+        motion=motion,
         gravity=dyn.chain.model.gravity.linear if motion.gravity is None else motion.gravity,
         base=base,
         chain=dyn.chain,

@@ -24,8 +24,9 @@ which often makes the system square: the N-four-bar's 2N + 1 equations in 1 + 3N
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Protocol
 
 import numpy as np
@@ -33,6 +34,7 @@ import numpy as np
 from ...exceptions import InputError, SingularPoseError
 from ...validation import check_finite
 from ..assembly.newton import RANK_TOLERANCE
+from ..assembly.rank import condition_bound
 from ..kinematics.rows import ClosureKinematics
 from ..kinematics.tree import TreeMotion
 from ..model.closure import ClosedChain
@@ -104,26 +106,29 @@ def solve_loads(
     dyn: LoadUnknowns,
     motion: TreeMotion,
     rows: ClosureKinematics,
-    external: list[tuple[int, np.ndarray]] = (),
     wrenches: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The actuator loads τ (N, n_act) and closure forces λ (N, nc) of a checked closed-chain
-    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass with the ``external``
-    wrenches (:func:`~.newton_euler.joint_wrenches`), if the caller has it."""
+    motion (module docstring); ``wrenches``: the tree's Newton–Euler pass
+    (:func:`~.newton_euler.joint_wrenches`: force, moment (njoints, N, 3)) with whatever
+    external wrenches act on it, if the caller has it; else the pass without external wrenches."""
     model = dyn.chain.model
-    force, moment = joint_wrenches(model, motion, external) if wrenches is None else wrenches
+    force, moment = joint_wrenches(model, motion) if wrenches is None else wrenches
     tree = generalized_forces(model, motion, force, moment)  # M q̈ + b − Σ J_eᵀ w_e
     n_act = len(dyn.columns)
     # closure rows no joint moves at any sample (a planar loop's out-of-plane rows): their
     # columns of the equations are zero, their minimum-norm forces exactly 0, and the others'
     # solution the same without them (a square system, often: one inverse, no decomposition)
-    moved = np.any(rows.jacobian, axis=(0, 2))
+    moved = (rows.jacobian != 0.0).any(axis=0).any(axis=1)  # samples first: a long axis
     system = load_equations(dyn, rows.jacobian, moved)
-    # the terms the tree's forces are summed from: every joint's wrench (N, N·m), (N,)
-    terms = np.maximum(
-        np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
-        np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
-    )
+
+    @functools.cache
+    def terms() -> np.ndarray:  # the terms the tree's forces are summed from (N,)
+        return np.maximum(
+            np.abs(force[1:]).max(axis=(0, 2), initial=0.0),
+            np.abs(moment[1:]).max(axis=(0, 2), initial=0.0),
+        )
+
     solution = _solve(system, tree, n_act, terms)
     lam = np.zeros((solution.shape[0], dyn.chain.nc))
     lam[:, moved] = solution[:, n_act:] * dyn.row_scale[moved]
@@ -136,18 +141,20 @@ def load_equations(
     """The matrix [Sᵀ Jᵀ] of the loads' equations (module docstring; SI units, the closure
     columns scaled by the square root of their stiffness), (N, nv, n_act + nc), from the closure
     rows' Jacobians J (N, nc, nv); ``moved`` (nc,) bool: only those rows' columns (then
-    n_act + their count columns)."""
+    n_act + their count columns). It is the transposed view of a contiguous [S; J] (the
+    shortcut inverts that one: no transposed copy)."""
+    scale = dyn.row_scale
     if moved is not None:
-        jacobian = np.compress(moved, jacobian, axis=1)  # contiguous (a mask keeps strides)
+        jacobian, scale = np.compress(moved, jacobian, axis=1), scale[moved]
     n, nc, nv = jacobian.shape
     n_act = len(dyn.columns)
-    selection = np.zeros((n_act, nv))
-    selection[np.arange(n_act), dyn.columns] = 1.0
-    scale = dyn.row_scale if moved is None else dyn.row_scale[moved]
-    # [S; J] row by row (contiguous copies), then seen transposed
-    transposed = np.concatenate(
-        [np.broadcast_to(selection, (n, n_act, nv)), jacobian * scale[:, None]], axis=1
-    )
+    transposed = np.empty((n, n_act + nc, nv))
+    transposed[:, :n_act] = 0.0
+    transposed[:, np.arange(n_act), dyn.columns] = 1.0  # S
+    if np.all(scale == 1.0):  # the default stiffness: J as it is
+        transposed[:, n_act:] = jacobian
+    else:
+        np.multiply(jacobian, scale[:, None], out=transposed[:, n_act:])
     return np.swapaxes(transposed, 1, 2)
 
 
@@ -180,11 +187,13 @@ def load_gain(dyn: LoadUnknowns, q: np.ndarray, rank: int) -> float:
     return float(s[0] / s[rank - 1]) if s[rank - 1] > RANK_TOLERANCE * s[0] else math.inf
 
 
-def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -> np.ndarray:
+def _solve(
+    system: np.ndarray, rhs: np.ndarray, n_act: int, terms: Callable[[], np.ndarray]
+) -> np.ndarray:
     """Minimum-norm solutions x (n, nx) of system[k] x = rhs[k] (n, nv, nx), after the checks of
-    the module docstring. ``terms`` (n,): the largest term each sample's right-hand side is summed
-    from (its round-off's scale, for the consistency check where the sum cancels: a mechanism at
-    rest in equilibrium).
+    the module docstring. ``terms()`` (n,): the largest term each sample's right-hand side is
+    summed from (its round-off's scale, for the consistency check where the sum cancels: a
+    mechanism at rest in equilibrium), computed only where a check needs it.
 
     Where a sample's system has full rank and a small condition number (every sample of a
     well-actuated motion), x = A⁺ b is its minimum-norm solution, from one small inverse
@@ -195,15 +204,20 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     if system.shape[2] == 0:  # an open tree with nothing actuated: the reactions alone
         return np.zeros((n, 0))
     fast, inverse = _shortcut(system)
-    solution = np.empty((n, system.shape[2]))
-    if np.any(fast):
-        solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
-        if system.shape[1] > system.shape[2]:  # a least-squares answer: is it a solution?
-            _check_consistency(system[fast], rhs[fast], solution[fast], terms[fast])
-    if fast.all() and system.shape[1] == system.shape[2]:
-        # every sample square and invertible within MAX_FORCE_GAIN: full rank, no null space,
-        # consistent: nothing the decomposition checks can fail
-        return solution
+    square = system.shape[1] == system.shape[2]
+    if fast.all():  # every sample: no mask (a masked copy of the inverses costs as much)
+        solution = np.einsum("nij,nj->ni", inverse, rhs)
+        if square:
+            # every sample square and invertible within MAX_FORCE_GAIN: full rank, no null
+            # space, consistent: nothing the decomposition checks can fail
+            return solution
+        _check_consistency(system, rhs, solution, terms())  # a least-squares answer
+    else:
+        solution = np.empty((n, system.shape[2]))
+        if np.any(fast):
+            solution[fast] = np.einsum("nij,nj->ni", inverse[fast], rhs[fast])
+            if not square:  # a least-squares answer: is it a solution?
+                _check_consistency(system[fast], rhs[fast], solution[fast], terms()[fast])
     stride = max(1, n // RANK_SUBSAMPLE)
     checked = np.zeros(n, dtype=bool)
     checked[::stride] = True
@@ -211,7 +225,9 @@ def _solve(system: np.ndarray, rhs: np.ndarray, n_act: int, terms: np.ndarray) -
     structural = int(_rank(system[checked][:, :, n_act:]).max(initial=0))
     expected = min(system.shape[1], n_act + structural)
     indices = np.flatnonzero(detailed)
-    exact = _solve_svd(system[detailed], rhs[detailed], n_act, expected, indices, terms[detailed])
+    exact = _solve_svd(
+        system[detailed], rhs[detailed], n_act, expected, indices, terms()[detailed]
+    )
     solution[indices[~fast[detailed]]] = exact[~fast[detailed]]
     return solution
 
@@ -226,9 +242,10 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     side (the other, of rank nx < nv or nv < nx, is singular: a shortcut through it would never
     pass and would send every sample to the singular value decomposition), and it squares the
     condition number: cond(B) = cond(A)². The test needs no decomposition: cond(B) ≤ ‖B‖_F
-    ‖B⁻¹‖_F for B = A or the Gram matrix. A near-singular B gives a computed inverse of huge
-    norm (backward stability: it is the inverse of a matrix within round-off of B), so the
-    bound cannot pass by accident — a full-rank A passes only with cond(A) below
+    ‖B⁻¹‖_F for B = A or the Gram matrix (:func:`~feeder.chain.assembly.rank.condition_bound`).
+    A near-singular B gives a computed inverse of huge norm (backward stability: it is the
+    inverse of a matrix within round-off of B), so the bound cannot pass by accident — a
+    full-rank A passes only with cond(A) below
     :data:`MAX_FORCE_GAIN` (square) or :data:`NORMAL_EQUATIONS` (Gram: ≤ 1e6 × ε of relative
     round-off); a doubtful sample takes the singular value decomposition, which also refuses a
     singular one. The inverse is a block triangular one (:mod:`.block_inverse`: the square
@@ -236,13 +253,12 @@ def _shortcut(system: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rows, unknowns = system.shape[1:]
     square = rows == unknowns
     transposed = np.swapaxes(system, 1, 2)
-    matrix = system if square else system @ transposed if rows < unknowns else transposed @ system
-    inverse = block_inverse(matrix)
-    with np.errstate(invalid="ignore", over="ignore"):
-        bound = np.sqrt(
-            np.einsum("nij,nij->n", matrix, matrix) * np.einsum("nij,nij->n", inverse, inverse)
-        )  # ‖B‖_F ‖B⁻¹‖_F
-    fast = np.isfinite(bound) & (bound < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2))
+    if square:  # (A⁻¹)ᵀ = (Aᵀ)⁻¹: Aᵀ is the contiguous one (load_equations)
+        matrix, inverse = system, np.swapaxes(block_inverse(transposed), 1, 2)
+    else:
+        matrix = system @ transposed if rows < unknowns else transposed @ system
+        inverse = block_inverse(matrix)
+    fast = condition_bound(matrix, inverse) < (MAX_FORCE_GAIN if square else NORMAL_EQUATIONS**2)
     if rows < unknowns:
         inverse = transposed @ inverse
     elif rows > unknowns:

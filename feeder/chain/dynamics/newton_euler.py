@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..kinematics.layout import tree_layout
+from ..kinematics.layout import RowSum, tree_layout
 from ..kinematics.tree import TreeMotion, apply_each, cross
 
 
@@ -54,9 +54,9 @@ def joint_wrenches(
     if external:
         _apply_external(model, motion, external, force, moment)
     for children, parents in tree_layout(model).backward:
-        arm = motion.origin[children] - motion.origin[parents]
-        _add_rows(moment, parents, moment[children] + cross(arm, force[children]))
-        _add_rows(force, parents, force[children])
+        arm = motion.origin[children] - motion.origin[parents.index]
+        parents.add(moment, moment[children] + cross(arm, force[children]))
+        parents.add(force, force[children])
     return force, moment
 
 
@@ -68,34 +68,17 @@ def _apply_external(
     moment: np.ndarray,
 ) -> None:
     """Subtract the external wrenches from their bodies' terms (force, moment: (njoints, N, 3),
-    about the joints' origins), only where a wrench is not zero (a self-stress loads a few cuts
-    of many: :mod:`.indeterminacy`), summed per joint and sample."""
-    n = motion.origin.shape[1]
+    about the joints' origins), each moved to its joint's origin (one product per term) and
+    summed per joint."""
     frames = [frame for frame, _ in external]
+    joints = np.array([model.frames[frame].parentJoint for frame in frames])
+    shifts = np.array([model.frames[frame].placement.translation for frame in frames])
     wrench = np.stack([w for _, w in external])  # (terms, N, 6)
-    term, sample = np.nonzero(np.any(wrench != 0.0, axis=2))
-    values = wrench[term, sample]  # (E, 6)
-    joint = np.array([model.frames[frame].parentJoint for frame in frames])[term]
-    shift = np.array([model.frames[frame].placement.translation for frame in frames])[term]
-    lever = np.einsum("eij,ej->ei", motion.rotation[joint, sample], shift)  # joint → frame
-    turning = values[:, 3:] + cross(lever, values[:, :3])  # about the joint's origin
-    place, size = joint * n + sample, model.njoints * n
-    for k in range(3):
-        force[..., k] -= np.bincount(place, values[:, k], size).reshape(-1, n)
-        moment[..., k] -= np.bincount(place, turning[:, k], size).reshape(-1, n)
-
-
-def _add_rows(target: np.ndarray, index: np.ndarray, values: np.ndarray) -> None:
-    """target[index] += values (k, ...) with the values of a repeated index summed (as
-    ``np.add.at``, which is several times slower on these arrays): a product with the
-    indices' incidence matrix where an index repeats."""
-    if len(set(index.tolist())) == index.size:
-        target[index] += values
-        return
-    unique, inverse = np.unique(index, return_inverse=True)
-    incidence = (inverse == np.arange(unique.size)[:, None]).astype(float)  # (u, k)
-    summed = incidence @ values.reshape(index.size, -1)
-    target[unique] += summed.reshape((unique.size, *values.shape[1:]))
+    lever = apply_each(motion.rotation[joints], shifts)  # joint → frame, world (terms, N, 3)
+    turning = wrench[..., 3:] + cross(lever, wrench[..., :3])  # about the joint's origin
+    into = RowSum.of(joints)
+    into.add(force, -wrench[..., :3])
+    into.add(moment, -turning)
 
 
 def _body_terms(model: pin.Model, motion: TreeMotion) -> tuple[np.ndarray, np.ndarray]:

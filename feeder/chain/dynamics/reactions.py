@@ -144,7 +144,7 @@ def _along_every(columns: np.ndarray, vectors: np.ndarray, owner: np.ndarray) ->
     column_joint`). The joints with one non-zero column (revolute, prismatic) are projected
     together, those with several one by one."""
     out = np.zeros_like(vectors)
-    active = np.flatnonzero(np.abs(columns).max(axis=(0, 1)) > 0.0)
+    active = np.flatnonzero((columns != 0.0).any(axis=0).any(axis=0))
     count = np.bincount(owner[active], minlength=vectors.shape[0])
     single = active[count[owner[active]] == 1]
     if single.size:

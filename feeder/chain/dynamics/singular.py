@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from ...exceptions import InputError, SingularPoseError
 from ..assembly.rank import rank_tolerance
+from ..kinematics.tree import JOINT_FIRST, TreeMotion
 from ..model.closure import ClosedChain
 from .forward_equations import IntegrationError
 from .inverse import ChainDynamics, ChainLoads, inverse_dynamics
@@ -282,17 +283,29 @@ def spread(loads: ChainLoads, keep: np.ndarray) -> ChainLoads:
     """The loads ``loads`` of the samples ``keep`` (bool (N,), its True samples) on all N
     samples, zero at the others (whose loads are indeterminate: the run's
     :attr:`~feeder.chain.dynamics.forward_run.ForwardRun.indeterminate` flags them): every
-    per-sample array of the loads, their wrenches and their tree motion, and on a moving base
-    its state and gravity (zero at the others too)."""
+    per-sample array of the loads, their wrenches and their tree motion (its joint-first
+    arrays along their sample axis, :data:`~feeder.chain.kinematics.tree.JOINT_FIRST`), and on
+    a moving base its state and gravity (zero at the others too). The kinematics kept for the
+    indeterminacy belong to the kept samples' poses: dropped (computed again from the spread
+    poses when asked)."""
     count = int(keep.sum())
 
-    def grow(value):
+    def grow(value, axis: int = 0):
         if isinstance(value, np.ndarray):
-            if value.ndim == 0 or value.shape[0] != count:
+            if value.ndim <= axis or value.shape[axis] != count:
                 return value
-            full = np.zeros((keep.size, *value.shape[1:]), dtype=value.dtype)
-            full[keep] = value
+            shape = (*value.shape[:axis], keep.size, *value.shape[axis + 1 :])
+            full = np.zeros(shape, dtype=value.dtype)
+            full[(slice(None),) * axis + (keep,)] = value
             return full
+        if isinstance(value, TreeMotion):
+            return dataclasses.replace(
+                value,
+                **{
+                    f.name: grow(getattr(value, f.name), 1 if f.name in JOINT_FIRST else 0)
+                    for f in dataclasses.fields(value)
+                },
+            )
         if isinstance(value, dict):
             return {key: grow(item) for key, item in value.items()}
         if isinstance(value, list | tuple) and not isinstance(value, str):
@@ -303,10 +316,11 @@ def spread(loads: ChainLoads, keep: np.ndarray) -> ChainLoads:
             )
         return value
 
-    fields = {f.name for f in dataclasses.fields(loads)}
+    fields = {f.name for f in dataclasses.fields(loads)} - {"kinematics"}
     if loads.base is None:  # the model's gravity (3,), not per sample
         fields -= {"gravity", "base"}
-    return dataclasses.replace(loads, **{name: grow(getattr(loads, name)) for name in fields})
+    grown = {name: grow(getattr(loads, name)) for name in fields}
+    return dataclasses.replace(loads, kinematics=None, **grown)
 
 
 class Coast:

@@ -52,25 +52,59 @@ class JointGroup:
 
 
 @dataclass(frozen=True)
+class RowSum:
+    """``target[index] += values`` for values (k, ...) whose index (k,) may repeat, the values of
+    a repeated index summed (as ``np.add.at``, which is several times slower on these arrays):
+    a product with the indices' incidence matrix where an index repeats, found once (:meth:`of`).
+
+    Attributes:
+        index: The target rows, (k,) int. unique: The distinct ones, (u,) int.
+        incidence: (u, k), 1 where ``index`` is ``unique``; None when no index repeats.
+    """
+
+    index: np.ndarray
+    unique: np.ndarray
+    incidence: np.ndarray | None
+
+    @classmethod
+    def of(cls, index: np.ndarray) -> RowSum:
+        """The sum into the rows ``index`` (k,) int."""
+        if len(set(index.tolist())) == index.size:
+            return cls(index, index, None)
+        unique, inverse = np.unique(index, return_inverse=True)
+        return cls(index, unique, (inverse == np.arange(unique.size)[:, None]).astype(float))
+
+    def add(self, target: np.ndarray, values: np.ndarray) -> None:
+        """target[index] += values, in place (target (m, ...), values (k, ...))."""
+        if self.incidence is None:
+            target[self.index] += values
+            return
+        summed = self.incidence @ values.reshape(self.index.size, -1)
+        target[self.unique] += summed.reshape((self.unique.size, *values.shape[1:]))
+
+
+@dataclass(frozen=True)
 class TreeLayout:
     """A model's tree as its batched passes walk it (module docstring).
 
     Attributes:
         size: (njoints, nq, nv) of the model it was found for.
         levels: Per depth 1, 2, …, its :class:`JointGroup`\\ s.
-        backward: Per depth, deepest first, (children, parents) ids (k,) int: the order in which
-            the backward pass adds wrenches into parents.
+        backward: Per depth, deepest first, (children ids (k,) int, the sum into their parents
+            :class:`RowSum`): the order in which the backward pass adds wrenches into parents.
         slices: Per joint id, its velocity columns (a slice; empty for the world).
         column_joint: The joint id of each velocity column, (nv,) int.
         support: Per joint id, the velocity columns of the joint and its ancestors, (c,) int.
+        ancestors: Per joint id, the joint and its ancestors but the world, (d,) int.
     """
 
     size: tuple[int, int, int]
     levels: tuple[tuple[JointGroup, ...], ...]
-    backward: tuple[tuple[np.ndarray, np.ndarray], ...]
+    backward: tuple[tuple[np.ndarray, RowSum], ...]
     slices: tuple[slice, ...]
     column_joint: np.ndarray
     support: tuple[np.ndarray, ...]
+    ancestors: tuple[np.ndarray, ...]
     _pairs: dict[tuple[int, int], np.ndarray] = field(
         default_factory=dict, repr=False, compare=False
     )
@@ -116,7 +150,7 @@ def _find(model: pin.Model) -> TreeLayout:
     levels, backward = [], []
     for level in range(1, max(depth, default=0) + 1):
         here = [j for j in range(1, count) if depth[j] == level]
-        backward.append((np.array(here, int), np.array([parents[j] for j in here], int)))
+        backward.append((np.array(here, int), RowSum.of(np.array([parents[j] for j in here]))))
         groups = []
         for kind in SINGLE_AXIS:
             members = [j for j in here if kinds[j] == kind]
@@ -129,11 +163,12 @@ def _find(model: pin.Model) -> TreeLayout:
         ]
         levels.append(tuple(groups))
     column_joint = np.zeros(model.nv, int)
-    support = [np.zeros(0, int)]
+    support, ancestors = [np.zeros(0, int)], [np.zeros(0, int)]
     for j in range(1, count):
         column_joint[slices[j]] = j
         own = np.arange(slices[j].start, slices[j].stop)
         support.append(np.concatenate([own, support[parents[j]]]))
+        ancestors.append(np.concatenate([[j], ancestors[parents[j]]]).astype(int))
     return TreeLayout(
         (count, model.nq, model.nv),
         tuple(levels),
@@ -141,6 +176,7 @@ def _find(model: pin.Model) -> TreeLayout:
         tuple(slices),
         column_joint,
         tuple(support),
+        tuple(ancestors),
     )
 
 

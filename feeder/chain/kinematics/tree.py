@@ -45,87 +45,62 @@ origin has none)."""
 
 @dataclass(frozen=True)
 class TreeMotion:
-    """World placements and motion of every joint frame of a tree, N samples; arrays indexed by
-    joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint j's (N, 3)), or in a
-    result (:attr:`~feeder.chain.dynamics.inverse.ChainLoads.motion`) lists of them
-    (:meth:`per_joint`).
+    """World placements and motion of every joint frame of a tree, N samples; the placements
+    and rates indexed by joint id first (0 is the world, at rest: ``motion.origin[j]`` is joint
+    j's (N, 3), :data:`JOINT_FIRST`), the columns by sample first.
 
     Attributes:
         rotation: R_j, (njoints, N, 3, 3). origin: o_j [m], (njoints, N, 3).
-        linear, angular: Per joint id, the joint's world columns at its origin (N, 3, nv_j)
-            (module docstring; for a revolute joint, angular is its world axis and linear is
-            zero): views of ``linear_columns`` and ``angular_columns``.
         omega, alpha: Angular velocity [rad/s] and acceleration [rad/s²], (njoints, N, 3).
         velocity, acceleration: Velocity [m/s] and acceleration [m/s²] of the origin,
             (njoints, N, 3).
+        linear_columns, angular_columns: Every joint's world columns at its origin in the order
+            of the velocity (module docstring; a joint's are its velocity slice's,
+            :attr:`~.layout.TreeLayout.slices`: for a revolute joint, angular is its world axis
+            and linear is zero), (N, 3, nv).
         gravity: Gravity [m/s²] in these axes (N, 3), or None: the model's (a base at rest).
-        linear_columns, angular_columns: Every joint's columns in the order of the velocity,
-            (N, 3, nv).
     """
 
     rotation: np.ndarray
     origin: np.ndarray
-    linear: list[np.ndarray]
-    angular: list[np.ndarray]
     omega: np.ndarray
     alpha: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+    linear_columns: np.ndarray
+    angular_columns: np.ndarray
     gravity: np.ndarray | None = None
-    linear_columns: np.ndarray | None = None
-    angular_columns: np.ndarray | None = None
-
-    def per_joint(self) -> TreeMotion:
-        """The same motion with its joint-major arrays as lists of per-joint arrays (N, …)
-        (views; indexing by joint id unchanged): the layout of a result's per-sample arrays,
-        which code that selects or spreads a result's samples expects
-        (:func:`~feeder.chain.dynamics.singular.spread`)."""
-        return replace(
-            self,
-            rotation=list(self.rotation),
-            origin=list(self.origin),
-            omega=list(self.omega),
-            alpha=list(self.alpha),
-            velocity=list(self.velocity),
-            acceleration=list(self.acceleration),
-        )
 
     def at_rest(self, index: np.ndarray) -> TreeMotion:
         """The placements at the samples ``index`` (M,), at rest: rates zero, no columns (what
         a statics pass, :func:`~feeder.chain.dynamics.newton_euler.joint_wrenches` without
         inertia, reads)."""
         zero = np.broadcast_to(0.0, (self.origin.shape[0], index.size, 3))
-        empty = [np.zeros((index.size, 3, 0))] * self.origin.shape[0]
+        empty = np.zeros((index.size, 3, 0))
         return TreeMotion(
             np.take(self.rotation, index, axis=1),  # take: contiguous (an index keeps strides)
             np.take(self.origin, index, axis=1),
+            zero,
+            zero,
+            zero,
+            zero,
             empty,
             empty,
-            zero,
-            zero,
-            zero,
-            zero,
         )
+
+
+JOINT_FIRST = ("rotation", "origin", "omega", "alpha", "velocity", "acceleration")
+"""The :class:`TreeMotion` fields indexed by joint id first, their samples on axis 1."""
 
 
 def cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Row-wise cross product of two (..., 3) arrays, broadcast (numpy's ``cross`` is several
     times slower on many short rows)."""
-    out = np.empty(np.broadcast_shapes(u.shape, w.shape))
+    out = np.empty(np.broadcast(u, w).shape)  # (np.broadcast_shapes costs µs in Python)
     out[..., 0] = u[..., 1] * w[..., 2] - u[..., 2] * w[..., 1]
     out[..., 1] = u[..., 2] * w[..., 0] - u[..., 0] * w[..., 2]
     out[..., 2] = u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0]
     return out
-
-
-def _rows(stack: np.ndarray, matrix: np.ndarray) -> np.ndarray:
-    """Each (3, 3) of a stack (N, 3, 3) times one (3, 3), as one (3N × 3) product."""
-    return (stack.reshape(-1, 3) @ matrix).reshape(stack.shape)
-
-
-def _apply(stack: np.ndarray, vector: np.ndarray) -> np.ndarray:
-    """Each (3, 3) of a stack (N, 3, 3) times one 3-vector, (N, 3)."""
-    return (stack.reshape(-1, 3) @ vector).reshape(-1, 3)
 
 
 def apply_each(stacks: np.ndarray, vectors: np.ndarray) -> np.ndarray:
@@ -135,20 +110,43 @@ def apply_each(stacks: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     return (stacks.reshape(k, -1, 3) @ vectors[:, :, None]).reshape(k, -1, 3)
 
 
+def turn_each(stacks: np.ndarray, matrices: np.ndarray) -> np.ndarray:
+    """Each stack k of (3, 3)s of ``stacks`` (k, N, 3, 3) times its one (3, 3) of ``matrices``
+    (k, 3, 3), (k, N, 3, 3): k products (3N × 3)(3 × 3) (BLAS; a stacked product of (3, 3)s is
+    several times slower)."""
+    k = stacks.shape[0]
+    return (stacks.reshape(k, -1, 3) @ matrices).reshape(stacks.shape)
+
+
 def _turn(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Each (3, 3) of a stack (N, 3, 3) times its own 3-vector of (N, 3)."""
     return np.einsum("nij,nj->ni", stack, vectors)
 
 
-def _rotations_about(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """Rotations (k, N, 3, 3) by ``angles`` (k, N) [rad] about the unit ``axes`` (k, 3)
-    (Rodrigues, as :func:`~.joints.rotation_about` for one axis)."""
+def _placed_rotations(
+    parents: np.ndarray | None,
+    placed: np.ndarray,
+    axes: np.ndarray,
+    cosine: np.ndarray,
+    sine: np.ndarray,
+) -> np.ndarray:
+    """R_p R₀ R(s, θ) (k, N, 3, 3): joints on parents of rotations R_p (k, N, 3, 3) (None: on
+    the world, R_p = I), placed at the rotations ``placed`` R₀ (k, 3, 3), turned by θ about
+    their unit ``axes`` s (k, 3), of cosines and sines (k, N) — Rodrigues,
+    R_p R₀ + sin θ R_p R₀ S + (1 − cos θ) R_p R₀ S², S the axis' skew matrix (as
+    :func:`~.joints.rotation_about` for one axis): three products of each joint's stack with
+    one (3, 3) (:func:`turn_each`), not a stacked product of (3, 3)s."""
     x, y, z = axes.T
     skew = np.zeros((axes.shape[0], 3, 3))
     skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -z, y, -x
     skew[:, 1, 0], skew[:, 2, 0], skew[:, 2, 1] = z, -y, x
-    s, c = np.sin(angles)[..., None, None], np.cos(angles)[..., None, None]
-    return np.eye(3) + s * skew[:, None] + (1.0 - c) * (skew @ skew)[:, None]
+    once = placed @ skew
+    fixed = (placed, once, once @ skew)
+    if parents is None:
+        base, first, second = (matrix[:, None] for matrix in fixed)
+    else:
+        base, first, second = (turn_each(parents, matrix) for matrix in fixed)
+    return base + sine[..., None, None] * first + (1.0 - cosine)[..., None, None] * second
 
 
 def tree_motion(
@@ -176,29 +174,40 @@ def tree_motion(
     for level in layout.levels:
         for group in level:
             j, p = group.joints, group.parents
-            before = rotation[p] @ turned[j][:, None]
-            here = origin[p] + apply_each(rotation[p], shifted[j])
             if group.kind in SINGLE_AXIS:
-                e = apply_each(before, group.axes)  # world axes (k, N, 3)
+                # a group on the world (an N-four-bar's rockers) needs no product with its
+                # parents' placements: the world's is the identity, at rest
+                root = not p.any()
+                axes = np.einsum("kij,kj->ki", turned[j], group.axes)  # in the parents' axes
+                if root:
+                    e = np.broadcast_to(axes[:, None], (j.size, n, 3))  # world axes (k, N, 3)
+                    here = np.broadcast_to(shifted[j][:, None], (j.size, n, 3))
+                else:
+                    e = apply_each(rotation[p], axes)
+                    here = origin[p] + apply_each(rotation[p], shifted[j])
                 rate, rate2 = v[:, group.iv].T[..., None], a[:, group.iv].T[..., None]
                 if group.kind == "prismatic":
                     here = here + e * q[:, group.iq].T[..., None]
-                    rotation[j] = before
+                    rotation[j] = turned[j][:, None] if root else turn_each(rotation[p], turned[j])
                     linear[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn = alpha_rel = None
                     slide, a_rel = e * rate, e * rate2
                 else:
-                    angle = (
-                        q[:, group.iq]
-                        if group.kind == "revolute"
-                        else np.arctan2(q[:, group.iq + 1], q[:, group.iq])
-                    )
-                    rotation[j] = before @ _rotations_about(group.axes, angle.T)
+                    if group.kind == "revolute":
+                        angle = q[:, group.iq].T
+                        cosine, sine = np.cos(angle), np.sin(angle)
+                    else:  # continuous: q = (cos θ, sin θ), taken as a direction
+                        cosine, sine = q[:, group.iq].T, q[:, group.iq + 1].T
+                        size = np.hypot(cosine, sine)
+                        cosine, sine = cosine / size, sine / size
+                    parents = None if root else rotation[p]
+                    rotation[j] = _placed_rotations(parents, turned[j], group.axes, cosine, sine)
                     angular[:, :, group.iv] = np.moveaxis(e, 0, 2)
                     turn, alpha_rel = e * rate, e * rate2
                     slide = a_rel = None
             else:
-                joint, b = model.joints[int(j[0])], before[0]
+                joint, b = model.joints[int(j[0])], (rotation[p] @ turned[j][:, None])[0]
+                here = origin[p] + apply_each(rotation[p], shifted[j])
                 iq, iv = joint.idx_q, joint.idx_v
                 rel = relative_motion(
                     group.kind,
@@ -217,26 +226,22 @@ def tree_motion(
             origin[j] = here
             if moving:
                 _rates(w, dw, vel, acc, j, p, here - origin[p], turn, alpha_rel, slide, a_rel)
-    return TreeMotion(
-        rotation,
-        origin,
-        [linear[:, :, columns] for columns in layout.slices],
-        [angular[:, :, columns] for columns in layout.slices],
-        w,
-        dw,
-        vel,
-        acc,
-        None,
-        linear,
-        angular,
-    )
+    return TreeMotion(rotation, origin, w, dw, vel, acc, linear, angular)
 
 
 def _rates(w, dw, vel, acc, j, p, r, turn, alpha_rel, slide, a_rel) -> None:
     """The velocity and acceleration recursion (module docstring) of the joints j (k,) from
     their parents p (k,), r = o_j − o_p (k, N, 3), and their relative terms in world axes
     (k, N, 3) (R_b w_rel, R_b α_rel, R_b v_rel, R_b a_rel; None where zero: a revolute joint's
-    slide, a prismatic joint's turn), written into w, dw, vel, acc (njoints, N, 3)."""
+    slide, a prismatic joint's turn), written into w, dw, vel, acc (njoints, N, 3). Joints on
+    the world (parents all 0, at rest: w, dw, vel, acc zero there) take their relative terms
+    as they are, the same values without the products with the world's zero rates."""
+    if not p.any():
+        if turn is not None:
+            w[j], dw[j] = turn, alpha_rel
+        if slide is not None:
+            vel[j], acc[j] = slide, a_rel
+        return
     w_p, dw_p = w[p], dw[p]
     spin = cross(w_p, r)
     omega, alpha = w_p, dw_p
@@ -277,17 +282,14 @@ def frame_placements(
 ) -> tuple[np.ndarray, np.ndarray]:
     """World rotation (N, 3, 3) and origin (N, 3) of a frame at every sample; for several
     frames (ids (F,)), (F, N, 3, 3) and (F, N, 3), all at once."""
-    if np.ndim(frame) == 0:
-        placement = model.frames[frame].placement
-        j = model.frames[frame].parentJoint
-        rotation = _rows(motion.rotation[j], placement.rotation)
-        origin = motion.origin[j] + _apply(motion.rotation[j], placement.translation)
-        return rotation, origin
-    placed = [model.frames[f].placement for f in frame]
-    turn = motion.rotation[_parents(model, frame)]  # (F, N, 3, 3)
-    rotation = turn @ np.array([placement.rotation for placement in placed])[:, None]
+    ids = [int(f) for f in np.atleast_1d(frame)]
+    placed = [model.frames[f].placement for f in ids]
+    joints = _parents(model, ids)
+    turn = motion.rotation[joints]  # (F, N, 3, 3)
+    rotation = turn_each(turn, np.array([placement.rotation for placement in placed]))
     shift = np.array([placement.translation for placement in placed])
-    return rotation, motion.origin[_parents(model, frame)] + apply_each(turn, shift)
+    origin = motion.origin[joints] + apply_each(turn, shift)
+    return (rotation[0], origin[0]) if np.ndim(frame) == 0 else (rotation, origin)
 
 
 def _parents(model: pin.Model, frame: int | Sequence[int]) -> int | np.ndarray:
@@ -324,40 +326,36 @@ def reach(model: pin.Model, q: np.ndarray) -> float:
     frame's origin (joints, links, cut frames) from the world origin, at least
     :data:`MIN_REACH`. A reaction moment's terms are a force times a lever arm up to this; a
     prismatic speed divided by it compares with an angular one."""
-    motion = tree_motion(model, q)
-    distances = (
-        float(np.linalg.norm(frame_placements(model, motion, f)[1], axis=1).max())
-        for f in range(model.nframes)
-    )
-    return max(max(distances, default=0.0), MIN_REACH)
+    _, origins = frame_placements(model, tree_motion(model, q), np.arange(model.nframes))
+    return max(float(np.linalg.norm(origins, axis=2).max(initial=0.0)), MIN_REACH)
 
 
-def point_jacobian(
+def point_jacobians(
     model: pin.Model,
     motion: TreeMotion,
-    frame: int,
-    columns: np.ndarray | None = None,
-    point: np.ndarray | None = None,
+    frames: Sequence[int],
+    columns: Sequence[np.ndarray],
+    points: np.ndarray,
 ) -> np.ndarray:
-    """World-aligned Jacobian (N, 6, nv) of a frame: [linear velocity of its origin; angular
-    velocity], columns L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
-    (L_k, W_k), all ancestors at once (:attr:`~.layout.TreeLayout.support`). ``columns``: only
-    these velocity columns (sorted, (c,) int, among them every column that moves the frame),
-    (N, 6, c). ``point``: the frame's origin (N, 3), if the caller has it."""
+    """World-aligned Jacobians (F, N, 6, C) of several frames (ids (F,)) at once: frame f's on
+    its velocity columns ``columns[f]`` (sorted, (c_f,) int, among them every column that moves
+    it), padded with zero columns to the most, C; ``points``: the frames' origins (F, N, 3).
+    A frame's columns are L_k + W_k × (p − o_k), W_k for each ancestor joint k's columns
+    (L_k, W_k) (:attr:`~.layout.TreeLayout.support`), every frame's every column in one set of
+    array operations."""
     layout = tree_layout(model)
-    n = motion.origin.shape[1]
-    if point is None:
-        _, point = frame_placements(model, motion, frame)
-    moving = layout.support[model.frames[frame].parentJoint]
-    if columns is None:
-        jac, place = np.zeros((n, 6, model.nv)), moving
-    else:
-        jac, place = np.zeros((n, 6, columns.size)), np.searchsorted(columns, moving)
-    lever = point - motion.origin[layout.column_joint[moving]]  # (c, N, 3)
-    angular = np.take(motion.angular_columns, moving, axis=2)  # (N, 3, c)
-    turning = np.moveaxis(angular, 2, 0)  # (c, N, 3)
-    jac[:, :3, place] = np.take(motion.linear_columns, moving, axis=2) + np.moveaxis(
-        cross(turning, lever), 0, 2
-    )
-    jac[:, 3:, place] = angular
+    which, slot, moved = [], [], []
+    for f, (frame, own) in enumerate(zip(frames, columns, strict=True)):
+        moving = layout.support[model.frames[frame].parentJoint]
+        which.append(np.full(moving.size, f))
+        slot.append(np.searchsorted(own, moving))
+        moved.append(moving)
+    which, slot, moved = (np.concatenate(x) for x in (which, slot, moved))
+    width = max((own.size for own in columns), default=0)
+    jac = np.zeros((len(frames), points.shape[1], 6, width))
+    angular = np.moveaxis(np.take(motion.angular_columns, moved, axis=2), 2, 0)  # (E, N, 3)
+    linear = np.moveaxis(np.take(motion.linear_columns, moved, axis=2), 2, 0)
+    lever = points[which] - motion.origin[layout.column_joint[moved]]
+    jac[which, :, :3, slot] = linear + cross(angular, lever)
+    jac[which, :, 3:, slot] = angular
     return jac

@@ -8,7 +8,12 @@ from __future__ import annotations
 import numpy as np
 
 from feeder.chain.assembly.newton import RANK_TOLERANCE
-from feeder.chain.assembly.rank import GRAM_LIMIT, self_stress_bases, self_stresses
+from feeder.chain.assembly.rank import (
+    GRAM_LIMIT,
+    condition_bound,
+    self_stress_bases,
+    self_stresses,
+)
 from feeder.chain.kinematics.rows import closure_kinematics
 from feeder.chain.kinematics.tree import tree_motion
 
@@ -67,3 +72,17 @@ def test_dependent_moving_rows_take_the_decomposition(rng):
 
 def test_no_closure_rows_no_self_stresses():
     assert [b.shape for b in self_stress_bases(np.zeros((2, 0, 3)))] == [(0, 0), (0, 0)]
+
+
+def test_the_condition_bound_is_the_frobenius_condition_number():
+    """condition_bound (the shared decomposition-free test of the load solve's shortcut, the
+    self-stresses' Gram matrices and the batched continuation) is numpy's Frobenius condition
+    number for square matrices (to round-off: a few products of O(1) sums), bounds the 2-norm
+    one from above, and is infinite where the inverse is NaN or overflowed."""
+    rng = np.random.default_rng(5)
+    matrices = rng.normal(size=(4, 5, 5)) + 2.0 * np.eye(5)
+    bound = condition_bound(matrices, np.linalg.inv(matrices))
+    np.testing.assert_allclose(bound, np.linalg.cond(matrices, "fro"), rtol=1e-12)
+    assert np.all(bound >= np.linalg.cond(matrices))
+    broken = np.stack([np.full((5, 5), np.nan), np.full((5, 5), 1e300)])
+    assert np.all(condition_bound(matrices[:2], broken) == np.inf)

@@ -171,7 +171,7 @@ def test_the_indeterminacy_equals_the_one_from_decomposed_self_stresses(
 
 
 def test_the_statics_pass_is_the_backward_pass_at_rest_without_gravity(rng):
-    """joint_wrenches(inertia=False), which the self-stresses' pass takes, equals the whole
+    """joint_wrenches(inertia=False), which the reactions' pass takes, equals the whole
     backward pass of a motion at rest without gravity: every body term is then exactly zero."""
     chain, _, q, _, _ = motion_case("squeezer", None)
     model = chain.model
@@ -182,3 +182,32 @@ def test_the_statics_pass_is_the_backward_pass_at_rest_without_gravity(rng):
     statics = joint_wrenches(model, rest, external, inertia=False)
     for whole, alone in zip(full, statics, strict=True):
         assert all(np.array_equal(x, y) for x, y in zip(whole, alone, strict=True))
+
+
+@pytest.mark.parametrize("name", ["bricard", "n_four_bar_2", "cad_robot_delta"])
+def test_the_self_stresses_largest_components_are_those_of_the_backward_pass(name, tmp_path):
+    """The cuts' and joints' largest wrench components under the self-stresses, summed term by
+    term over the frames each joint carries where a cut's rows carry force (the indeterminacy's
+    shortcut), against the whole backward pass at rest (joint_wrenches without inertia) of
+    every self-stress on every cut's frames at every sample, and the cuts' wrenches at every
+    sample: the same sums in another order (round-off ~1e-15 of loads of size 1; the common
+    ancestors of a cut's two frames, where the two terms cancel, included)."""
+    from feeder.chain.assembly.rank import self_stress_bases
+    from feeder.chain.dynamics.indeterminacy import _largest_components, subsample
+    from feeder.chain.dynamics.reactions import closure_wrenches
+    from feeder.chain.kinematics.rows import closure_kinematics
+
+    chain, _, q, _, _ = motion_case(name, tmp_path)
+    poses = tree_motion(chain.model, q[subsample(q.shape[0])])
+    rows = closure_kinematics(chain, poses)
+    bases = self_stress_bases(rows.jacobian)
+    index = np.repeat(np.arange(len(bases)), [basis.shape[0] for basis in bases])
+    lam = np.vstack(bases)
+    cuts, peaks = _largest_components(chain, poses, rows, lam, index)
+    wrenches, terms = closure_wrenches(chain, rows.at(index), lam)
+    force, moment = joint_wrenches(chain.model, poses.at_rest(index), terms, inertia=False)
+    whole = np.stack([np.abs(force).max(axis=1), np.abs(moment).max(axis=1)], axis=1)
+    np.testing.assert_allclose(peaks[1:], whole[1:], rtol=0.0, atol=1e-12)
+    each = [[np.abs(w.force).max(axis=0), np.abs(w.moment).max(axis=0)] for w in wrenches.values()]
+    np.testing.assert_allclose(cuts, np.array(each), rtol=0.0, atol=1e-12)
+    assert whole[1:].max() > 0.1  # the self-stresses load some joint

@@ -359,11 +359,11 @@ def test_a_tall_system_solved_by_the_shortcut_is_checked_for_consistency():
     rhs = np.einsum("nij,nj->ni", system, x)
     terms = np.abs(rhs).max(axis=1)
     assert _shortcut(system)[0].all()  # it is the shortcut that answers
-    assert np.allclose(_solve(system, rhs, 1, terms), x, rtol=0.0, atol=1e-12)
+    assert np.allclose(_solve(system, rhs, 1, lambda: terms), x, rtol=0.0, atol=1e-12)
     off = rhs.copy()
     off[1] += 1e-3 * np.linalg.svd(system[1])[0][:, -1]  # orthogonal to the range of A
     with pytest.raises(InputError, match="cannot produce the motion"):
-        _solve(system, off, 1, terms)
+        _solve(system, off, 1, lambda: terms)
 
 
 def test_loads_spread_over_flagged_samples_keep_their_motion_and_indeterminacy(four_bar):
@@ -387,6 +387,20 @@ def test_loads_spread_over_flagged_samples_keep_their_motion_and_indeterminacy(f
     for spread_out, kept_out in zip(held, own, strict=True):
         assert spread_out.shape == (q.shape[0], 3)
         np.testing.assert_array_equal(spread_out[keep], kept_out)
+    assert loads.kinematics is None  # the kept poses' kinematics: not the spread poses'
     assert loads.indeterminacy == indeterminacy(four_bar, loads.q, loads.reach)
+    # the tree's joint-first arrays spread along their samples, even where as many samples
+    # are kept as the tree has joints (a first axis of that length is not the samples')
+    joints = four_bar.model.njoints
+    few = np.zeros(q.shape[0], dtype=bool)
+    few[5 : 5 + joints] = True
+    kept = inverse_dynamics(dyn, q[few], v[few], a[few])
+    motion = spread(kept, few).motion
+    for name in ("rotation", "origin", "omega", "alpha", "velocity", "acceleration"):
+        values, own = getattr(motion, name), getattr(kept.motion, name)
+        assert values.shape == (joints, q.shape[0], *own.shape[2:])
+        np.testing.assert_array_equal(values[:, few], own)
+        assert not values[:, ~few].any()
+    assert motion.angular_columns.shape == (q.shape[0], 3, four_bar.model.nv)
     whole = inverse_dynamics(dyn, q, v, a)
     assert whole.indeterminacy == indeterminacy(four_bar, q, whole.reach)  # its own kinematics

@@ -12,9 +12,9 @@ import pinocchio as pin
 from feeder.chain.dynamics.newton_euler import generalized_forces, joint_wrenches
 from feeder.chain.kinematics import layout as layout_module
 from feeder.chain.kinematics.layout import tree_layout
-from feeder.chain.kinematics.tree import point_jacobian, tree_motion
+from feeder.chain.kinematics.tree import tree_motion
 
-from .test_tree import ROUND_OFF, _states
+from .test_tree import ROUND_OFF, _states, frame_jacobian
 
 SAMPLES = 12
 
@@ -71,7 +71,7 @@ def test_a_branched_tree_matches_pinocchio(rng):
     q, v, a = _states(model, rng, SAMPLES)
     motion = tree_motion(model, q, v, a)
     frame = model.getFrameId("tip")
-    jacobian = point_jacobian(model, motion, frame)
+    jacobian = frame_jacobian(model, motion, frame)
     tau = generalized_forces(model, motion, *joint_wrenches(model, motion))
     for k in range(SAMPLES):
         pin.forwardKinematics(model, data, q[k], v[k], a[k])
@@ -99,11 +99,11 @@ def test_a_frame_jacobian_on_some_columns_is_those_of_the_whole_one(rng):
     q, _, _ = _states(model, rng, SAMPLES)
     motion = tree_motion(model, q)
     frame = model.getFrameId("tip")
-    whole = point_jacobian(model, motion, frame)
+    whole = frame_jacobian(model, motion, frame)
     columns = np.flatnonzero(np.abs(whole).max(axis=(0, 1)) > 0.0)
     columns = np.union1d(columns, [0])  # a column that does not move the frame: zero
     np.testing.assert_array_equal(
-        point_jacobian(model, motion, frame, columns), whole[:, :, columns]
+        frame_jacobian(model, motion, frame, columns), whole[:, :, columns]
     )
 
 
@@ -151,3 +151,17 @@ def test_the_layout_goes_with_its_model():
     del model
     gc.collect()
     assert len(layout_module._layouts) == count - 1  # noqa: SLF001
+
+
+def test_a_row_sum_adds_repeated_rows_as_numpy_add_at(rng):
+    """RowSum (the backward pass's sum into parents, found once per model) against numpy's own
+    unbuffered ``np.add.at``, with and without a repeated index: the same sums of a few terms
+    (round-off ~1e-16 of values of size 1, 1e-14 leaves room for the order of the sums)."""
+    for index in (np.array([4, 1, 3]), np.array([2, 0, 2, 2, 5, 0])):
+        target = rng.normal(size=(6, 7, 3))
+        values = rng.normal(size=(index.size, 7, 3))
+        expected = target.copy()
+        np.add.at(expected, index, values)
+        layout_module.RowSum.of(index).add(target, values)
+        assert np.allclose(target, expected, rtol=0.0, atol=1e-14)
+    assert layout_module.RowSum.of(np.array([4, 1, 3])).incidence is None

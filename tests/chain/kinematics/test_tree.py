@@ -8,11 +8,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from feeder.chain import Closure, load_closed_chain
+from feeder.chain import ClosedChain, Closure, load_closed_chain
 from feeder.chain.dynamics.newton_euler import generalized_forces, joint_wrenches
 from feeder.chain.kinematics.joints import kind_of
 from feeder.chain.kinematics.rows import closure_kinematics
-from feeder.chain.kinematics.tree import frame_placements, point_jacobian, tree_motion
+from feeder.chain.kinematics.tree import frame_placements, point_jacobians, tree_motion
 from feeder.device import load_feeder
 from feeder.exceptions import InputError
 
@@ -23,6 +23,14 @@ ROUND_OFF = 1e-11
 round-off ~1e-13; 1e-11 would still catch any missing term (≥ 1e-3 here)."""
 
 SAMPLES = 40
+
+
+def frame_jacobian(model, motion, frame, columns=None):
+    """The world-aligned Jacobian (N, 6, nv) of one frame on every velocity column, or on
+    ``columns`` (sorted): :func:`point_jacobians` of that frame alone."""
+    columns = np.arange(model.nv) if columns is None else columns
+    _, origin = frame_placements(model, motion, frame)
+    return point_jacobians(model, motion, [frame], [columns], origin[None])[0]
 
 
 def every_joint_model() -> pin.Model:
@@ -104,7 +112,7 @@ def test_frame_jacobians_and_placements(device_model, rng):
     names = ("piston_pin", "arm_pin", "projectile") if model.existFrame("arm_pin") else ("tip",)
     for name in names:
         frame = model.getFrameId(name)
-        jacobian = point_jacobian(model, motion, frame)
+        jacobian = frame_jacobian(model, motion, frame)
         rotation, origin = frame_placements(model, motion, frame)
         for k in range(SAMPLES):
             pin.computeJointJacobians(model, data, q[k])
@@ -160,6 +168,48 @@ def test_batched_closure_rows_match_the_chain(kind, rng):
         np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
         second = jacobian @ a[k] + chain.bias(q[k], v[k])
         np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+
+
+def test_cuts_of_one_kind_are_computed_together_with_the_others(rng):
+    """Closure rows of many cuts at once (kinematics.rows: the cuts of one kind and axes in one
+    set of array operations, each on its own columns, padded to the widest): two point cuts on
+    bodies of different depths, two revolute cuts of one axis and one of another, a weld, in
+    mixed order — rows, Jacobian, rate and acceleration against :class:`ClosedChain`'s
+    per-sample Pinocchio evaluation, each cut's frames and hinge alignment in its own place."""
+    from .test_layout import branched_model  # here: test_layout imports this module
+
+    model = branched_model()
+    frames = []
+    for i, joint in enumerate((1, 2, 4, 5, 7, 8, model.njoints - 1, 3)):
+        placement = pin.SE3(pin.exp3(rng.uniform(-1, 1, 3)), rng.uniform(-0.3, 0.3, 3))
+        model.addFrame(pin.Frame(f"f{i}", joint, 0, placement, pin.FrameType.OP_FRAME))
+        frames.append(f"f{i}")
+    tilted = (0.2, 0.3, 0.9)
+    closures = [
+        Closure("f0", "f6", "point"),
+        Closure("f1", "f2", "revolute", axis=tilted),
+        Closure("f3", "f4", "weld"),
+        Closure("f2", "f7", "point"),
+        Closure("f5", "f0", "revolute", axis=tilted),
+        Closure("f6", "f3", "revolute"),
+    ]
+    chain = ClosedChain(model, closures)
+    q, v, a = _states(model, rng)
+    rows = closure_kinematics(chain, tree_motion(model, q, v, a), v)
+    assert list(rows.hinge_alignment) == [c.label for c in closures if c.kind == "revolute"]
+    for k in range(SAMPLES):
+        jacobian = chain.jacobian(q[k])
+        np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.jacobian[k], jacobian, atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
+        second = jacobian @ a[k] + chain.bias(q[k], v[k])
+        np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+        for cut, (fa, fb), kept in zip(chain.cuts, chain.frame_ids, rows.frames, strict=True):
+            np.testing.assert_allclose(kept.origin_a[k], chain.data.oMf[fa].translation)
+            np.testing.assert_allclose(kept.rotation_b[k], chain.data.oMf[fb].rotation)
+            alignment = cut.alignment(chain._frames(fa, fb))
+            if alignment is not None:
+                assert abs(rows.hinge_alignment[cut.label][k] - alignment) <= ROUND_OFF
 
 
 def test_unhandled_joint_types_are_named():

@@ -11,13 +11,14 @@ import pytest
 from feeder.chain import ClosedChain, Closure, load_mechanism, read_spec
 from feeder.chain.dynamics.reactions import closure_wrenches
 from feeder.chain.kinematics.rows import closure_kinematics, cut_frames
-from feeder.chain.kinematics.tree import point_jacobian, tree_motion
+from feeder.chain.kinematics.tree import tree_motion
 from feeder.chain.model.closure import as_closure
 from feeder.chain.model.cuts import KINDS, PointCut, RevoluteCut, WeldCut, register
 from feeder.chain.readers.urdf import build_model
 from feeder.exceptions import InputError
 
 from ...conftest import REPO
+from ..kinematics.test_tree import frame_jacobian
 from .test_closure import SPATIAL
 
 SAMPLES = 6
@@ -86,7 +87,9 @@ def test_rows_are_the_derivatives_of_the_residual(chain, rng):
         )
         np.testing.assert_allclose(chain.bias(q[k], v[k]), rate, atol=FD_TOLERANCE)
     (a, b), motion = chain.frame_ids[0], tree_motion(chain.model, q)
-    batched = cut.residual_jacobian(cut_frames(chain.model, motion, a, b, True, False))
+    batched = cut.residual_jacobian(
+        cut_frames(chain.model, motion, [(a, b)], [np.arange(chain.model.nv)], True, False)
+    )
     for k in range(SAMPLES):
         np.testing.assert_allclose(batched[k], chain.residual_jacobian(q[k]), atol=ROUND_OFF)
 
@@ -101,8 +104,8 @@ def test_the_wrench_does_the_work_of_the_row_forces(chain, rng):
     (a, w_a), (b, w_b) = terms
     np.testing.assert_array_equal(w_a, -w_b)
     motion = tree_motion(chain.model, q)
-    delivered = np.einsum("nkv,nk->nv", point_jacobian(chain.model, motion, a), w_a) + np.einsum(
-        "nkv,nk->nv", point_jacobian(chain.model, motion, b), w_b
+    delivered = np.einsum("nkv,nk->nv", frame_jacobian(chain.model, motion, a), w_a) + np.einsum(
+        "nkv,nk->nv", frame_jacobian(chain.model, motion, b), w_b
     )
     np.testing.assert_allclose(
         delivered, np.einsum("nkv,nk->nv", rows.jacobian, lam), atol=ROUND_OFF
