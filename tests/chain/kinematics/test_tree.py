@@ -151,6 +151,18 @@ def test_newton_euler_is_rnea_with_external_forces(device_model, rng):
             np.testing.assert_allclose(moment[j][k], rotation @ data.f[j].angular, atol=ROUND_OFF)
 
 
+def _assert_rows_are_the_chains(chain, rows, q, v, a) -> None:
+    """The batched rows' residual, Jacobian, rate and acceleration (J q̈ + J̇ q̇) at every
+    sample against :class:`ClosedChain`'s per-sample Pinocchio evaluation, to round-off."""
+    for k in range(SAMPLES):
+        jacobian = chain.jacobian(q[k])
+        np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.jacobian[k], jacobian, atol=ROUND_OFF)
+        np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
+        second = jacobian @ a[k] + chain.bias(q[k], v[k])
+        np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+
+
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
 def test_batched_closure_rows_match_the_chain(kind, rng):
     """Rows, Jacobian, rate and acceleration (J q̈ + J̇ q̇) of every closure kind, batched, against
@@ -161,13 +173,7 @@ def test_batched_closure_rows_match_the_chain(kind, rng):
     )
     q, v, a = _states(chain.model, rng)
     rows = closure_kinematics(chain, tree_motion(chain.model, q, v, a), v)
-    for k in range(SAMPLES):
-        jacobian = chain.jacobian(q[k])
-        np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
-        np.testing.assert_allclose(rows.jacobian[k], jacobian, atol=ROUND_OFF)
-        np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
-        second = jacobian @ a[k] + chain.bias(q[k], v[k])
-        np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+    _assert_rows_are_the_chains(chain, rows, q, v, a)
 
 
 def test_cuts_of_one_kind_are_computed_together_with_the_others(rng):
@@ -197,13 +203,9 @@ def test_cuts_of_one_kind_are_computed_together_with_the_others(rng):
     q, v, a = _states(model, rng)
     rows = closure_kinematics(chain, tree_motion(model, q, v, a), v)
     assert list(rows.hinge_alignment) == [c.label for c in closures if c.kind == "revolute"]
+    _assert_rows_are_the_chains(chain, rows, q, v, a)
     for k in range(SAMPLES):
-        jacobian = chain.jacobian(q[k])
-        np.testing.assert_allclose(rows.residual[k], chain.residual(q[k]), atol=ROUND_OFF)
-        np.testing.assert_allclose(rows.jacobian[k], jacobian, atol=ROUND_OFF)
-        np.testing.assert_allclose(rows.rate[k], jacobian @ v[k], atol=ROUND_OFF)
-        second = jacobian @ a[k] + chain.bias(q[k], v[k])
-        np.testing.assert_allclose(rows.acceleration[k], second, atol=ROUND_OFF)
+        chain.residual(q[k])  # Pinocchio's placements of sample k in chain.data
         for cut, (fa, fb), kept in zip(chain.cuts, chain.frame_ids, rows.frames, strict=True):
             np.testing.assert_allclose(kept.origin_a[k], chain.data.oMf[fa].translation)
             np.testing.assert_allclose(kept.rotation_b[k], chain.data.oMf[fb].rotation)
