@@ -21,8 +21,11 @@ import os
 import pickle
 import sys
 from collections.abc import Callable
+from typing import TypeVar
 
-from ..workers import worker_signals
+from ..workers import fork_safe, worker_signals
+
+T = TypeVar("T")
 
 
 def import_matplotlib() -> None:
@@ -146,3 +149,41 @@ def _serve(request: int, answer: int, prepare: Callable[[], None] | None, what: 
         status = 0
     finally:
         os._exit(status)
+
+
+class FigureProcess:
+    """Figures drawn in a process forked on entering this context (a :class:`ForkedDrawing`
+    that runs ``prepare`` while this process computes), or in this process where forking is not
+    safe (:func:`feeder.workers.fork_safe`: a threaded process) or not asked for.
+
+    Args:
+        prepare: What the forked process does before its work arrives (the imports).
+        what: What it does, for the text of an error that does not pickle.
+        fork: Whether to fork at all (False: every work is done here).
+    """
+
+    def __init__(
+        self, prepare: Callable[[], None] | None = None, what: str = "drawing", fork: bool = True
+    ):
+        self._prepare, self._what, self._fork = prepare, what, fork
+        self._child: ForkedDrawing | None = None
+
+    def __enter__(self) -> FigureProcess:
+        if self._fork and fork_safe():
+            self._child = ForkedDrawing(self._prepare, self._what)
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        if self._child is not None:  # never asked: the process ends at its request's end
+            self._child.close()
+            self._child = None
+
+    def submit(self, work: Callable[[], T]) -> Callable[[], T]:
+        """Start ``work`` (picklable) in the forked process, and return what waits for its
+        result (raising the error it met). The process takes one work: the next, or any outside
+        the context or without a process, is done here when its result is asked for."""
+        if self._child is None:
+            return work
+        child, self._child = self._child, None
+        child.send(work)
+        return child.result  # type: ignore[return-value]

@@ -37,7 +37,7 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, fork_safe, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
-from .forked import ForkedDrawing, import_matplotlib
+from .forked import FigureProcess, ForkedDrawing, import_matplotlib
 from .png import png_bytes, write_png
 
 if TYPE_CHECKING:
@@ -321,9 +321,9 @@ def sweep_pngs(table: str | Path) -> dict[str, bytes]:
     return {name: png_bytes(fig) for name, fig in sweep_figures(table).items()}
 
 
-class SweepFigures:
+class SweepFigures(FigureProcess):
     """The figures of a sweep (:func:`sweep_pngs`) drawn in a process forked when this context
-    is entered (:class:`~feeder.viz.forked.ForkedDrawing`), which imports matplotlib while the
+    is entered (:class:`~feeder.viz.forked.FigureProcess`), which imports matplotlib while the
     sweep computes its cases, then waits for the finished table: what is left after the last
     case is the drawing alone (importing matplotlib was half of that serial tail, issue 29).
     Where forking is not safe (a threaded process: the sweep's own pool is made after this one
@@ -331,17 +331,7 @@ class SweepFigures:
     """
 
     def __init__(self) -> None:
-        self._child: ForkedDrawing | None = None
-
-    def __enter__(self) -> SweepFigures:
-        if fork_safe():
-            self._child = ForkedDrawing(_warm_up, "drawing the sweep")
-        return self
-
-    def __exit__(self, kind, error, traceback) -> None:
-        if self._child is not None:  # never asked: the process ends at its request's end
-            self._child.close()
-            self._child = None
+        super().__init__(_warm_up, "drawing the sweep")
 
     def pngs(self, table: str | Path) -> dict[str, bytes]:
         """:func:`sweep_pngs` of ``table``, drawn by the forked process (once) or here.
@@ -349,11 +339,7 @@ class SweepFigures:
         Raises:
             InputError: As :func:`sweep_figures`.
         """
-        if self._child is None:
-            return sweep_pngs(table)
-        child, self._child = self._child, None
-        child.send(partial(sweep_pngs, str(table)))
-        return child.result()
+        return self.submit(partial(sweep_pngs, str(table)))()
 
 
 def sweep_figures(table: str | Path) -> dict[str, Figure]:

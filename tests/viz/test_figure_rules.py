@@ -23,9 +23,10 @@ from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.study.simulate import simulate_mechanism
-from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
+from feeder.viz.analysis import analysis_figures, simulation_figures, stacked_figure
 from feeder.viz.axes import ROUND_OFF, DecadeTicks, FullTicks
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
+from feeder.viz.panels import Panel
 from feeder.viz.png import FIGURE_DPI, png_bytes
 from feeder.viz.report import (
     FigureData,
