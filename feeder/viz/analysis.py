@@ -17,13 +17,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .axes import (
-    TITLE_Y,
     Curve,
     distinct_curves,
     draw_curves,
     label_ticks,
     leave_out,
     log_curves,
+    panel_title,
     zero_note,
 )
 from .panels import Panel, analysis_stacks, simulation_stacks
@@ -87,7 +87,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         if panel.reference is not None:
             ax.axhline(panel.reference, color="0.5", linestyle="--", linewidth=0.8)
         ax.set_ylabel(panel.ylabel)
-        ax.set_title(panel.title, fontsize=10, y=TITLE_Y)
+        panel_title(ax, panel.title, fontsize=10)
         ax.grid(True, linewidth=0.4, alpha=0.6)
         ax.legend(
             loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, ncols=n

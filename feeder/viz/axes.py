@@ -37,8 +37,9 @@ SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 TITLE_Y = 1.0
 """Height of a panel's title, in its axes' fraction (over the top edge, raised by the title's
-pad), given to every ``set_title``: given, matplotlib does not measure the axes' tick labels to
-place the title clear of any at the top (none has them here), 12 % of drawing a time history."""
+pad), given by :func:`panel_title` to every title: given, matplotlib does not measure the axes'
+tick labels to place the title clear of any at the top (none has them here), 12 % of drawing a
+time history."""
 
 PLAIN_RANGE = (1e-3, 1e5)
 """Largest |tick| for which tick labels are plain decimals; outside, a × 10ⁿ."""
@@ -143,6 +144,12 @@ def zero_note(what: str, curves: Sequence[Curve], unit: str) -> str:
     peak = max((curve.peak for curve in curves), default=0.0)
     size = f"round-off, ≤ {peak:.1e} {unit}" if peak > 0.0 else "exactly"
     return f"{what}:\nzero at every sample ({size}); not drawn"
+
+
+def panel_title(ax: Axes, title: str, **style: object) -> None:
+    """Set the title of the panel ``ax`` at :data:`TITLE_Y` (``style``: matplotlib's keywords of
+    a title, such as ``fontsize`` and ``pad``). Every figure's panels are titled by it."""
+    ax.set_title(title, y=TITLE_Y, **style)
 
 
 def leave_out(ax: Axes, note: str) -> None:

@@ -129,10 +129,13 @@ LOADING_FIGURE = "loading_error.png"
 """The controlled run's errors over the cycle and the hold
 (:func:`~feeder.viz.loading.loading_error_figure`)."""
 
-KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
+POSITION_FIGURE = "fig10_{payload}_position.png"
+"""The payload's position against time (Fig. 10), a time history."""
+
+KINEMATICS_FIGURES = ("fig04_workspace.png", POSITION_FIGURE)
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
 
-TIME_HISTORIES = frozenset({"fig10_{payload}_position.png", *(s.file for s in CYCLE_FIGURES)})
+TIME_HISTORIES = frozenset({POSITION_FIGURE, *(s.file for s in CYCLE_FIGURES)})
 """The figures of a study that are time histories (:func:`~feeder.viz.figures.time_history`):
 one is drawn on another's figure once that is written (:func:`draw`)."""
 
@@ -173,7 +176,7 @@ def draw(name: str, data: FigureData, reuse: Figure | None = None) -> Figure:
     try:
         if name in cycle:
             return cycle_figure(cycle[name], data.columns, boundaries, data.elevation, reuse)
-        if name == "fig10_{payload}_position.png":
+        if name == POSITION_FIGURE:
             position = np.column_stack([data.columns[f"projectile_{a}"] for a in "xyz"])
             return payload_position_figure(t, position, boundaries, data.elevation, reuse)
         if name == "lagrange_cross_check.png":
