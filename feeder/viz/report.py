@@ -37,7 +37,7 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, fork_safe, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
-from .forked import FigureProcess, ForkedDrawing, import_matplotlib
+from .forked import FigureProcess, ForkedDrawing, freeze_imports, import_matplotlib
 from .png import png_bytes, write_png
 
 if TYPE_CHECKING:
@@ -250,9 +250,12 @@ def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[st
 def _warm_up() -> None:
     """Import what drawing needs, in a worker of feeder's own (forked: it only draws), before
     there is anything to draw: matplotlib lean (:func:`~feeder.viz.forked.import_matplotlib`)
-    and the figure modules."""
+    and the figure modules, their objects then left out of the garbage collector's passes
+    (:func:`~feeder.viz.forked.freeze_imports`)."""
     import_matplotlib()
     from . import comparisons, drawings  # noqa: F401
+
+    freeze_imports()
 
 
 def _shares(names: Sequence[str], count: int) -> list[list[str]]:
