@@ -25,7 +25,7 @@ import sys
 from collections.abc import Callable
 from typing import TypeVar
 
-from ..workers import fork_safe, worker_signals
+from ..workers import fork_safe, interrupts_held, worker_signals
 
 T = TypeVar("T")
 
@@ -81,11 +81,12 @@ class ForkedDrawing:
     def __init__(self, prepare: Callable[[], None] | None = None, what: str = "drawing"):
         request_read, request_write = os.pipe()
         answer_read, answer_write = os.pipe()
-        pid = os.fork()
-        if pid == 0:
-            os.close(request_write)
-            os.close(answer_read)
-            _serve(request_read, answer_write, prepare, what)  # never returns
+        with interrupts_held():  # a Ctrl-C now is this process's, not the child's
+            pid = os.fork()
+            if pid == 0:
+                os.close(request_write)
+                os.close(answer_read)
+                _serve(request_read, answer_write, prepare, what)  # never returns
         os.close(request_read)
         os.close(answer_write)
         self.pid = pid
