@@ -131,8 +131,8 @@ def write_analysis_outputs(
     columns are statically indeterminate), its figures
     (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
     manifest; returns the paths, the table first. ``drawing``: the process that draws the
-    figures (:func:`~feeder.viz.panels.figure_process`, entered before the analysis); without
-    it they are drawn here."""
+    figures (:func:`~feeder.viz.mechanism_figures.figure_process`, entered before the
+    analysis); without it they are drawn here."""
     from .study.view import analysis_view
 
     record = {
@@ -243,7 +243,7 @@ def _write_mechanism(
             path, _indeterminate_text(name, loads, indeterminate)
         )
     if figures is not None:
-        from .viz.panels import stack_pngs
+        from .viz.mechanism_figures import stack_pngs
         from .viz.report_page import report_page
         from .viz.viewer import mechanism_html
 

@@ -81,8 +81,8 @@ def test_unknown_name_is_an_attribute_error():
 def test_a_run_without_figures_loads_no_plotting(tmp_path):
     """``feeder simulate --no-figures`` writes its table and summary without matplotlib (~0.5 s
     of its start-up), and forks no figure process; the same run with figures draws them in a
-    process forked before the run (:func:`feeder.viz.panels.figure_process`), which loads
-    matplotlib there: not in the command's own process."""
+    process forked before the run (:func:`feeder.viz.mechanism_figures.figure_process`), which
+    loads matplotlib there: not in the command's own process."""
     four_bar = REPO / "examples" / "four_bar"
     run = (
         "from feeder.cli import main\nmain(['simulate', {model!r}, '--closures', {toml!r}, "

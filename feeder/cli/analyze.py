@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     if args.motion is None or args.out is None:
         raise InputError("give --motion FILE and --out DIR (or --check for the mobility report)")
     from ..outputs import OutputFolder, write_analysis_outputs
-    from ..viz.panels import figure_process
+    from ..viz.mechanism_figures import figure_process
 
     folder = OutputFolder(args.out)
     # The figures' process starts first: it imports matplotlib while this process computes.

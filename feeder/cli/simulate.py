@@ -135,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
     """A user's closed-chain mechanism run forward: states.csv, summary, figures."""
     from ..outputs import OutputFolder, write_simulation_outputs
     from ..study.simulate import simulate_mechanism
-    from ..viz.panels import figure_process
+    from ..viz.mechanism_figures import figure_process
 
     rates = dict(args.rates)
     if len(rates) < len(args.rates):

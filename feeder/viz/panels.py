@@ -2,13 +2,12 @@
 (``feeder simulate``) show, without drawing anything (no matplotlib): each figure a stack of
 :class:`Panel` against time (the drive loads, every joint's reaction, the cut forces, the distance
 to a singular pose, the motion, the force elements, the run's energy balance and drift), by file
-name. :mod:`feeder.viz.analysis` draws them (:func:`stack_pngs`), in this process or in a
-process forked before the run (:func:`figure_process`), to which the panels are sent.
+name. :mod:`feeder.viz.analysis` draws them, in this process or in a process forked before the
+run (:mod:`feeder.viz.mechanism_figures`), to which the panels are sent.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -16,7 +15,6 @@ import numpy as np
 
 from ..chain.kinematics.tree import reach
 from ..study.mechanism_table import load_unit
-from .forked import FigureProcess, import_matplotlib
 
 if TYPE_CHECKING:
     from ..chain.dynamics.inverse import ChainLoads
@@ -210,25 +208,3 @@ def simulation_stacks(simulation: Simulation) -> dict[str, Stack]:
     if run.loads.elements:
         figures["force_elements.png"] = elements_panels(simulation)
     return figures
-
-
-def stack_pngs(stacks: Mapping[str, Stack]) -> dict[str, bytes]:
-    """Each stack of panels drawn (:func:`~feeder.viz.analysis.stacked_figure`) as a PNG file's
-    bytes, by file name."""
-    from .analysis import stacked_figure
-    from .png import png_bytes
-
-    return {name: png_bytes(stacked_figure(t, panels)) for name, (t, panels) in stacks.items()}
-
-
-def figure_process(figures: bool = True) -> FigureProcess:
-    """The process that draws a mechanism's figures (:func:`stack_pngs`), forked on entering it
-    if ``figures`` and forking is safe here: it imports matplotlib while the run computes."""
-    return FigureProcess(_prepare, "drawing the figures", fork=figures)
-
-
-def _prepare() -> None:
-    """Import what drawing needs: matplotlib lean
-    (:func:`~feeder.viz.forked.import_matplotlib`) and the figures' module."""
-    import_matplotlib()
-    from . import analysis  # noqa: F401

@@ -1,6 +1,6 @@
-"""Figures drawn in a forked process (feeder.viz.forked, feeder.viz.panels): the same bytes as
-drawn here, with matplotlib imported lean there; the work's error raised here; a process never
-asked ends with its context. Each runs in a fresh, single-threaded interpreter (pytest runs
+"""Figures drawn in a forked process (feeder.viz.forked, feeder.viz.mechanism_figures): the same
+bytes as drawn here, with matplotlib imported lean there; the work's error raised here; a process
+never asked ends with its context. Each runs in a fresh, single-threaded interpreter (pytest runs
 threads, where nothing forks)."""
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ from ..conftest import REPO
 MECHANISM = """
 import os, sys
 from functools import partial
-from feeder.viz.panels import figure_process, simulation_stacks, stack_pngs
+from feeder.viz.mechanism_figures import figure_process, stack_pngs
+from feeder.viz.panels import simulation_stacks
 from feeder.study.simulate import simulate_mechanism
 with figure_process() as drawing:
     unasked = drawing._child.pid
