@@ -4,11 +4,12 @@ A :class:`ForkedDrawing` is a process forked from this single-threaded one (it h
 and every object of this process already): it prepares (imports what drawing needs, while this
 process goes on computing), then waits for one piece of work, a picklable callable, sent
 through a pipe (:meth:`~ForkedDrawing.send`), and answers with its result, or the error it met,
-through another (:meth:`~ForkedDrawing.result`). The figure workers' extra processes
-(:mod:`feeder.viz.report`), the sweep's figure process and a mechanism's figure process
-(:mod:`feeder.outputs`) are all such processes.
+through another (:meth:`~ForkedDrawing.result`). The figure worker's extra processes and the
+sweep's figure process (:mod:`feeder.viz.report`) and a mechanism's figure process
+(:mod:`feeder.viz.mechanism_figures`, through :class:`FigureProcess`) are all such processes.
 
-Such a process runs nothing but feeder's drawing, and ends without returning into the caller's
+Such a process (and the figure worker of :class:`~feeder.viz.report.FigureWorkers`, a pool's
+forked worker) runs nothing but feeder's drawing, and ends without returning into the caller's
 code: it imports matplotlib lean (:func:`import_matplotlib`), without the text of the ``set``
 docstrings that matplotlib builds for every artist class as it is defined (a third of importing
 it: 0.1 s of CPU), which nobody reads there, and keeps the objects of its imports out of the
