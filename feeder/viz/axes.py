@@ -194,6 +194,28 @@ class DecadeTicks(ticker.Formatter):
         return "10" + str(exponent).translate(SUPERSCRIPTS)
 
 
+class InView(ticker.Locator):
+    """The locations of ``locator`` within the axis's view: matplotlib makes a tick (five
+    artists) for every location its locator gives and draws those within the view only; a log
+    axis's minor locator gives the subdivisions of a decade beyond each end too, a third of its
+    ticks. Used for those unlabelled minor ticks (a labelled tick's text may depend on the
+    others: :class:`FullTicks`)."""
+
+    def __init__(self, locator: ticker.Locator):
+        self.locator = locator
+
+    def set_axis(self, axis) -> None:
+        super().set_axis(axis)
+        self.locator.set_axis(axis)
+
+    def __call__(self) -> list[float]:
+        return self.tick_values(*self.axis.get_view_interval())
+
+    def tick_values(self, vmin: float, vmax: float) -> list[float]:
+        low, high = min(vmin, vmax), max(vmin, vmax)
+        return [x for x in self.locator.tick_values(vmin, vmax) if low <= x <= high]
+
+
 def _decimals(values: np.ndarray, most: int = 12) -> int:
     """The fewest decimals that write every value to within 1e-9 of the smallest gap between
     them (of 1 for a single value)."""
@@ -220,6 +242,8 @@ def label_ticks(fig: Figure) -> None:
                 limits(*_decades(*interval))
                 axis.set_major_formatter(DecadeTicks())
                 axis.set_minor_formatter(ticker.NullFormatter())
+                if not isinstance(axis.get_minor_locator(), InView):
+                    axis.set_minor_locator(InView(axis.get_minor_locator()))
             elif isinstance(axis.get_major_formatter(), ticker.FixedFormatter):
                 continue  # named categories (a bar chart's): their own labels
             else:
