@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from functools import partial
+from functools import cache, partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -35,6 +35,8 @@ if TYPE_CHECKING:  # the device's modules load with the device's outputs only (i
     from .study.cycle_study import CycleStudy
     from .study.simulate import Simulation
     from .study.view import MechanismView
+    from .viz.forked import FigureProcess
+    from .viz.panels import Stack
     from .viz.report import FigureWorkers
 
 
@@ -121,13 +123,16 @@ def write_analysis_outputs(
     directory: str | Path | OutputFolder,
     command: str | None = None,
     figures: bool = True,
+    drawing: FigureProcess | None = None,
 ) -> list[Path]:
     """Write a mechanism's analysis (``feeder analyze``): ``loads.csv``
     (:meth:`~feeder.study.analyze.Analysis.columns`), ``summary.txt`` (the mobility report, the
     assembled pose and the peaks), ``assembled_pose.csv``, ``indeterminate.txt`` (when some
     columns are statically indeterminate), its figures
     (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
-    manifest; returns the paths, the table first."""
+    manifest; returns the paths, the table first. ``drawing``: the process that draws the
+    figures (:func:`~feeder.viz.mechanism_figures.figure_process`, entered before the
+    analysis); without it they are drawn here."""
     from .study.view import analysis_view
 
     record = {
@@ -140,17 +145,17 @@ def write_analysis_outputs(
         },
     }
 
-    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
-        from .viz.analysis import analysis_figures
+    def stacks() -> Mapping[str, Stack]:  # imported here: a run without figures plots nothing
+        from .viz.panels import analysis_stacks
 
-        return analysis_figures(analysis)
+        return analysis_stacks(analysis)
 
     return _write_mechanism(
         directory,
         command,
         analysis,
         ("loads.csv", analysis.loads),
-        draw if figures else None,
+        (stacks, drawing) if figures else None,
         lambda: analysis_view(analysis, "prescribed motion"),
         record,
     )
@@ -161,13 +166,15 @@ def write_simulation_outputs(
     directory: str | Path | OutputFolder,
     command: str | None = None,
     figures: bool = True,
+    drawing: FigureProcess | None = None,
 ) -> list[Path]:
     """Write a mechanism's forward run (``feeder simulate``): ``states.csv``
     (:meth:`~feeder.study.simulate.Simulation.columns`), ``summary.txt`` (the mobility report,
     the assembled pose, the run's statistics, drift and energy balance, the peaks),
     ``assembled_pose.csv``, ``indeterminate.txt`` (when some columns are statically
     indeterminate), its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
-    ``report.html`` if ``figures``, and the manifest; returns the paths, the table first."""
+    ``report.html`` if ``figures``, and the manifest; returns the paths, the table first.
+    ``drawing``: as :func:`write_analysis_outputs`'s."""
     from .study.view import simulation_view
 
     record = {
@@ -186,17 +193,17 @@ def write_simulation_outputs(
     }
     duration = simulation.run.t[-1] - simulation.run.t[0]
 
-    def draw() -> Mapping[str, Figure]:  # imported here: a run without figures plots nothing
-        from .viz.analysis import simulation_figures
+    def stacks() -> Mapping[str, Stack]:  # imported here: a run without figures plots nothing
+        from .viz.panels import simulation_stacks
 
-        return simulation_figures(simulation)
+        return simulation_stacks(simulation)
 
     return _write_mechanism(
         directory,
         command,
         simulation,
         ("states.csv", simulation.run.loads),
-        draw if figures else None,
+        (stacks, drawing) if figures else None,
         lambda: simulation_view(simulation, f"forward run over {duration:g} s"),
         record,
     )
@@ -207,15 +214,17 @@ def _write_mechanism(
     command: str | None,
     result: Analysis | Simulation,
     table: tuple[str, ChainLoads],
-    figures: Callable[[], Mapping[str, Figure]] | None,
+    figures: tuple[Callable[[], Mapping[str, Stack]], FigureProcess | None] | None,
     view: Callable[[], MechanismView],
     record: dict,
 ) -> list[Path]:
     """The outputs of a user mechanism's study: its table (``table``: its name and the loads it
     holds; ``result.columns()``), summary, assembled pose, the sidecar list of its statically
     indeterminate columns (:data:`INDETERMINATE`, when there are some), and unless ``figures`` is
-    None the figures it draws and the report page (``report.html``: the summary, the 3-D view of
-    ``view`` and the figures), with the manifest's model and closures before ``record``."""
+    None the figures (``figures``: their panels, and the process that draws them or None to draw
+    them here) and the report page (``report.html``: the summary, the 3-D view of ``view`` and
+    the figures), with the manifest's model and closures before ``record``. The figures are
+    drawn while the table and the page's 3-D view are written."""
     command = command or "Python API (feeder.outputs)"
     summary = result.summary()
     name, loads = table
@@ -234,16 +243,20 @@ def _write_mechanism(
             path, _indeterminate_text(name, loads, indeterminate)
         )
     if figures is not None:
+        from .viz.mechanism_figures import stack_pngs
         from .viz.report_page import report_page
         from .viz.viewer import mechanism_html
 
-        pngs = {png: png_bytes(fig) for png, fig in figures().items()}
+        stacks, drawing = figures
+        panels = stacks()
+        work = partial(stack_pngs, panels)
+        pngs = cache(work if drawing is None else drawing.submit(work))
         shown = view()
         title = f"{Path(result.spec.model).name}: {shown.source}"
         outputs["report.html"] = lambda path: write_text(
-            path, report_page(title, command, summary, mechanism_html(shown), pngs)
+            path, report_page(title, command, summary, mechanism_html(shown), pngs())
         )
-        outputs |= {png: partial(write_png, png=data) for png, data in pngs.items()}
+        outputs |= {png: partial(_write_drawn, png, pngs) for png in panels}
     record = {
         "command": command,
         "model": str(result.spec.model),
@@ -271,6 +284,10 @@ def _pose_csv(chain: ClosedChain, assembled: np.ndarray) -> str:
 
     rows = pose_rows(chain.model, assembled)
     return "joint,coordinate,value\n" + "".join(f"{j},{c},{x:.17g}\n" for j, c, x in rows)
+
+
+def _write_drawn(name: str, pngs: Callable[[], Mapping[str, bytes]], path: Path) -> Path:
+    return write_png(path, pngs()[name])
 
 
 def _figure_writers(figures: Mapping[str, Figure]) -> dict[str, Writer]:

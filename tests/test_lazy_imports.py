@@ -80,7 +80,9 @@ def test_unknown_name_is_an_attribute_error():
 
 def test_a_run_without_figures_loads_no_plotting(tmp_path):
     """``feeder simulate --no-figures`` writes its table and summary without matplotlib (~0.5 s
-    of its start-up); the same run with figures loads it."""
+    of its start-up), and forks no figure process; the same run with figures draws them in a
+    process forked before the run (:func:`feeder.viz.mechanism_figures.figure_process`), which
+    loads matplotlib there: not in the command's own process."""
     four_bar = REPO / "examples" / "four_bar"
     run = (
         "from feeder.cli import main\nmain(['simulate', {model!r}, '--closures', {toml!r}, "
@@ -89,7 +91,11 @@ def test_a_run_without_figures_loads_no_plotting(tmp_path):
     files = {"model": str(four_bar / "four_bar.urdf"), "toml": str(four_bar / "closures.toml")}
     bare = run.format(**files, out=str(tmp_path / "bare"), extra=", '--no-figures'")
     assert "matplotlib" not in _modules_after(bare)
-    assert "matplotlib" in _modules_after(run.format(**files, out=str(tmp_path / "all"), extra=""))
+    assert not list((tmp_path / "bare").glob("*.png"))
+    assert "matplotlib" not in _modules_after(
+        run.format(**files, out=str(tmp_path / "all"), extra="")
+    )
+    assert (tmp_path / "all" / "motion.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 VIEWER = {"meshcat", "trimesh", "pinocchio.visualize"}

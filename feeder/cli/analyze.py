@@ -71,11 +71,16 @@ def run(args: argparse.Namespace) -> int:
     if args.motion is None or args.out is None:
         raise InputError("give --motion FILE and --out DIR (or --check for the mobility report)")
     from ..outputs import OutputFolder, write_analysis_outputs
+    from ..viz.mechanism_figures import figure_process
 
     folder = OutputFolder(args.out)
-    analysis = analyze(args.closures, args.motion, args.model, args.pose)
-    with folder:
-        paths = write_analysis_outputs(analysis, folder, command_line(args), figures=args.figures)
+    # The figures' process starts first: it imports matplotlib while this process computes.
+    with figure_process(args.figures) as drawing:
+        analysis = analyze(args.closures, args.motion, args.model, args.pose)
+        with folder:
+            paths = write_analysis_outputs(
+                analysis, folder, command_line(args), figures=args.figures, drawing=drawing
+            )
     print(analysis.summary())
     print(wrote(paths, folder.path))
     return 0

@@ -135,31 +135,34 @@ def run(args: argparse.Namespace) -> int:
     """A user's closed-chain mechanism run forward: states.csv, summary, figures."""
     from ..outputs import OutputFolder, write_simulation_outputs
     from ..study.simulate import simulate_mechanism
+    from ..viz.mechanism_figures import figure_process
 
     rates = dict(args.rates)
     if len(rates) < len(args.rates):
         twice = next(name for name, _ in args.rates if [n for n, _ in args.rates].count(name) > 1)
         raise InputError(f"--rate {twice}=… given twice: give each joint's rate once")
     folder = OutputFolder(args.out)
-    simulation = simulate_mechanism(
-        args.closures,
-        args.duration,
-        model=args.model,
-        pose=args.pose,
-        forces=args.forces,
-        samples=args.samples,
-        method=args.method,
-        rtol=args.rtol,
-        atol=args.atol,
-        progress=True,
-        rates=rates,
-        singular=args.singular,
-        control=args.control,
-    )
-    with folder:
-        paths = write_simulation_outputs(
-            simulation, folder, command_line(args), figures=args.figures
+    # The figures' process starts first: it imports matplotlib while this process computes.
+    with figure_process(args.figures) as drawing:
+        simulation = simulate_mechanism(
+            args.closures,
+            args.duration,
+            model=args.model,
+            pose=args.pose,
+            forces=args.forces,
+            samples=args.samples,
+            method=args.method,
+            rtol=args.rtol,
+            atol=args.atol,
+            progress=True,
+            rates=rates,
+            singular=args.singular,
+            control=args.control,
         )
+        with folder:
+            paths = write_simulation_outputs(
+                simulation, folder, command_line(args), figures=args.figures, drawing=drawing
+            )
     print(simulation.summary())
     print(wrote(paths, folder.path))
     return 0

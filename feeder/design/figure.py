@@ -13,6 +13,7 @@ from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.ticker import FixedFormatter, FixedLocator
 
+from ..viz.axes import panel_title
 from ..viz.catalog import words
 from ..viz.figures import finish
 from .differentiable import DesignParameter
@@ -80,7 +81,7 @@ def sensitivity_figure(result: Sensitivities) -> Figure:
             label.set(rotation=50, ha="right", rotation_mode="anchor", fontsize=7.5)
         for label in ax.get_yticklabels():
             label.set_fontsize(7.5)
-        ax.set_title(f"{result.title}, {scope.title}", pad=6, fontsize=10)
+        panel_title(ax, f"{result.title}, {scope.title}", pad=6, fontsize=10)
     fig.suptitle(
         "Elasticity of each peak load: % of the peak per % of the parameter\n"
         "(* not differentiable within the step; grey: unavailable or a zero peak)",

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..viz.axes import panel_title
 from ..viz.catalog import display_unit
 from ..viz.figures import finish
 from .problem import Evaluation
@@ -54,7 +55,7 @@ def optimum_figure(opt: Optimum) -> Figure:
         ax.set_xlabel("elevation ε [deg]")
         ax.set_ylabel(f"peak [{unit}]")
         quantities = " or ".join(q.replace("_", " ") for q in term.quantities)
-        ax.set_title(f"{device} feeder: {term.name} ({quantities})", fontsize=10)
+        panel_title(ax, f"{device} feeder: {term.name} ({quantities})", fontsize=10)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     fig.suptitle(objective_title(opt, p.objective.unit), fontsize=9)

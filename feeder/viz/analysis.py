@@ -1,9 +1,9 @@
 """Figures of a user mechanism's analysis (``feeder analyze``) and forward run (``feeder
-simulate``): the drive loads, every joint's reaction, the cut forces, the distance to a singular
-pose, the motion, the force elements, and the run's energy balance and drift. Each figure is a
-stack of panels against time that follows :mod:`feeder.viz.axes` (a panel at round-off level is
-a note); each function returns a :class:`matplotlib.figure.Figure`; saving it is the
-caller's."""
+simulate``), drawn from the panels :mod:`feeder.viz.panels` gives them (the drive loads, every
+joint's reaction, the cut forces, the distance to a singular pose, the motion, the force
+elements, and the run's energy balance and drift). Each figure is a stack of panels against time
+that follows :mod:`feeder.viz.axes` (a panel at round-off level is a note); each function returns
+a :class:`matplotlib.figure.Figure`; saving it is the caller's."""
 
 from __future__ import annotations
 
@@ -11,26 +11,26 @@ import dataclasses
 import math
 import textwrap
 from collections.abc import Sequence
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..chain.dynamics.inverse import ChainLoads
-from ..chain.kinematics.tree import reach
-from ..study.analyze import Analysis
-from ..study.mechanism_table import load_unit
-from ..study.simulate import Simulation
 from .axes import (
-    TITLE_Y,
     Curve,
     distinct_curves,
     draw_curves,
     label_ticks,
     leave_out,
     log_curves,
+    panel_title,
     zero_note,
 )
+from .panels import Panel, analysis_stacks, simulation_stacks
+
+if TYPE_CHECKING:
+    from ..study.analyze import Analysis
+    from ..study.simulate import Simulation
 
 PANEL_HEIGHT = 2.6
 """Height of a drawn panel [in]."""
@@ -58,42 +58,13 @@ LEGEND_WRAP = 40
 ``a = b = … = 0``) are wrapped onto more lines."""
 
 
-@dataclass(frozen=True)
-class Panel:
-    """One panel of a figure against time.
-
-    Attributes:
-        title: Panel title (also what its note, if it is left out, is about).
-        ylabel: Axis label with its unit.
-        unit: The series' unit, for the notes.
-        series: (legend, values (N,)) pairs, one quantity.
-        scale: Size of the terms the series are computed from [unit], for their round-off
-            level (:func:`~feeder.viz.axes.round_off`).
-        log: A log axis for positive series; values below round-off are drawn at it.
-        reference: A value marked by a dashed grey line, or None.
-    """
-
-    title: str
-    ylabel: str
-    unit: str
-    series: tuple[tuple[str, np.ndarray], ...]
-    scale: float = 0.0
-    log: bool = False
-    reference: float | None = None
-
-    def curves(self) -> list[Curve]:
-        """The curves that show the series (:mod:`feeder.viz.axes`)."""
-        shown = log_curves if self.log else distinct_curves
-        return shown(self.series, self.unit, self.scale)
-
-
 def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
     """``panels`` one above the other against the times ``t`` [s], sharing the time axis: its
     label and tick labels under the lowest drawn panel; a panel whose curves are all zero is a
     note (:func:`~feeder.viz.axes.leave_out`). Each drawn panel's legend stands beside it, in
     columns of at most :data:`LEGEND_ROWS` entries, the panel as tall as the legend; the margins
     are measured once (:func:`_lay_out`) to make room for the legends and labels."""
-    curves = [[_wrapped(curve) for curve in panel.curves()] for panel in panels]
+    curves = [[_wrapped(curve) for curve in _curves(panel)] for panel in panels]
     drawn = [not all(curve.zero for curve in panel) for panel in curves]
     columns = [math.ceil(len(panel) / LEGEND_ROWS) for panel in curves]
     heights = [
@@ -116,7 +87,7 @@ def stacked_figure(t: np.ndarray, panels: Sequence[Panel]) -> Figure:
         if panel.reference is not None:
             ax.axhline(panel.reference, color="0.5", linestyle="--", linewidth=0.8)
         ax.set_ylabel(panel.ylabel)
-        ax.set_title(panel.title, fontsize=10, y=TITLE_Y)
+        panel_title(ax, panel.title, fontsize=10)
         ax.grid(True, linewidth=0.4, alpha=0.6)
         ax.legend(
             loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, ncols=n
@@ -208,170 +179,17 @@ def _legend_height(curves: Sequence[Curve], columns: int) -> float:
     return tallest * LEGEND_LINE + 0.4
 
 
-def _unit(analysis: Analysis, joint: str) -> str:
-    return load_unit(analysis.chain.model, joint)
-
-
-def loads_figure(analysis: Analysis) -> Figure:
-    """The actuated joints' generalized forces and the velocity gain against time (no gain for
-    an open tree: without a closure there is no singular pose to be near)."""
-    units = {name: _unit(analysis, name) for name in analysis.loads.actuators}
-    shared = ", ".join(sorted(set(units.values())))
-    loads = Panel(
-        "Actuator loads (inverse dynamics)",
-        f"drive load [{shared}]",
-        shared,
-        tuple((f"{name} [{units[name]}]", v) for name, v in analysis.loads.actuators.items()),
-    )
-    gain = Panel(
-        "Distance to a singular pose (gain → ∞ at a toggle; dashed: 1)",
-        "velocity gain [–]",
-        "",
-        (("velocity gain", analysis.gain),),
-        log=True,
-        reference=1.0,
-    )
-    return stacked_figure(analysis.motion.t, [loads, gain] if analysis.chain.nc else [loads])
-
-
-def reactions_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:
-    """Magnitude of every joint's reaction force and moment against time (two panels); ``size``
-    is the mechanism's [m] (:func:`reach`)."""
-    return _wrench_figure(
-        t,
-        loads.joints,
-        size,
-        "Joint reaction forces (parent on child)",
-        "Joint reaction moments about each joint's origin",
-    )
-
-
-def closures_figure(t: np.ndarray, loads: ChainLoads, size: float) -> Figure:
-    """Magnitude of each cut's force and moment (on the body of its first frame) against time;
-    statically indeterminate components are the minimum-norm choice (the summary says which);
-    ``size`` is the mechanism's [m] (:func:`reach`)."""
-    return _wrench_figure(t, loads.closures, size, "Closure (cut) forces", "Closure (cut) moments")
-
-
-def _wrench_figure(
-    t: np.ndarray, wrenches: dict, size: float, force_title: str, moment_title: str
-) -> Figure:
-    """|force| and |moment| of each named wrench against time, two panels. A moment's terms are
-    the largest force times the mechanism's ``size`` [m]: its round-off scale, so that moments
-    that are all round-off are recognised as such."""
-    forces = tuple((name, np.linalg.norm(w.force, axis=1)) for name, w in wrenches.items())
-    moments = tuple((name, np.linalg.norm(w.moment, axis=1)) for name, w in wrenches.items())
-    largest_force = max((float(f.max(initial=0.0)) for _, f in forces), default=0.0)
-    return stacked_figure(
-        t,
-        [
-            Panel(force_title, "|force| [N]", "N", forces),
-            Panel(moment_title, "|moment| [N·m]", "N·m", moments, scale=largest_force * size),
-        ],
-    )
+def _curves(panel: Panel) -> list[Curve]:
+    """The curves that show a panel's series (:mod:`feeder.viz.axes`)."""
+    shown = log_curves if panel.log else distinct_curves
+    return shown(panel.series, panel.unit, panel.scale)
 
 
 def analysis_figures(analysis: Analysis) -> dict[str, Figure]:
     """Every figure of an analysis, by file name."""
-    t = analysis.motion.t
-    size = reach(analysis.chain.model, analysis.q)
-    figures = {
-        "actuator_loads.png": loads_figure(analysis),
-        "joint_reactions.png": reactions_figure(t, analysis.loads, size),
-    }
-    if analysis.loads.closures:
-        figures["closure_forces.png"] = closures_figure(t, analysis.loads, size)
-    return figures
-
-
-def motion_figure(simulation: Simulation) -> Figure:
-    """The one-coordinate joints' values and rates against time (two panels)."""
-    run, model = simulation.run, simulation.chain.model
-    values, rates = [], []
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        if joint.nv != 1:
-            continue
-        q = run.q[:, joint.idx_q]
-        if joint.nq == 2:
-            q = np.unwrap(np.arctan2(run.q[:, joint.idx_q + 1], q))
-        values.append((model.names[j], q))
-        rates.append((model.names[j], run.v[:, joint.idx_v]))
-    return stacked_figure(
-        run.t,
-        [
-            Panel(
-                "Joint coordinates (forward run from "
-                + ("its initial rates)" if simulation.start.given else "rest)"),
-                "joint value [rad or m]",
-                "rad or m",
-                tuple(values),
-            ),
-            Panel("Joint rates", "joint rate [rad/s or m/s]", "rad/s or m/s", tuple(rates)),
-        ],
-    )
-
-
-def balance_figure(simulation: Simulation, size: float) -> Figure:
-    """The energy, the work of the non-conservative forces, their balance and the drift;
-    ``size`` is the mechanism's [m] (:func:`reach`). The energy's terms are its largest |value|
-    (the balance subtracts energies that large); the drift's are the mechanism's size (lengths)
-    or a radian (angles)."""
-    run = simulation.run
-    energy = float(np.abs(run.energy).max(initial=0.0))
-    change = run.energy - run.energy[0]
-    return stacked_figure(
-        run.t,
-        [
-            Panel(
-                "Energy (kinetic, gravitational, elastic) and work",
-                "energy [J]",
-                "J",
-                (("E − E(0)", change), ("W (non-conservative work)", run.work)),
-                scale=energy,
-            ),
-            Panel(
-                "Energy balance (zero for an exact run)",
-                "E − E(0) − W [J]",
-                "J",
-                (("E − E(0) − W", run.balance()),),
-                scale=energy,
-            ),
-            Panel(
-                "Closure drift before projection",
-                "residual [m, rad]",
-                "m, rad",
-                (("closure residual", run.residual),),
-                scale=max(size, 1.0),
-                log=True,
-            ),
-        ],
-    )
-
-
-def elements_figure(simulation: Simulation) -> Figure:
-    """Each force element's force against time."""
-    run = simulation.run
-    forces = Panel(
-        "Force elements",
-        "force [N] (tension +) or resistance [N·m, N]",
-        "N or N·m",
-        tuple(run.loads.elements.items()),
-    )
-    return stacked_figure(run.t, [forces])
+    return {name: stacked_figure(*stack) for name, stack in analysis_stacks(analysis).items()}
 
 
 def simulation_figures(simulation: Simulation) -> dict[str, Figure]:
     """Every figure of a forward run, by file name."""
-    run = simulation.run
-    size = reach(simulation.chain.model, run.q)
-    figures = {
-        "motion.png": motion_figure(simulation),
-        "energy_balance.png": balance_figure(simulation, size),
-        "joint_reactions.png": reactions_figure(run.t, run.loads, size),
-    }
-    if run.loads.closures:
-        figures["closure_forces.png"] = closures_figure(run.t, run.loads, size)
-    if run.loads.elements:
-        figures["force_elements.png"] = elements_figure(simulation)
-    return figures
+    return {name: stacked_figure(*stack) for name, stack in simulation_stacks(simulation).items()}

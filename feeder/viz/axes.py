@@ -37,8 +37,9 @@ SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 TITLE_Y = 1.0
 """Height of a panel's title, in its axes' fraction (over the top edge, raised by the title's
-pad), given to every ``set_title``: given, matplotlib does not measure the axes' tick labels to
-place the title clear of any at the top (none has them here), 12 % of drawing a time history."""
+pad), given by :func:`panel_title` to every title: given, matplotlib does not measure the axes'
+tick labels to place the title clear of any at the top (none has them here), 12 % of drawing a
+time history."""
 
 PLAIN_RANGE = (1e-3, 1e5)
 """Largest |tick| for which tick labels are plain decimals; outside, a × 10ⁿ."""
@@ -145,6 +146,12 @@ def zero_note(what: str, curves: Sequence[Curve], unit: str) -> str:
     return f"{what}:\nzero at every sample ({size}); not drawn"
 
 
+def panel_title(ax: Axes, title: str, **style: object) -> None:
+    """Set the title of the panel ``ax`` at :data:`TITLE_Y` (``style``: matplotlib's keywords of
+    a title, such as ``fontsize`` and ``pad``). Every figure's panels are titled by it."""
+    ax.set_title(title, y=TITLE_Y, **style)
+
+
 def leave_out(ax: Axes, note: str) -> None:
     """Show ``note`` in place of the panel ``ax``: no frame, ticks or labels."""
     ax.set_axis_off()
@@ -187,6 +194,28 @@ class DecadeTicks(ticker.Formatter):
         return "10" + str(exponent).translate(SUPERSCRIPTS)
 
 
+class InView(ticker.Locator):
+    """The locations of ``locator`` within the axis's view: matplotlib makes a tick (five
+    artists) for every location its locator gives and draws those within the view only; a log
+    axis's minor locator gives the subdivisions of a decade beyond each end too, a third of its
+    ticks. Used for those unlabelled minor ticks (a labelled tick's text may depend on the
+    others: :class:`FullTicks`)."""
+
+    def __init__(self, locator: ticker.Locator):
+        self.locator = locator
+
+    def set_axis(self, axis) -> None:
+        super().set_axis(axis)
+        self.locator.set_axis(axis)
+
+    def __call__(self) -> list[float]:
+        return self.tick_values(*self.axis.get_view_interval())
+
+    def tick_values(self, vmin: float, vmax: float) -> list[float]:
+        low, high = min(vmin, vmax), max(vmin, vmax)
+        return [x for x in self.locator.tick_values(vmin, vmax) if low <= x <= high]
+
+
 def _decimals(values: np.ndarray, most: int = 12) -> int:
     """The fewest decimals that write every value to within 1e-9 of the smallest gap between
     them (of 1 for a single value)."""
@@ -213,6 +242,8 @@ def label_ticks(fig: Figure) -> None:
                 limits(*_decades(*interval))
                 axis.set_major_formatter(DecadeTicks())
                 axis.set_minor_formatter(ticker.NullFormatter())
+                if not isinstance(axis.get_minor_locator(), InView):
+                    axis.set_minor_locator(InView(axis.get_minor_locator()))
             elif isinstance(axis.get_major_formatter(), ticker.FixedFormatter):
                 continue  # named categories (a bar chart's): their own labels
             else:

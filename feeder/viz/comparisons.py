@@ -20,11 +20,11 @@ from ..study.cycle_study import CycleStudy
 from ..study.elevation_sweeps import ElevationSweep
 from .axes import (
     STYLES,
-    TITLE_Y,
     distinct_curves,
     draw_curves,
     leave_out,
     log_curves,
+    panel_title,
     zero_note,
 )
 from .catalog import UNITS, display_unit, words
@@ -86,7 +86,7 @@ def cycles_figure(
             draw_curves(ax, t, group, first=drawn)
             drawn += len(group)
         mark_stages(ax, boundaries)
-        ax.set_title(title, pad=14, fontsize=10, y=TITLE_Y)
+        panel_title(ax, title, pad=14, fontsize=10)
         ax.set_ylabel(f"{words(name)} [{unit}]" if unit else words(name), fontsize=8)
         ax.set_xlabel("time t [s]")
         ax.grid(True, linewidth=0.4, alpha=0.6)
@@ -172,7 +172,7 @@ def sweep_figure(
                     color=f"C{curve.members[0]}",
                     linestyle=STYLES[k % len(STYLES)],
                 )
-        ax.set_title(panel, fontsize=10, y=TITLE_Y)
+        panel_title(ax, panel, fontsize=10)
         ax.set_xlabel("elevation ε [deg]")
         ax.set_ylabel(f"peak [{unit}]")
         ax.grid(True, linewidth=0.4, alpha=0.6)
@@ -236,7 +236,7 @@ def base_peaks_figure(
     left_out = [words(name) for name, moving, still, _ in rows if moving == 0.0 == still]
     title = f"Peak loads on this base against standing level, ε = {math.degrees(elevation):g}°"
     fig.suptitle(title, fontsize=11)
-    ax.set_title(base, fontsize=8, y=TITLE_Y)
+    panel_title(ax, base, fontsize=8)
     if left_out:
         fig.text(0.01, 0.01, "zero in both: " + ", ".join(left_out), fontsize=7)
     finish(fig, left=2.6, right=0.3, top=0.7, bottom=0.65)

@@ -16,7 +16,7 @@ from ..device.loop import TRANSMISSION_BAND_DEG, arm_travel, required_stroke, so
 from ..device.urdf_writer import barrel_length
 from ..motion.cycle import CycleKinematics
 from ..motion.workspace import Workspace
-from .axes import TITLE_Y
+from .axes import panel_title
 from .catalog import elevation_text
 from .figures import finish
 
@@ -65,7 +65,7 @@ def workspace_figure(space: Workspace, device: str) -> Figure:
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [mm] (muzzle towards −x)")
     ax.set_ylabel("y [mm] (up)")
-    ax.set_title(f"Workspace of the {device} feeder (cf. paper Fig. 4)", y=TITLE_Y)
+    panel_title(ax, f"Workspace of the {device} feeder (cf. paper Fig. 4)")
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
     finish(fig, left=0.85, top=0.45)
@@ -171,10 +171,10 @@ def device_side_view(
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [mm] (muzzle towards −x)")
     ax.set_ylabel("y [mm] (up)")
-    ax.set_title(
+    panel_title(
+        ax,
         f"{p.name.capitalize()} feeder, side view: loading to ramming at "
         + elevation_text(elevation),
-        y=TITLE_Y,
     )
     ax.grid(True, linewidth=0.4, alpha=0.6)
     ax.legend(loc="lower left", fontsize=8)
@@ -204,14 +204,14 @@ def loop_figure(feeder: Feeder, samples: int = 400) -> Figure:
     left.plot(np.degrees(elevations), travel * MM, color="C0")
     left.set_xlabel("elevation ε [deg]")
     left.set_ylabel("piston travel to ramming [mm]")
-    left.set_title(f"Piston travel (stroke needed: {required_stroke(p) * MM:.1f} mm)", y=TITLE_Y)
+    panel_title(left, f"Piston travel (stroke needed: {required_stroke(p) * MM:.1f} mm)")
     right.plot(np.degrees(rotation), mu, color="C1", label="transmission angle μ")
     for limit in TRANSMISSION_BAND_DEG:
         right.axhline(limit, color="0.5", linestyle="--", linewidth=0.8)
     right.plot([], [], color="0.5", linestyle="--", linewidth=0.8, label="documented band")
     right.set_xlabel("arm rotation from loading [deg]")
     right.set_ylabel("transmission angle μ [deg]")
-    right.set_title("Transmission angle at the rod-eye pin", y=TITLE_Y)
+    panel_title(right, "Transmission angle at the rod-eye pin")
     right.legend(loc="lower left", fontsize=8)
     for ax in (left, right):
         ax.grid(True, linewidth=0.4, alpha=0.6)

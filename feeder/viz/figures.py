@@ -23,7 +23,14 @@ from matplotlib.figure import Figure
 
 from ..motion.cycle import CycleKinematics
 from ..study.cycle_study import CycleStudy
-from .axes import STYLES, TITLE_Y, distinct_curves, label_ticks, leave_out, zero_note
+from .axes import (
+    STYLES,
+    distinct_curves,
+    label_ticks,
+    leave_out,
+    panel_title,
+    zero_note,
+)
 from .catalog import CYCLE_FIGURES, CycleFigure, display_unit, elevation_text, file_name
 
 _STAGE_NAMES = ("1: swing to conveyor", "2: swing back, loaded", "3: arm to elevation")
@@ -139,7 +146,7 @@ def time_history(
     mark_stages(ax, boundaries)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"{quantity} [{shown}]" if shown else quantity)
-    ax.set_title(title, pad=16, y=TITLE_Y)
+    panel_title(ax, title, pad=16)
     ax.grid(True, linewidth=0.4, alpha=0.6)
     legend = len(series) > 1
     if legend:

@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from .axes import STYLES, TITLE_Y, log_curves
+from .axes import STYLES, log_curves, panel_title
 from .catalog import elevation_text
 from .figures import finish, mark_stages
 
@@ -85,6 +85,6 @@ def loading_error_figure(
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, below), ncol=2, fontsize=7)
     bottom.set_xlabel("time t [s]")
     fig.suptitle(f"Controlled run: loading error, {elevation_text(elevation)}", fontsize=11)
-    top.set_title(base, fontsize=8, pad=16, y=TITLE_Y)
+    panel_title(top, base, fontsize=8, pad=16)
     finish(fig, top=0.9, bottom=1.3, hspace=1.5)
     return fig

@@ -48,7 +48,8 @@ def png_file(pixels: np.ndarray, dpi: float, text: Mapping[str, str] | None = No
         text: Latin-1 keyword → text, written as ``tEXt`` chunks (e.g. ``Software``).
     """
     height, width, _ = pixels.shape
-    rows = np.zeros((height, 1 + 4 * width), dtype=np.uint8)  # each row's filter byte: 0, none
+    rows = np.empty((height, 1 + 4 * width), dtype=np.uint8)
+    rows[:, 0] = 0  # each row's filter byte: 0, none
     rows[:, 1:] = pixels.reshape(height, 4 * width)
     per_metre = int(dpi / 0.0254 + 0.5)
     chunks = [(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, _RGBA, 0, 0, 0))]
@@ -56,7 +57,7 @@ def png_file(pixels: np.ndarray, dpi: float, text: Mapping[str, str] | None = No
         chunks.append((b"tEXt", f"{key}\0{value}".encode("latin-1")))
     chunks += [
         (b"pHYs", struct.pack(">IIB", per_metre, per_metre, 1)),  # 1: the unit is the metre
-        (b"IDAT", zlib.compress(rows.tobytes(), PNG_COMPRESSION)),
+        (b"IDAT", zlib.compress(rows, PNG_COMPRESSION)),
         (b"IEND", b""),
     ]
     return SIGNATURE + b"".join(

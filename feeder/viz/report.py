@@ -14,9 +14,6 @@ them in place atomically. A sweep's figures are drawn alike in a process forked 
 
 from __future__ import annotations
 
-import contextlib
-import os
-import pickle
 import re
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -40,6 +37,7 @@ from ..study.sweep import cached_feeder
 from ..study.sweep_table import read_sweep_table
 from ..workers import check_workers, fork_safe, local_workers, process_pool
 from .catalog import CYCLE_FIGURES, file_name
+from .forked import FigureProcess, ForkedDrawing, freeze_imports, import_matplotlib
 from .png import png_bytes, write_png
 
 if TYPE_CHECKING:
@@ -131,10 +129,13 @@ LOADING_FIGURE = "loading_error.png"
 """The controlled run's errors over the cycle and the hold
 (:func:`~feeder.viz.loading.loading_error_figure`)."""
 
-KINEMATICS_FIGURES = ("fig04_workspace.png", "fig10_{payload}_position.png")
+POSITION_FIGURE = "fig10_{payload}_position.png"
+"""The payload's position against time (Fig. 10), a time history."""
+
+KINEMATICS_FIGURES = ("fig04_workspace.png", POSITION_FIGURE)
 """The figures of ``feeder kinematics``: the workspace (Fig. 4) and the payload path (Fig. 10)."""
 
-TIME_HISTORIES = frozenset({"fig10_{payload}_position.png", *(s.file for s in CYCLE_FIGURES)})
+TIME_HISTORIES = frozenset({POSITION_FIGURE, *(s.file for s in CYCLE_FIGURES)})
 """The figures of a study that are time histories (:func:`~feeder.viz.figures.time_history`):
 one is drawn on another's figure once that is written (:func:`draw`)."""
 
@@ -175,7 +176,7 @@ def draw(name: str, data: FigureData, reuse: Figure | None = None) -> Figure:
     try:
         if name in cycle:
             return cycle_figure(cycle[name], data.columns, boundaries, data.elevation, reuse)
-        if name == "fig10_{payload}_position.png":
+        if name == POSITION_FIGURE:
             position = np.column_stack([data.columns[f"projectile_{a}"] for a in "xyz"])
             return payload_position_figure(t, position, boundaries, data.elevation, reuse)
         if name == "lagrange_cross_check.png":
@@ -227,15 +228,18 @@ def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
 
 def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[str, bytes]:
     """Draw every share of figure names into PNG bytes: the first here (the figure worker), each
-    other in a process forked from here, which has matplotlib loaded already and sends its PNG
-    bytes back through a pipe (an error it meets is raised here)."""
+    other in a process forked from here (:class:`~feeder.viz.forked.ForkedDrawing`), which has
+    matplotlib loaded already and sends its PNG bytes back (an error it meets is raised here)."""
     if not fork_safe():  # draw here
         return _render([name for share in shares for name in share], data)
-    children = [_fork_render(share, data) for share in shares[1:]]
+    children = []
+    for share in shares[1:]:
+        children.append(ForkedDrawing(what=f"drawing {share}"))
+        children[-1].send(partial(_render, share, data))
     try:
         pngs = _render(shares[0], data)
     finally:
-        answers = [_answer(pid, pipe) for pid, pipe in children]
+        answers = [child.answer() for child in children]
     for drawn, result in answers:
         if not drawn:
             raise result
@@ -243,51 +247,15 @@ def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[st
     return pngs
 
 
-def _fork_render(names: Sequence[str], data: FigureData) -> tuple[int, int]:
-    """A process forked from this single-threaded worker that draws ``names``: its id and the
-    pipe it writes ``(True, PNG bytes by name)`` or ``(False, the error)`` to, pickled."""
-    read, write = os.pipe()
-    pid = os.fork()
-    if pid:
-        os.close(write)
-        return pid, read
-    os.close(read)  # the child: it inherits the worker's signal policy (feeder.workers)
-    _reply(write, partial(_render, names, data), f"drawing {names}")
-
-
-def _reply(write: int, work: Callable[[], dict[str, bytes]], what: str) -> None:
-    """In a forked process: write ``(True, work())`` or ``(False, the error it met)``, pickled,
-    to the pipe ``write`` (:func:`_answer` reads it), and end the process."""
-    status = 1
-    try:
-        try:
-            answer = pickle.dumps((True, work()))
-        except Exception as exc:  # sent to the parent, which raises it
-            try:
-                answer = pickle.dumps((False, exc))
-            except Exception:  # an error that does not pickle: its text
-                answer = pickle.dumps((False, RuntimeError(f"{what}: {exc!r}")))
-        with os.fdopen(write, "wb") as pipe:
-            pipe.write(answer)
-        status = 0
-    finally:
-        os._exit(status)
-
-
-def _answer(pid: int, pipe: int) -> tuple[bool, object]:
-    """What the forked process ``pid`` sent through ``pipe``, once it has ended."""
-    with os.fdopen(pipe, "rb") as stream:
-        answer = stream.read()
-    _, status = os.waitpid(pid, 0)
-    if not answer:
-        code = os.waitstatus_to_exitcode(status)
-        return False, RuntimeError(f"a figure process ended with status {code} and no figures")
-    return pickle.loads(answer)
-
-
 def _warm_up() -> None:
-    """Import what drawing needs, in a worker, before there is anything to draw."""
-    from . import comparisons, drawings  # noqa: F401  (matplotlib and the figure modules)
+    """Import what drawing needs, in a worker of feeder's own (forked: it only draws), before
+    there is anything to draw: matplotlib lean (:func:`~feeder.viz.forked.import_matplotlib`)
+    and the figure modules, their objects then left out of the garbage collector's passes
+    (:func:`~feeder.viz.forked.freeze_imports`)."""
+    import_matplotlib()
+    from . import comparisons, drawings  # noqa: F401
+
+    freeze_imports()
 
 
 def _shares(names: Sequence[str], count: int) -> list[list[str]]:
@@ -359,29 +327,17 @@ def sweep_pngs(table: str | Path) -> dict[str, bytes]:
     return {name: png_bytes(fig) for name, fig in sweep_figures(table).items()}
 
 
-class SweepFigures:
+class SweepFigures(FigureProcess):
     """The figures of a sweep (:func:`sweep_pngs`) drawn in a process forked when this context
-    is entered, which imports matplotlib while the sweep computes its cases, then waits for the
-    finished table: what is left after the last case is the drawing alone (importing matplotlib
-    was half of that serial tail, issue 29). Where forking is not safe (a threaded process: the
-    sweep's own pool is made after this one is entered) or not possible, :meth:`pngs` draws in
-    this process.
+    is entered (:class:`~feeder.viz.forked.FigureProcess`), which imports matplotlib while the
+    sweep computes its cases, then waits for the finished table: what is left after the last
+    case is the drawing alone (importing matplotlib was half of that serial tail, issue 29).
+    Where forking is not safe (a threaded process: the sweep's own pool is made after this one
+    is entered) or not possible, :meth:`pngs` draws in this process.
     """
 
     def __init__(self) -> None:
-        self._child: tuple[int, int, int] | None = None  # id, request pipe, answer pipe
-
-    def __enter__(self) -> SweepFigures:
-        if fork_safe():
-            self._child = _fork_waiting()
-        return self
-
-    def __exit__(self, kind, error, traceback) -> None:
-        if self._child is not None:  # never asked: the process ends at its request's end
-            pid, request, answer = self._child
-            self._child = None
-            os.close(request)
-            _answer(pid, answer)
+        super().__init__(_warm_up, "drawing the sweep")
 
     def pngs(self, table: str | Path) -> dict[str, bytes]:
         """:func:`sweep_pngs` of ``table``, drawn by the forked process (once) or here.
@@ -389,45 +345,7 @@ class SweepFigures:
         Raises:
             InputError: As :func:`sweep_figures`.
         """
-        if self._child is None:
-            return sweep_pngs(table)
-        pid, request, answer = self._child
-        self._child = None
-        with os.fdopen(request, "wb") as pipe:
-            pipe.write(pickle.dumps(str(table)))
-        drawn, result = _answer(pid, answer)
-        if not drawn:
-            raise result
-        return result
-
-
-def _fork_waiting() -> tuple[int, int, int]:
-    """A process forked from this single-threaded one that imports matplotlib, then reads a
-    table's path from its request pipe and answers with :func:`sweep_pngs` of it (or ends at
-    once if the pipe closes empty): its id, the request pipe's end to write and the answer's
-    to read."""
-    from ..workers import worker_signals
-
-    request_read, request_write = os.pipe()
-    answer_read, answer_write = os.pipe()
-    pid = os.fork()
-    if pid:
-        os.close(request_read)
-        os.close(answer_write)
-        return pid, request_write, answer_read
-    os.close(request_write)
-    os.close(answer_read)
-    request = b""
-    try:
-        worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
-        with contextlib.suppress(Exception):  # an import error is met again, and sent, below
-            _warm_up()
-        with os.fdopen(request_read, "rb") as pipe:
-            request = pipe.read()
-    finally:  # the child never returns into the parent's code
-        if not request:  # the pipe closed unasked, or an interruption
-            os._exit(0)
-    _reply(answer_write, partial(sweep_pngs, pickle.loads(request)), "drawing the sweep")
+        return self.submit(partial(sweep_pngs, str(table)))()
 
 
 def sweep_figures(table: str | Path) -> dict[str, Figure]:

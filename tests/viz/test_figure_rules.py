@@ -23,9 +23,10 @@ from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.study.simulate import simulate_mechanism
-from feeder.viz.analysis import Panel, analysis_figures, simulation_figures, stacked_figure
-from feeder.viz.axes import ROUND_OFF, DecadeTicks, FullTicks
+from feeder.viz.analysis import analysis_figures, simulation_figures, stacked_figure
+from feeder.viz.axes import ROUND_OFF, DecadeTicks, FullTicks, InView
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
+from feeder.viz.panels import Panel
 from feeder.viz.png import FIGURE_DPI, png_bytes
 from feeder.viz.report import (
     FigureData,
@@ -368,6 +369,23 @@ def test_log_axis_labels_are_powers_of_ten_in_plain_text(ticks, labels):
     """Decades as 10ⁿ (the ×10ⁿ of FullTicks, without matplotlib's math text); anything else as
     FullTicks writes it."""
     assert [DecadeTicks()(tick) for tick in ticks] == labels
+
+
+def test_a_log_axis_makes_its_minor_ticks_within_its_view_only_and_draws_the_same():
+    """The minor ticks of a log axis come from its minor locator filtered to the view
+    (:class:`InView`): fewer tick objects than matplotlib's own locator gives, the same PNG."""
+    t = np.linspace(0.0, 2.0, 201)
+    panels = [Panel("Gain", "gain [–]", "", (("gain", 1.0 + 10.0 * t),), log=True)]  # 2 decades
+    ours = stacked_figure(t, panels)
+    plain = stacked_figure(t, panels)
+    (axis,) = [ax.yaxis for ax in plain.axes]
+    assert isinstance(axis.get_minor_locator(), InView)
+    axis.set_minor_locator(axis.get_minor_locator().locator)  # matplotlib's LogLocator alone
+    assert png_bytes(ours) == png_bytes(plain)
+    low, high = ours.axes[0].get_ylim()
+    inside = [x for x in axis.get_minorticklocs() if low <= x <= high]
+    assert len(ours.axes[0].yaxis.get_minorticklocs()) == len(inside) == 16  # 2…9, 20…90
+    assert len(ours.axes[0].yaxis.minorTicks) == 16 < len(axis.minorTicks)
 
 
 def _panel_texts(ax) -> list:

@@ -241,7 +241,7 @@ from feeder.study.sweep_folder import run_sweep
 from feeder.viz.report import SweepFigures, sweep_pngs
 folder = Path(sys.argv[1])
 with SweepFigures() as drawing:
-    unasked = drawing._child[0]  # forked: this interpreter runs one thread
+    unasked = drawing._child.pid  # forked: this interpreter runs one thread
 try:
     os.waitpid(unasked, os.WNOHANG)
 except ChildProcessError:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from ...viz.axes import panel_title
 from ...viz.catalog import display_unit
 from ...viz.figures import finish
 from ..optimum_figure import objective_title
@@ -34,7 +35,7 @@ def mechanism_optimum_figure(opt: Optimum) -> Figure:
                 ax.plot(t, values * factor, style, color=f"C{m}", label=f"{label}{table}")
         ax.set_xlabel("time t [s]")
         ax.set_ylabel(f"{quantity.replace('_', ' ')} [{unit}]")
-        ax.set_title(f"{p.mechanism.model.stem}: {quantity}", fontsize=10)
+        panel_title(ax, f"{p.mechanism.model.stem}: {quantity}", fontsize=10)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     terms = p.objective.terms
