@@ -39,7 +39,10 @@ def test_the_benchmark_times_the_n_four_bar_with_its_indeterminacy(capsys):
     figures = bench.measure_large(20, loops=(2, 3), fit=40)
     assert figures["loops"] == [2, 3] and figures["samples"] == [20, 40]
     assert all(x > 0.0 for x in figures["bare_us"] + figures["loads_us"])
-    for k in range(2):  # the line passes through the first count's time (µs per sample there)
+    # the fit's bookkeeping (the line through the first count's time, the ratio of its slope):
+    # a check of the script's arithmetic and JSON keys, not of the times themselves, which are
+    # the benchmark's to report (CI's cores may be busy)
+    for k in range(2):
         fitted = figures["fixed_ms"][k] * 1e3 + figures["per_sample_us"][k] * 20
         assert np.isclose(fitted, figures["inverse_dynamics_us"][k] * 20, rtol=1e-9)
         ratio = figures["per_sample_us"][k] / figures["bare_us"][k]

@@ -210,10 +210,10 @@ class ComputedTorque:
                 "without mass, or forces that are not finite)"
             )
         reach = np.where(reach > 0.0, reach, 1.0)
-        # G_cc = S D (D: each drive's reach): one decomposition of the shares S tests them and
-        # solves G_cc u = b as u = D⁻¹ V Σ⁻¹ Uᵀ b
-        left, shares, right = np.linalg.svd(response / reach)
-        if shares.min() < RANK_TOLERANCE:
+        # G_cc = S D (D: each drive's reach): one decomposition of the shares S = U Σ Vᵀ tests
+        # them and solves G_cc u = b as u = D⁻¹ V Σ⁻¹ Uᵀ b
+        left, singular, right = np.linalg.svd(response / reach)
+        if singular.min() < RANK_TOLERANCE:
             drives = ", ".join(
                 f"the drive of {joint!r}" if element is None else f"the push of {element!r}"
                 for joint, element in zip(self.joints, self.elements, strict=True)
@@ -223,7 +223,7 @@ class ComputedTorque:
                 f"accelerated independently by {drives} (a singular pose of the actuation, or a "
                 "force element whose push cannot move its joint)"
             )
-        return (right.T @ ((left.T @ (target - free[self.columns])) / shares)) / reach
+        return (right.T @ ((left.T @ (target - free[self.columns])) / singular)) / reach
 
     def _accelerations(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """q̈ (nv,) of the chain's constrained equations under the generalized forces tau alone

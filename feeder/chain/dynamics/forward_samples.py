@@ -71,11 +71,20 @@ def loops(chain, q: np.ndarray, v: np.ndarray | None = None) -> tuple[np.ndarray
     """The largest closure error [m, rad] of each configuration q (N, nq) and, given the
     velocities v (N, nv), the largest opening |J q̇| of its loops [m/s, rad/s] (zero without),
     (N,) each: the rows of :meth:`~feeder.chain.model.closure.ClosedChain.residual` and
-    :meth:`~feeder.chain.model.closure.ClosedChain.jacobian` for all samples in one pass of the
-    batched kinematics (:func:`~feeder.chain.kinematics.rows.closure_kinematics`; equal to
-    Pinocchio's to round-off), where one call each per sample cost 16 and 15 µs on the device
-    (measured)."""
-    motion = tree_motion(chain.model, q, v)
+    :meth:`~feeder.chain.model.closure.ClosedChain.jacobian`, the run's own test of its steps.
+    A chain whose q is a vector takes all the samples in one pass of the batched kinematics
+    (:func:`~feeder.chain.kinematics.rows.closure_kinematics`, equal to Pinocchio's to
+    round-off), where one call each per sample cost 16 and 15 µs on the device (measured); one
+    with unit circles or quaternions is evaluated sample by sample by Pinocchio, which takes a
+    q off unit length as it is where the batched kinematics would take its unit direction."""
+    model = chain.model
+    if model.nq != model.nv:
+        gap = np.array([np.abs(chain.residual(x)).max(initial=0.0) for x in q])
+        if v is None:
+            return gap, np.zeros(q.shape[0])
+        pairs = zip(q, v, strict=True)
+        return gap, np.array([np.abs(chain.jacobian(x) @ y).max(initial=0.0) for x, y in pairs])
+    motion = tree_motion(model, q, v)
     rows = closure_kinematics(chain, motion, v, with_jacobian=v is not None)
     return np.abs(rows.residual).max(axis=1, initial=0.0), np.abs(rows.rate).max(
         axis=1, initial=0.0

@@ -94,21 +94,21 @@ def joint_reactions(
     chain: ClosedChain,
     motion: TreeMotion,
     external: list[tuple[int, np.ndarray]],
-    rotation: np.ndarray | None = None,
-    wrenches: tuple[np.ndarray, np.ndarray] | None = None,
+    rotation: np.ndarray | None,
+    wrenches: tuple[np.ndarray, np.ndarray],
 ) -> tuple[dict[str, JointWrench], MountWrench]:
     """Every joint's reaction wrench (but a free-flyer's, which is zero by definition: it
     transmits no force and no moment), and the mount's, with the wrenches ``external`` ((frame
     id, world wrench (N, 6) about the frame's origin), e.g. from :func:`closure_wrenches`)
     acting on the tree; ``rotation`` (N, 3, 3): the base's axes in the level ones
     (:class:`~feeder.chain.model.base.BaseState`), None for a base at rest; ``wrenches``: the
-    tree's Newton–Euler pass of the same motion with other loads (:func:`~.newton_euler.
-    joint_wrenches`), if the caller has it: the reactions are those plus what ``external``
-    alone makes the joints transmit (a statics pass: the pass is linear in the loads)."""
+    tree's Newton–Euler pass of the same motion with the other loads (:func:`~.newton_euler.
+    joint_wrenches`, the inverse dynamics' own): the reactions are those plus what
+    ``external`` alone makes the joints transmit (a statics pass: the pass is linear in the
+    loads)."""
     model = chain.model
-    force, moment = joint_wrenches(model, motion, external, inertia=wrenches is None)
-    if wrenches is not None:
-        force, moment = force + wrenches[0], moment + wrenches[1]
+    force, moment = joint_wrenches(model, motion, external, inertia=False)
+    force, moment = force + wrenches[0], moment + wrenches[1]
     if rotation is None:
         mount = MountWrench(force[0], moment[0], force[0], moment[0])
     else:

@@ -8,9 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from feeder.chain import ChainDynamics, simulate
+from feeder.chain import ChainDynamics, Partition, load_mechanism, read_spec, simulate
 from feeder.chain.dynamics.forward_samples import loops
+from feeder.chain.readers.pose import pose_from_values
 from feeder.exceptions import InputError
+
+from ...conftest import REPO
 
 ROUND_OFF = 1e-14
 """[m, m/s] numpy's placements and Jacobians against Pinocchio's for a ~0.4 m four-bar: round-off
@@ -30,6 +33,24 @@ def test_the_loops_of_many_samples_are_pinocchios(four_bar, rng):
         assert opening[k] == pytest.approx(np.abs(rates).max(), abs=ROUND_OFF)
     np.testing.assert_array_equal(loops(chain, q)[0], gap)  # without rates, the same errors
     assert gap.min() > 1e-3  # the samples are off the loop: the test sees the errors
+
+
+def test_the_loops_of_unit_circles_off_unit_length_are_pinocchios(rng):
+    """The N = 2 four-bar of the IFToMM examples (continuous joints: q holds each rocker's
+    (cos θ, sin θ)) with its q scaled off unit length by 1e-6: the drift a run's own steps see
+    (ClosedChain.residual: Pinocchio takes the circle's values as they are), ~1e-6 m, not the
+    closed loop of their unit directions."""
+    spec = read_spec(REPO / "examples" / "iftomm" / "n_four_bar_2.toml")
+    chain = load_mechanism(spec)
+    q0 = Partition(chain, ["r0"]).mount(pose_from_values(list(spec.pose), chain.model))
+    q = np.vstack([q0 * (1.0 + 1e-6), q0 * (1.0 - 1e-6), q0])
+    v = rng.normal(size=(3, chain.model.nv))
+    gap, opening = loops(chain, q, v)
+    for k in range(q.shape[0]):
+        assert gap[k] == pytest.approx(np.abs(chain.residual(q[k])).max(), abs=ROUND_OFF)
+        rates = chain.jacobian(q[k]) @ v[k]
+        assert opening[k] == pytest.approx(np.abs(rates).max(), abs=ROUND_OFF)
+    assert gap[:2].min() > 1e-7 and gap[2] < 1e-12  # off unit length: the loop opens
 
 
 class _Drive:
