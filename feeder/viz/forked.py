@@ -3,10 +3,11 @@
 A :class:`ForkedDrawing` is a process forked from this single-threaded one (it has every module
 and every object of this process already): it prepares (imports what drawing needs, while this
 process goes on computing), then waits for one piece of work, a picklable callable, sent
-through a pipe (:meth:`~ForkedDrawing.send`), and answers with its result, or the error it met,
-through another (:meth:`~ForkedDrawing.result`). The figure worker's extra processes and the
-sweep's figure process (:mod:`feeder.viz.report`) and a mechanism's figure process
-(:mod:`feeder.viz.mechanism_figures`, through :class:`FigureProcess`) are all such processes.
+through a pipe (:meth:`~ForkedDrawing.send`) unless it was given before forking, and answers
+with its result, or the error it met, through another (:meth:`~ForkedDrawing.result`). The
+figure worker's extra processes and the sweep's figure process (:mod:`feeder.viz.report`)
+and a mechanism's figure process (:mod:`feeder.viz.mechanism_figures`, through
+:class:`FigureProcess`) are all such processes.
 
 Such a process (and the figure worker of :class:`~feeder.viz.report.FigureWorkers`, a pool's
 forked worker) runs nothing but feeder's drawing, and ends without returning into the caller's
@@ -72,8 +73,9 @@ class ForkedDrawing:
     """A process forked from this single-threaded one (the caller checks
     :func:`feeder.workers.fork_safe`) that runs ``prepare`` (its errors are met again, and
     sent, by the work), then waits for one piece of work (:meth:`send`) and answers with its
-    result (:meth:`result`); a process never sent any ends at :meth:`close`. It leaves Ctrl-C to
-    this process and ends on SIGTERM (:func:`feeder.workers.worker_signals`).
+    result (:meth:`result`); a process never sent any ends at :meth:`close`, one whose answer
+    nobody will read at :meth:`stop`. It leaves Ctrl-C to this process and ends on SIGTERM
+    (:func:`feeder.workers.worker_signals`).
 
     Args:
         prepare: What to do before the work arrives (e.g. imports).
