@@ -128,8 +128,9 @@ def write_analysis_outputs(
     """Write a mechanism's analysis (``feeder analyze``): ``loads.csv``
     (:meth:`~feeder.study.analyze.Analysis.columns`), ``summary.txt`` (the mobility report, the
     assembled pose and the peaks), ``assembled_pose.csv``, ``indeterminate.txt`` (when some
-    columns are statically indeterminate), its figures
-    (:func:`~feeder.viz.analysis.analysis_figures`) and ``report.html`` if ``figures``, and the
+    columns are statically indeterminate), its figures (the panels of
+    :func:`~feeder.viz.panels.analysis_stacks`, drawn by
+    :func:`~feeder.viz.mechanism_figures.stack_pngs`) and ``report.html`` if ``figures``, and the
     manifest; returns the paths, the table first. ``drawing``: the process that draws the
     figures (:func:`~feeder.viz.mechanism_figures.figure_process`, entered before the
     analysis); without it they are drawn here."""
@@ -172,8 +173,9 @@ def write_simulation_outputs(
     (:meth:`~feeder.study.simulate.Simulation.columns`), ``summary.txt`` (the mobility report,
     the assembled pose, the run's statistics, drift and energy balance, the peaks),
     ``assembled_pose.csv``, ``indeterminate.txt`` (when some columns are statically
-    indeterminate), its figures (:func:`~feeder.viz.analysis.simulation_figures`) and
-    ``report.html`` if ``figures``, and the manifest; returns the paths, the table first.
+    indeterminate), its figures (the panels of :func:`~feeder.viz.panels.simulation_stacks`,
+    drawn by :func:`~feeder.viz.mechanism_figures.stack_pngs`) and ``report.html`` if
+    ``figures``, and the manifest; returns the paths, the table first.
     ``drawing``: as :func:`write_analysis_outputs`'s."""
     from .study.view import simulation_view
 

@@ -2,8 +2,9 @@
 simulate``), drawn from the panels :mod:`feeder.viz.panels` gives them (the drive loads, every
 joint's reaction, the cut forces, the distance to a singular pose, the motion, the force
 elements, and the run's energy balance and drift). Each figure is a stack of panels against time
-that follows :mod:`feeder.viz.axes` (a panel at round-off level is a note); each function returns
-a :class:`matplotlib.figure.Figure`; saving it is the caller's."""
+that follows :mod:`feeder.viz.axes` (a panel at round-off level is a note), drawn by
+:func:`stacked_figure` into a :class:`matplotlib.figure.Figure`; the figures of a run are drawn
+into PNG bytes by :func:`~feeder.viz.mechanism_figures.stack_pngs`."""
 
 from __future__ import annotations
 
@@ -11,7 +12,6 @@ import dataclasses
 import math
 import textwrap
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -26,11 +26,7 @@ from .axes import (
     panel_title,
     zero_note,
 )
-from .panels import Panel, analysis_stacks, simulation_stacks
-
-if TYPE_CHECKING:
-    from ..study.analyze import Analysis
-    from ..study.simulate import Simulation
+from .panels import Panel
 
 PANEL_HEIGHT = 2.6
 """Height of a drawn panel [in]."""
@@ -183,13 +179,3 @@ def _curves(panel: Panel) -> list[Curve]:
     """The curves that show a panel's series (:mod:`feeder.viz.axes`)."""
     shown = log_curves if panel.log else distinct_curves
     return shown(panel.series, panel.unit, panel.scale)
-
-
-def analysis_figures(analysis: Analysis) -> dict[str, Figure]:
-    """Every figure of an analysis, by file name."""
-    return {name: stacked_figure(*stack) for name, stack in analysis_stacks(analysis).items()}
-
-
-def simulation_figures(simulation: Simulation) -> dict[str, Figure]:
-    """Every figure of a forward run, by file name."""
-    return {name: stacked_figure(*stack) for name, stack in simulation_stacks(simulation).items()}

@@ -3,10 +3,11 @@
 A :class:`ForkedDrawing` is a process forked from this single-threaded one (it has every module
 and every object of this process already): it prepares (imports what drawing needs, while this
 process goes on computing), then waits for one piece of work, a picklable callable, sent
-through a pipe (:meth:`~ForkedDrawing.send`), and answers with its result, or the error it met,
-through another (:meth:`~ForkedDrawing.result`). The figure worker's extra processes and the
-sweep's figure process (:mod:`feeder.viz.report`) and a mechanism's figure process
-(:mod:`feeder.viz.mechanism_figures`, through :class:`FigureProcess`) are all such processes.
+through a pipe (:meth:`~ForkedDrawing.send`) unless it was given before forking, and answers
+with its result, or the error it met, through another (:meth:`~ForkedDrawing.result`). The
+figure worker's extra processes and the sweep's figure process (:mod:`feeder.viz.report`)
+and a mechanism's figure process (:mod:`feeder.viz.mechanism_figures`, through
+:class:`FigureProcess`) are all such processes.
 
 Such a process (and the figure worker of :class:`~feeder.viz.report.FigureWorkers`, a pool's
 forked worker) runs nothing but feeder's drawing, and ends without returning into the caller's
@@ -22,6 +23,7 @@ import contextlib
 import gc
 import os
 import pickle
+import signal
 import sys
 from collections.abc import Callable
 from typing import TypeVar
@@ -71,28 +73,44 @@ class ForkedDrawing:
     """A process forked from this single-threaded one (the caller checks
     :func:`feeder.workers.fork_safe`) that runs ``prepare`` (its errors are met again, and
     sent, by the work), then waits for one piece of work (:meth:`send`) and answers with its
-    result (:meth:`result`); a process never sent any ends at :meth:`close`. It leaves Ctrl-C to
-    this process and ends on SIGTERM (:func:`feeder.workers.worker_signals`).
+    result (:meth:`result`); a process never sent any ends at :meth:`close`, one whose answer
+    nobody will read at :meth:`stop`. It leaves Ctrl-C to this process and ends on SIGTERM
+    (:func:`feeder.workers.worker_signals`).
 
     Args:
         prepare: What to do before the work arrives (e.g. imports).
         what: What the process does, for the text of an error that does not pickle.
+        work: The work, known before forking: the process inherits it (nothing is sent through
+            the pipe; :meth:`send` is not called) and starts on it at once.
     """
 
-    def __init__(self, prepare: Callable[[], None] | None = None, what: str = "drawing"):
+    def __init__(
+        self,
+        prepare: Callable[[], None] | None = None,
+        what: str = "drawing",
+        work: Callable[[], object] | None = None,
+    ):
         request_read, request_write = os.pipe()
         answer_read, answer_write = os.pipe()
-        with interrupts_held():  # a Ctrl-C now is this process's, not the child's
-            pid = os.fork()
-            if pid == 0:
-                os.close(request_write)
-                os.close(answer_read)
-                _serve(request_read, answer_write, prepare, what)  # never returns
+        try:
+            with interrupts_held():  # a Ctrl-C now is this process's, not the child's
+                pid = os.fork()
+                if pid == 0:
+                    os.close(request_write)
+                    os.close(answer_read)
+                    _serve(request_read, answer_write, prepare, what, work)  # never returns
+        except BaseException:  # no process: no pipes
+            for fd in (request_read, request_write, answer_read, answer_write):
+                os.close(fd)
+            raise
         os.close(request_read)
         os.close(answer_write)
         self.pid = pid
         self._request: int | None = request_write
         self._answer: int | None = answer_read
+        self._answered: tuple[bool, object] | None = None
+        if work is not None:
+            self._close_request()
 
     def send(self, work: Callable[[], object]) -> None:
         """Send the work (a picklable callable, e.g. a :func:`functools.partial` of a module's
@@ -113,31 +131,58 @@ class ForkedDrawing:
             raise value
         return value
 
+    def answer(self) -> tuple[bool, object]:
+        """``(True, the work's result)`` or ``(False, the error it met)``, once the process
+        has ended (:meth:`result` raises the error); read once, the same answer after."""
+        if self._answered is None:
+            answer, self._answer = self._answer, None
+            with os.fdopen(answer, "rb") as stream:
+                data = stream.read()
+            _, status = os.waitpid(self.pid, 0)
+            if data:
+                self._answered = pickle.loads(data)
+            else:
+                code = os.waitstatus_to_exitcode(status)
+                error = RuntimeError(f"a figure process ended with status {code} and no answer")
+                self._answered = (False, error)
+        return self._answered
+
     def close(self) -> None:
-        """End a process never sent any work (and reap one that was)."""
-        if self._request is not None:
-            os.close(self._request)
-            self._request = None
+        """End a process never sent any work (it ends at its request's end) and reap it; one
+        sent work is left to finish and its answer read (:meth:`answer`)."""
+        self._close_request()
         if self._answer is not None:
             self.answer()
 
-    def answer(self) -> tuple[bool, object]:
-        """``(True, the work's result)`` or ``(False, the error it met)``, once the process
-        has ended (:meth:`result` raises the error)."""
-        answer, self._answer = self._answer, None
-        with os.fdopen(answer, "rb") as stream:
-            data = stream.read()
-        _, status = os.waitpid(self.pid, 0)
-        if not data:
-            code = os.waitstatus_to_exitcode(status)
-            return False, RuntimeError(f"a figure process ended with status {code} and no answer")
-        return pickle.loads(data)
+    def stop(self) -> None:
+        """End the process at once if its answer was not read (SIGTERM: a process whose answer
+        nobody reads would wait forever to write it), close its pipes and reap it."""
+        if self._answer is None:
+            return
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(self.pid, signal.SIGTERM)
+        self._close_request()
+        os.close(self._answer)
+        self._answer = None
+        os.waitpid(self.pid, 0)
+        self._answered = (False, RuntimeError("a figure process was stopped before it answered"))
+
+    def _close_request(self) -> None:
+        if self._request is not None:
+            os.close(self._request)
+            self._request = None
 
 
-def _serve(request: int, answer: int, prepare: Callable[[], None] | None, what: str) -> None:
-    """The forked process of :class:`ForkedDrawing`: prepare, read the work, write ``(True,
-    its result)`` or ``(False, the error it met)``, pickled, and end (never returning into the
-    parent's code)."""
+def _serve(
+    request: int,
+    answer: int,
+    prepare: Callable[[], None] | None,
+    what: str,
+    work: Callable[[], object] | None,
+) -> None:
+    """The forked process of :class:`ForkedDrawing`: prepare, read the work (unless it has it
+    already), write ``(True, its result)`` or ``(False, the error it met)``, pickled, and end
+    (never returning into the parent's code)."""
     status = 1
     try:
         worker_signals()  # Ctrl-C is the parent's; SIGTERM ends it (feeder.workers)
@@ -146,12 +191,12 @@ def _serve(request: int, answer: int, prepare: Callable[[], None] | None, what: 
                 prepare()
         freeze_imports()
         with os.fdopen(request, "rb") as pipe:
-            work = pipe.read()
-        if not work:  # the pipe closed unasked, or an interruption
+            sent = None if work is not None else pipe.read()
+        if sent == b"":  # the pipe closed unasked, or an interruption
             status = 0
             return
         try:
-            reply = pickle.dumps((True, pickle.loads(work)()))
+            reply = pickle.dumps((True, (work if sent is None else pickle.loads(sent))()))
         except Exception as exc:  # sent to the parent, which raises it
             try:
                 reply = pickle.dumps((False, exc))
@@ -180,6 +225,7 @@ class FigureProcess:
     ):
         self._prepare, self._what, self._fork = prepare, what, fork
         self._child: ForkedDrawing | None = None
+        self._sent: list[ForkedDrawing] = []
 
     def __enter__(self) -> FigureProcess:
         if self._fork and fork_safe():
@@ -187,16 +233,22 @@ class FigureProcess:
         return self
 
     def __exit__(self, kind, error, traceback) -> None:
-        if self._child is not None:  # never asked: the process ends at its request's end
+        """End the process: one never asked ends at its request's end; one whose answer was not
+        read (an error came first) is stopped (:meth:`ForkedDrawing.stop`); both are reaped."""
+        if self._child is not None:
             self._child.close()
             self._child = None
+        while self._sent:
+            self._sent.pop().stop()
 
     def submit(self, work: Callable[[], T]) -> Callable[[], T]:
         """Start ``work`` (picklable) in the forked process, and return what waits for its
-        result (raising the error it met). The process takes one work: the next, or any outside
-        the context or without a process, is done here when its result is asked for."""
+        result (raising the error it met; once the context is left unread, a RuntimeError).
+        The process takes one work: the next, or any outside the context or without a process,
+        is done here when its result is asked for."""
         if self._child is None:
             return work
         child, self._child = self._child, None
+        self._sent.append(child)  # stopped at the context's end if its answer is unread
         child.send(work)
         return child.result  # type: ignore[return-value]

@@ -229,14 +229,16 @@ def _render(names: Sequence[str], data: FigureData) -> dict[str, bytes]:
 def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[str, bytes]:
     """Draw every share of figure names into PNG bytes: the first here (the figure worker), each
     other in a process forked from here (:class:`~feeder.viz.forked.ForkedDrawing`), which has
-    matplotlib loaded already and sends its PNG bytes back (an error it meets is raised here)."""
+    matplotlib loaded already, inherits its work and the data (sending them through a pipe,
+    3 MB pickled for a cycle of 4001 samples, held this process back 11–39 ms) and sends its
+    PNG bytes back (an error it meets is raised here)."""
     if not fork_safe():  # draw here
         return _render([name for share in shares for name in share], data)
-    children = []
-    for share in shares[1:]:
-        children.append(ForkedDrawing(what=f"drawing {share}"))
-        children[-1].send(partial(_render, share, data))
+    children: list[ForkedDrawing] = []
     try:
+        for share in shares[1:]:
+            work = partial(_render, share, data)
+            children.append(ForkedDrawing(what=f"drawing {share}", work=work))
         pngs = _render(shares[0], data)
     finally:
         answers = [child.answer() for child in children]
@@ -247,14 +249,20 @@ def _render_shared(shares: Sequence[Sequence[str]], data: FigureData) -> dict[st
     return pngs
 
 
-def _warm_up() -> None:
-    """Import what drawing needs, in a worker of feeder's own (forked: it only draws), before
+def _import_drawing() -> None:
+    """Import what drawing needs, in a process of feeder's own (forked: it only draws), before
     there is anything to draw: matplotlib lean (:func:`~feeder.viz.forked.import_matplotlib`)
-    and the figure modules, their objects then left out of the garbage collector's passes
-    (:func:`~feeder.viz.forked.freeze_imports`)."""
+    and the figure modules (a :class:`~feeder.viz.forked.ForkedDrawing` then leaves their
+    objects out of the garbage collector's passes itself)."""
     import_matplotlib()
     from . import comparisons, drawings  # noqa: F401
 
+
+def _warm_up() -> None:
+    """The figure worker's start (:class:`FigureWorkers`): :func:`_import_drawing`, the
+    objects imported then left out of the garbage collector's passes
+    (:func:`~feeder.viz.forked.freeze_imports`)."""
+    _import_drawing()
     freeze_imports()
 
 
@@ -337,7 +345,7 @@ class SweepFigures(FigureProcess):
     """
 
     def __init__(self) -> None:
-        super().__init__(_warm_up, "drawing the sweep")
+        super().__init__(_import_drawing, "drawing the sweep")
 
     def pngs(self, table: str | Path) -> dict[str, bytes]:
         """:func:`sweep_pngs` of ``table``, drawn by the forked process (once) or here.

@@ -23,10 +23,10 @@ from feeder.study.analyze import analyze
 from feeder.study.cycle_study import run_cycle_study
 from feeder.study.elevation_sweeps import elevation_sweep
 from feeder.study.simulate import simulate_mechanism
-from feeder.viz.analysis import analysis_figures, simulation_figures, stacked_figure
+from feeder.viz.analysis import stacked_figure
 from feeder.viz.axes import ROUND_OFF, DecadeTicks, FullTicks, InView
 from feeder.viz.comparisons import cross_check, cycles_figure, sweep_figure
-from feeder.viz.panels import Panel
+from feeder.viz.panels import Panel, Stack, analysis_stacks, simulation_stacks
 from feeder.viz.png import FIGURE_DPI, png_bytes
 from feeder.viz.report import (
     FigureData,
@@ -187,6 +187,12 @@ def broken_rules(fig: Figure) -> list[str]:
     return problems
 
 
+def stack_figures(stacks: dict[str, Stack]) -> dict[str, Figure]:
+    """Each stack of panels drawn as the figure that
+    :func:`~feeder.viz.mechanism_figures.stack_pngs` saves, by file name."""
+    return {name: stacked_figure(t, panels) for name, (t, panels) in stacks.items()}
+
+
 def notes(fig: Figure) -> str:
     return " | ".join(text.get_text() for ax in fig.axes for text in ax.texts)
 
@@ -196,14 +202,14 @@ def test_the_round_off_threshold():
 
 
 def test_mechanism_figures_follow_the_rules(example):
-    for name, fig in analysis_figures(example).items():
+    for name, fig in stack_figures(analysis_stacks(example)).items():
         assert broken_rules(fig) == [], name
 
 
 def test_round_off_moments_are_drawn_as_one_zero_curve(example):
     """The four-bar's coupler and rocker joints carry moments of 2e-16 N·m, the slider-crank's
     rod 2e-16 and its slider 0: one zero curve naming both, below the crank's."""
-    ax = analysis_figures(example)["joint_reactions.png"].axes[1]
+    ax = stack_figures(analysis_stacks(example))["joint_reactions.png"].axes[1]
     lines = {line.get_label(): line for line in ax.get_lines()}
     assert list(lines)[0] == "crank_joint"
     (zero,) = [label for label in lines if label != "crank_joint"]
@@ -212,13 +218,13 @@ def test_round_off_moments_are_drawn_as_one_zero_curve(example):
 
 
 def test_overlapping_curves_differ_in_line_style(example):
-    ax = analysis_figures(example)["joint_reactions.png"].axes[0]
+    ax = stack_figures(analysis_stacks(example))["joint_reactions.png"].axes[0]
     styles = [line.get_linestyle() for line in ax.get_lines()]
     assert len(styles) == 3 and len(set(styles)) == 3
 
 
 def test_a_trammel_leaves_its_round_off_moments_out(trammel):
-    figures = analysis_figures(trammel)
+    figures = stack_figures(analysis_stacks(trammel))
     for name, fig in figures.items():
         assert broken_rules(fig) == [], name
     for name, what in (("joint_reactions.png", "round-off"), ("closure_forces.png", "exactly")):
@@ -231,7 +237,7 @@ def test_a_trammel_leaves_its_round_off_moments_out(trammel):
 
 def test_the_velocity_gain_axis_shows_decades(example):
     """Whole decades, at least two: labels at powers of ten only (no "2×10⁰")."""
-    ax = drawn(analysis_figures(example)["actuator_loads.png"]).axes[1]
+    ax = drawn(stack_figures(analysis_stacks(example))["actuator_loads.png"]).axes[1]
     low, high = np.log10(ax.get_ylim())
     assert high - low >= 2 and low == round(low) and high == round(high)
     assert len(labelled_ticks(ax.yaxis)) == high - low + 1
@@ -239,7 +245,7 @@ def test_the_velocity_gain_axis_shows_decades(example):
 
 
 def test_only_the_lowest_panel_writes_the_time(example):
-    fig = analysis_figures(example)["actuator_loads.png"]
+    fig = stack_figures(analysis_stacks(example))["actuator_loads.png"]
     assert [ax.get_xlabel() for ax in fig.axes] == ["", "time t [s]"]
 
 
@@ -270,7 +276,7 @@ def test_many_curves_keep_their_legends_inside_the_figure_beside_their_panels():
 
 
 def test_forward_run_figures_follow_the_rules(released_four_bar):
-    figures = simulation_figures(released_four_bar)
+    figures = stack_figures(simulation_stacks(released_four_bar))
     for name, fig in figures.items():
         assert broken_rules(fig) == [], name
     assert "round-off" in notes(figures["joint_reactions.png"])  # nothing drives the crank

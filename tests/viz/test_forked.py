@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
+
+import pytest
 
 from ..conftest import REPO
 
@@ -53,3 +56,54 @@ def test_a_mechanisms_figures_drawn_in_a_forked_process_are_drawn_here_byte_for_
     assert lines[0] == "ended" and lines[2] == "not forked", done.stdout + done.stderr
     assert lines[1].startswith("raised: invalid literal for int()"), lines
     assert lines[3:] == ["unloaded", "kept", "same"], lines
+
+
+UNREAD = """
+import os
+from functools import partial
+from feeder.viz.forked import FigureProcess, ForkedDrawing
+
+def fds():
+    return sorted(os.listdir("/proc/self/fd"))
+
+before = fds()
+for failing in (False, True):
+    try:
+        with FigureProcess() as drawing:
+            pid = drawing._child.pid
+            drawing.submit(partial(bytes, 1 << 20))  # an answer larger than a pipe holds
+            if failing:
+                raise ValueError("an output failed before the figures were asked for")
+    except ValueError:
+        pass
+    try:
+        os.waitpid(pid, os.WNOHANG)
+        print("not reaped")
+    except ChildProcessError:
+        print("reaped")
+print("closed" if fds() == before else f"open: {before} {fds()}")
+child = ForkedDrawing(work=partial(bytes, 1 << 20))
+first, second = child.answer(), child.answer()
+print("twice" if first == second == (True, bytes(1 << 20)) else "once")
+child.stop()  # read already: nothing to stop
+def broken():
+    raise OSError("no fork here")
+os.fork = broken
+try:
+    ForkedDrawing()
+except OSError:
+    pass
+print("closed" if fds() == before else f"open: {before} {fds()}")
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="lists open files in /proc")
+def test_a_context_left_with_an_unread_answer_leaves_no_process_and_no_pipe():
+    """A forked process whose answer (1 MB: more than a pipe holds, so it waits to write it) is
+    never read, the context left normally or by an error, is stopped and reaped, its pipes
+    closed; an answer read twice is the same; a failed fork leaves no pipe open."""
+    done = subprocess.run(
+        [sys.executable, "-c", UNREAD], capture_output=True, text=True, check=True, cwd=REPO
+    )
+    lines = done.stdout.splitlines()
+    assert lines == ["reaped", "reaped", "closed", "twice", "closed"], done.stdout + done.stderr
