@@ -308,25 +308,42 @@ def test_a_run_beyond_the_reference_is_refused():
         controller.check_covers(0.0, 2.0)
 
 
+ROLL, FREQUENCY, HELD = 0.1, 5.0, 0.3
+"""The rocking base's roll amplitude Φ [rad] and frequency Ω [rad/s], and the angle θ_ref [rad]
+the pendulum is held at (test_forward_base's pendulum on the forward axis)."""
+
+
+def held_on_rocking_base(dyn, controller):
+    """Run ``controller`` holding test_forward_base's pendulum at θ_ref = HELD on its base
+    rolling as φ = Φ cos Ωt for 2 s, from the reference (TIGHT), check that the error stays at
+    the integrator's tolerance, and return the run, the controller's record and the hinge's
+    moment by hand, u = m L² φ̈ + m g L sin(θ_ref + φ) (the absolute angle from hanging is
+    θ + φ), at the run's samples."""
+    from .test_forward_base import LENGTH, G
+    from .test_forward_base import MASS as BOB
+
+    t = np.linspace(0.0, 2.0, 201)
+    run = simulate(dyn, t, np.array([HELD]), np.zeros(1), controller, **TIGHT)
+    record = controller.record(t, run.q, run.v, run.controller)
+    assert record.peak_error()[0] <= 1e-9  # the integrator's tolerance, as on a base at rest
+    phi = ROLL * np.cos(FREQUENCY * t)
+    drive = BOB * LENGTH**2 * -(FREQUENCY**2) * phi + BOB * G * LENGTH * np.sin(HELD + phi)
+    return run, record, drive
+
+
 def test_on_a_rocking_base_the_law_holds_the_joint_with_the_base_s_terms():
     """A point-mass pendulum hinged on the forward axis x of a base rolling as φ = Φ cos Ωt,
     held at θ_ref = 0.3 rad from the start: the law includes the base's terms (the run's own
     right-hand side), so the error stays at the integrator's tolerance and the drive is the
-    hand-written u = m L² φ̈ + m g L sin(θ_ref + φ) (the absolute angle from hanging is θ + φ)."""
+    hand-written u = m L² φ̈ + m g L sin(θ_ref + φ) (held_on_rocking_base)."""
     from feeder.chain import BaseMotion
 
-    from .test_forward_base import LENGTH, G, Harmonic, pendulum
-    from .test_forward_base import MASS as BOB
+    from .test_forward_base import Harmonic, pendulum
 
-    roll, frequency, held = 0.1, 5.0, 0.3
-    dyn = ChainDynamics(pendulum(), ["swing"], base=BaseMotion((Harmonic(3, roll, frequency),)))
-    controller = ComputedTorque(dyn, [_spec("swing", np.linspace(0.0, 2.0, 3), held, 0.0, 0.0)])
-    t = np.linspace(0.0, 2.0, 201)
-    run = simulate(dyn, t, np.array([held]), np.zeros(1), controller, **TIGHT)
-    record = controller.record(t, run.q, run.v, run.controller)
-    assert record.peak_error()[0] <= 1e-9  # the integrator's tolerance, as on a base at rest
-    phi = roll * np.cos(frequency * t)
-    drive = BOB * LENGTH**2 * -(frequency**2) * phi + BOB * G * LENGTH * np.sin(held + phi)
+    base = BaseMotion((Harmonic(3, ROLL, FREQUENCY),))
+    dyn = ChainDynamics(pendulum(), ["swing"], base=base)
+    spec = _spec("swing", np.linspace(0.0, 2.0, 3), HELD, 0.0, 0.0)
+    _, record, drive = held_on_rocking_base(dyn, ComputedTorque(dyn, [spec]))
     # the drive is ~1 N·m; the state's 1e-9 rad offset moves it by ~1e-8 N·m
     np.testing.assert_allclose(record.force[:, 0], drive, rtol=0.0, atol=1e-7)
 

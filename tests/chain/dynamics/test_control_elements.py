@@ -379,27 +379,21 @@ def test_on_a_rocking_base_a_cylinder_holds_the_pendulum_with_the_base_s_terms()
     closes with the push's work and the base's."""
     from feeder.chain import BaseMotion
 
-    from .test_forward_base import LENGTH, G, Harmonic, pendulum
-    from .test_forward_base import MASS as BOB
+    from .test_control import FREQUENCY, HELD, ROLL, held_on_rocking_base
+    from .test_forward_base import Harmonic, pendulum
 
-    roll, frequency, held, r, (ay, az) = 0.1, 5.0, 0.3, 0.5, (-0.3, -0.2)
+    r, (ay, az) = 0.5, (-0.3, -0.2)
     model = pendulum().model
     _frame(model, "anchor", 0, [0.0, ay, az])
     _frame(model, "eye", 1, [0.0, 0.0, -r])
     dyn = ChainDynamics(
         ClosedChain(model, []), [], elements=[Cylinder(("anchor", "eye"), BORE, ROD, name="lift")],
-        base=BaseMotion((Harmonic(3, roll, frequency),)),
+        base=BaseMotion((Harmonic(3, ROLL, FREQUENCY),)),
     )  # fmt: skip
-    spec = _spec("swing", np.linspace(0.0, 2.0, 3), held, 0.0, 0.0, element="lift")
-    controller = ComputedTorque(dyn, [spec])
-    t = np.linspace(0.0, 2.0, 201)
-    run = simulate(dyn, t, np.array([held]), np.zeros(1), controller, **TIGHT)
-    record = controller.record(t, run.q, run.v, run.controller)
-    assert record.peak_error()[0] <= 1e-9  # the integrator's tolerance, as on a base at rest
-    phi = roll * np.cos(frequency * t)
-    drive = BOB * LENGTH**2 * -(frequency**2) * phi + BOB * G * LENGTH * np.sin(held + phi)
-    length = math.hypot(r * math.sin(held) - ay, -r * math.cos(held) - az)
-    lever = r * (-ay * math.cos(held) - az * math.sin(held)) / length
+    spec = _spec("swing", np.linspace(0.0, 2.0, 3), HELD, 0.0, 0.0, element="lift")
+    run, record, drive = held_on_rocking_base(dyn, ComputedTorque(dyn, [spec]))
+    length = math.hypot(r * math.sin(HELD) - ay, -r * math.cos(HELD) - az)
+    lever = r * (-ay * math.cos(HELD) - az * math.sin(HELD)) / length
     # pushes of ≤ 10 N from a state held on the reference to round-off (the base's terms are
     # the run's own): 1e-9 N (measured 2e-13 N)
     np.testing.assert_allclose(record.force[:, 0], drive / lever, rtol=0.0, atol=1e-9)
