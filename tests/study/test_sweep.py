@@ -469,3 +469,49 @@ def test_a_controlled_variant_adds_its_loading_pose_on_every_executor(tmp_path, 
     assert rows["loop"]["controlled_saturated_duration"] == 0.0
     remote = run_sweep(grid, tmp_path / "dask", scheduler=dask_scheduler, progress=False)
     assert remote.table.read_text(encoding="utf-8") == local.table.read_text(encoding="utf-8")
+
+
+def _finish_spread(sizes: list[int], slots: int) -> int:
+    """How many cases apart the slots finish when each takes the next batch as it frees up
+    (equal cases: a batch's time is its size)."""
+    free = [0] * slots
+    for size in sizes:
+        k = free.index(min(free))
+        free[k] += size
+    return max(free) - min(free)
+
+
+@pytest.mark.parametrize(("count", "slots"), [(75, 2), (1000, 2), (75, 8), (7, 4), (1, 2)])
+def test_batches_shrink_so_the_slots_finish_together(count, slots):
+    """Guided batches: every case once, in order, none larger than MAX_BATCH, non-increasing;
+    the slots finish within one case of each other (equal batches of ⌈75/16⌉ = 5 cases left two
+    slots five apart)."""
+    sizes = sweep_module.batch_sizes(count, slots)
+    assert sum(sizes) == count
+    assert all(1 <= size <= sweep_module.MAX_BATCH for size in sizes)
+    assert sizes == sorted(sizes, reverse=True)
+    assert _finish_spread(sizes, slots) <= 1
+    if (count, slots) == (75, 2):
+        assert _finish_spread([5] * 15, 2) == 5  # the equal batches this replaced
+
+
+class _RecordingExecutor(Executor):
+    """Runs each batch at once and keeps the cases it was given."""
+
+    def __init__(self):
+        self.batches = []
+
+    def submit(self, fn, /, *args, **kwargs):
+        self.batches.append(args[1])
+        future = Future()
+        future.set_result([case.key for case in args[1]])
+        return future
+
+
+def test_every_case_is_submitted_once_in_order():
+    cases = _grid().cases()
+    executor = _RecordingExecutor()
+    keys = list(sweep_module.run_cases(cases, executor, slots=2, progress=False))
+    assert [case for batch in executor.batches for case in batch] == cases
+    assert [len(batch) for batch in executor.batches] == sweep_module.batch_sizes(len(cases), 2)
+    assert sorted(keys) == sorted(case.key for case in cases)
