@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .exceptions import ElevationError, InputError
+from .exceptions import ElevationError, FeederError, InputError
 
 LIMIT_SLACK = 1e-12
 """Rounding slack [rad or m] when a value is compared with a range's ends: a limit computed by
@@ -141,6 +141,18 @@ def check_path(name: str, value: str | os.PathLike) -> Path:
     if not str(value).strip():
         raise InputError(f"{name} must name a file or folder, got an empty path")
     return Path(value)
+
+
+def check_file(name: str, value: str | os.PathLike, error: type[FeederError] = InputError) -> Path:
+    """``value`` as a Path (:func:`check_path`) if it names an existing file; else ``error``
+    (default :class:`InputError`) saying that ``name`` is not found there, or is a folder (a
+    folder read as a file would be reported as missing, or fail deep inside a reader)."""
+    path = check_path(name, value)
+    if path.is_dir():
+        raise error(f"{name} {path} is a folder, not a file")
+    if not path.is_file():
+        raise error(f"{name} not found: {path}")
+    return path
 
 
 def first_outside(values: np.ndarray, low: float, high: float) -> int | None:

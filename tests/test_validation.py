@@ -14,8 +14,14 @@ import pytest
 
 import feeder as api
 from feeder.device import PROJECTILE_FEEDER, LinkInertia
-from feeder.exceptions import ElevationError, FeederError, InputError
-from feeder.validation import check_elevation, check_elevations_deg, check_number, check_path
+from feeder.exceptions import ElevationError, FeederError, InputError, UrdfError
+from feeder.validation import (
+    check_elevation,
+    check_elevations_deg,
+    check_file,
+    check_number,
+    check_path,
+)
 
 
 @pytest.mark.parametrize(
@@ -101,6 +107,20 @@ def test_check_path_refuses_empty_and_non_paths(bad, match):
 def test_check_path_accepts_text_and_paths(tmp_path):
     assert check_path("out", "results") == Path("results")
     assert check_path("out", tmp_path) == tmp_path
+
+
+def test_check_file_says_missing_or_folder(tmp_path):
+    """A folder given for a file is named as one, not reported missing (``--params /tmp`` said
+    "parameter file not found: /tmp"); the reader's own error class is kept."""
+    (tmp_path / "a.toml").write_text("")
+    assert check_file("parameter file", str(tmp_path / "a.toml")) == tmp_path / "a.toml"
+    with pytest.raises(InputError, match=r"parameter file not found: .*b\.toml$"):
+        check_file("parameter file", tmp_path / "b.toml")
+    with pytest.raises(UrdfError, match="URDF file .* is a folder, not a file") as info:
+        check_file("URDF file", tmp_path, UrdfError)
+    assert type(info.value) is UrdfError
+    with pytest.raises(InputError, match="a path"):
+        check_file("URDF file", None, UrdfError)
 
 
 @pytest.mark.parametrize(

@@ -181,7 +181,7 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
         InputError: A bad slope, an unreadable file, an unknown profile or parameter.
     """
     from ..chain.model.base import BaseMotion
-    from ..chain.model.profiles import Slope
+    from ..chain.model.profiles import PROFILES, Slope
     from ..chain.readers.base_motion import parse_profile, read_base_file, read_hull_table
     from ..device.parameters import VEHICLE_FORWARD
 
@@ -192,11 +192,16 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
         profiles.append(Slope(math.radians(pitch), math.radians(roll)))
     motion = args.base_motion
     if motion is not None:
-        suffix = Path(motion).suffix.lower()
+        path = Path(motion)
+        suffix = path.suffix.lower()
         if suffix == ".csv":
             profiles.append(read_hull_table(motion))
         elif suffix == ".toml":
             profiles += read_base_file(motion, VEHICLE_FORWARD).profiles
+        elif path.exists() and motion.partition(":")[0].strip() not in PROFILES:
+            # a file or folder of another kind (a folder named as a profile is the profile)
+            what = "a folder" if path.is_dir() else "neither a hull table (.csv) nor a .toml file"
+            raise InputError(f"--base-motion {motion} is {what}: give a file or a profile")
         else:
             profiles.append(parse_profile(motion))
     return BaseMotion(tuple(profiles), VEHICLE_FORWARD) if profiles else None

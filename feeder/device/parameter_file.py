@@ -24,6 +24,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from ..exceptions import FeederError, InputError
+from ..validation import check_file
 from .loop import check_device
 from .parameters import FeederParameters, LinkInertia
 
@@ -113,9 +114,7 @@ def read_parameters(path: str | Path) -> FeederParameters:
             unknown one, holds a value of the wrong type, a name that is not :data:`NAME`, or a
             parameter set that fails a check; the message names the file and the field.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"parameter file not found: {path}")
+    path = check_file("parameter file", path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as exc:

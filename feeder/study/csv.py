@@ -9,6 +9,7 @@ import numpy as np
 
 from ..exceptions import InputError
 from ..files import atomic_path
+from ..validation import check_file
 
 
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
@@ -57,9 +58,7 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
         InputError: The file is missing or unreadable, or is not a table of numbers with a
             header row.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"no such file: {path}")
+    path = check_file("table", path)
     try:
         with path.open(encoding="utf-8") as handle:
             header = handle.readline().strip().split(",")

@@ -32,6 +32,7 @@ from pathlib import Path
 
 from ..exceptions import InputError
 from ..files import atomic_path
+from ..validation import check_file
 from .columns import VECTORS
 
 TABLE = "sweep_peaks.csv"
@@ -216,9 +217,7 @@ def read_sweep_table(path: str | Path) -> tuple[list[Row], list[tuple[int, str]]
         InputError: A missing or unreadable file, or one whose header is not
             :data:`TABLE_COLUMNS` (naming the missing and unknown columns).
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"no such file: {path}")
+    path = check_file("sweep table", path)
     try:
         with path.open(encoding="utf-8", newline="") as handle:
             lines = list(csv.reader(handle))

@@ -161,7 +161,7 @@ def test_bad_file_names_the_file_and_the_field(written, old, new, message):
 def test_missing_file(tmp_path):
     with pytest.raises(InputError, match="parameter file not found"):
         read_parameters(tmp_path / "nope.toml")
-    with pytest.raises(InputError, match="parameter file not found"):
+    with pytest.raises(InputError, match="parameter file .* is a folder"):
         read_parameters(tmp_path)
 
 

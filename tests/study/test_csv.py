@@ -115,9 +115,9 @@ def test_refuses_ragged_columns(columns, tmp_path):
 
 
 def test_reading_a_missing_file_raises(tmp_path):
-    with pytest.raises(InputError, match="no such file"):
+    with pytest.raises(InputError, match="table not found"):
         read_csv(tmp_path / "missing.csv")
-    with pytest.raises(InputError, match="no such file"):
+    with pytest.raises(InputError, match="is a folder, not a file"):
         read_csv(tmp_path)  # a folder is not a table either
 
 

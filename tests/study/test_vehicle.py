@@ -114,6 +114,9 @@ def test_cycle_command_reads_a_base_file(tmp_path, capsys):
         (["--base-motion", "earthquake"], "unknown base profile"),
         (["--base-motion", "terrain:heave=big"], "number"),
         (["--base-motion", "no_such_file.csv"], "not found"),
+        (["--base-motion", "."], "--base-motion . is a folder"),
+        (["--base-motion", __file__], "neither a hull table (.csv) nor a .toml file"),
+        (["--params", "."], "parameter file . is a folder, not a file"),
     ],
 )
 def test_cycle_command_refusals(tmp_path, capsys, args, match):
@@ -123,6 +126,15 @@ def test_cycle_command_refusals(tmp_path, capsys, args, match):
     assert code != 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and match in err[0]
+
+
+def test_a_folder_named_as_a_profile_is_the_profile(tmp_path, monkeypatch):
+    """``--base-motion terrain`` beside a folder ``terrain`` (e.g. the last run's output) is
+    the profile, not the folder."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "terrain").mkdir()
+    args = ["cycle", "--elevation", "30", "--rate", "100", "--no-forward", "--no-figures"]
+    assert main([*args, "--base-motion", "terrain", "--out", "terrain"]) == 0
 
 
 def test_cycle_command_refuses_motions_past_the_limits_together(tmp_path, capsys):

@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
-from ...validation import check_path
+from ...validation import check_file, check_path
 from ..model.closure import ClosedChain
 from ..model.points import check_points
 from .extended_urdf import read_extended_urdf
@@ -33,10 +33,8 @@ def read_spec(path: str | Path, model: str | Path | None = None) -> MechanismSpe
         InputError: A path that is not text or a path, missing or malformed file, a missing or
             mistyped key (named), an unknown closure or joint type.
     """
-    path = check_path("the closure file", path)
+    path = check_file("closure file", path)
     model = None if model is None else check_path("the model file", model)
-    if not path.is_file():
-        raise InputError(f"closure file not found: {path}")
     if path.suffix.lower() in (".yaml", ".yml"):
         return read_extended_urdf(path, model)
     return read_toml(path, model)

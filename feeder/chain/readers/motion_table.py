@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_path
+from ...validation import check_file, check_finite
 
 
 @dataclass(frozen=True)
@@ -183,9 +183,7 @@ def read_columns(path: str | Path, what: str) -> tuple[Path, list[str], dict[str
         InputError: A missing or unreadable file, rows of other lengths than the header, text
             or non-finite values, fewer than two rows, no ``t``, times that do not increase.
     """
-    path = check_path(what, path)
-    if not path.is_file():
-        raise InputError(f"{what} not found: {path}")
+    path = check_file(what, path)
     try:
         lines = path.read_text(encoding="utf-8-sig").splitlines()
     except (OSError, UnicodeDecodeError) as exc:

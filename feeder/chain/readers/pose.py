@@ -12,7 +12,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...exceptions import InputError
-from ...validation import check_number, check_path
+from ...validation import check_file, check_number
 
 
 def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
@@ -22,11 +22,9 @@ def read_pose(path: str | Path, model: pin.Model) -> np.ndarray:
         InputError: Missing or malformed file, an unknown or multi-coordinate joint, a value
             that is not a finite number, a joint given twice.
     """
-    path = check_path("the pose file", path)
+    path = check_file("pose file", path)
     if not isinstance(model, pin.Model):
         raise InputError(f"model must be a pinocchio.Model, got {model!r}")
-    if not path.is_file():
-        raise InputError(f"pose file not found: {path}")
     try:
         lines = [line.strip() for line in path.read_text(encoding="utf-8-sig").splitlines()]
     except (OSError, UnicodeDecodeError) as exc:

@@ -22,7 +22,7 @@ from lxml import etree
 
 from ...exceptions import InertiaError, InputError, ModelFolderError, UrdfError
 from ...inertia import check_inertia
-from ...validation import check_path
+from ...validation import check_file, check_path
 from ..model.closure import ClosedChain, Closure
 from .bodies import check_bodies
 from .model_files import inside_folder
@@ -70,8 +70,7 @@ def parse_xml_file(path: Path, kind: str, root_tag: str) -> etree._Element:
     Raises:
         UrdfError: The file does not exist, cannot be read, or does not parse strictly.
     """
-    if not path.is_file():
-        raise UrdfError(f"{kind} file not found: {path}")
+    check_file(f"{kind} file", path, UrdfError)
     try:
         data = path.read_bytes()
     except OSError as exc:
@@ -86,9 +85,7 @@ def read_urdf(path: str | Path) -> str:
         InputError: ``path`` is not text or a path.
         UrdfError: The file does not exist or cannot be read.
     """
-    path = check_path("the URDF file", path)
-    if not path.is_file():
-        raise UrdfError(f"URDF file not found: {path}")
+    path = check_file("URDF file", path, UrdfError)
     try:
         return path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:

@@ -14,7 +14,7 @@ import numpy as np
 from ...chain.readers.mechanism import read_spec
 from ...chain.readers.urdf import read_urdf
 from ...exceptions import InputError
-from ...validation import check_path
+from ...validation import check_file, check_path
 from .design_file import MechanismDesign, check_peaks, read_mechanism_design
 from .evaluation import Mechanism, PointCase, run_point
 
@@ -51,10 +51,7 @@ def check_inputs(
     read_spec(closures, model)  # the mechanism file, checked as feeder analyze does
     if isinstance(motions, (str, Path)) or not motions:
         raise InputError("give at least one motion table: --motion FILE")
-    tables = tuple(check_path("the motion table", m) for m in motions)
-    for table in tables:
-        if not table.is_file():
-            raise InputError(f"motion table not found: {table}")
+    tables = tuple(check_file("motion table", m) for m in motions)
     if len({t.name for t in tables}) != len(tables):
         raise InputError(f"the motion tables must have distinct file names, got {list(tables)}")
     urdf = read_urdf(model)

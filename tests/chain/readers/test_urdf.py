@@ -126,7 +126,7 @@ def test_text_is_checked_like_a_file(urdf_text):
 
 
 def test_read_urdf_refuses_a_folder(tmp_path):
-    with pytest.raises(UrdfError, match="not found"):
+    with pytest.raises(UrdfError, match="is a folder, not a file"):
         read_urdf(tmp_path)
 
 
