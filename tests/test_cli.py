@@ -636,6 +636,19 @@ def test_analyze_check_prints_the_mobility_report(capsys):
     assert "actual mobility 3 − 2 = 1" in out and "admissible independent joints" in out
 
 
+def test_analyze_check_refuses_what_it_would_ignore(tmp_path, capsys):
+    """--check computes and writes nothing: an --out or --motion beside it is refused, not
+    silently dropped."""
+    arguments = [str(EXAMPLE / "four_bar.urdf"), "--closures", str(EXAMPLE / "closures.toml")]
+    out = ["--out", str(tmp_path / "o")]
+    assert main(["analyze", *arguments, "--check", *out]) == 2
+    assert "leave out --out" in capsys.readouterr().err
+    motion = ["--motion", str(EXAMPLE / "motion.csv")]
+    assert main(["analyze", *arguments, "--check", *motion, *out]) == 2
+    assert "leave out --motion and --out" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
 FOLDED_DEAD_CENTRE = {
     "crank_joint": 4.037257447447691,
     "coupler_joint": 3.141592653589793,

@@ -30,15 +30,15 @@ def add(commands: argparse._SubParsersAction) -> None:
         type=path_argument,
         metavar="FILE",
         help="motion table (CSV: t and q_<joint> of the independent joints), required "
-        "unless --check (default: none)",
+        "(not with --check) (default: none)",
     )
     analyze.add_argument(
         "--out",
         action=Once,
         type=path_argument,
         metavar="DIR",
-        help="output folder for loads.csv, summary.txt and the figures, required unless "
-        "--check (default: none)",
+        help="output folder for loads.csv, summary.txt and the figures, required (not with "
+        "--check) (default: none)",
     )
     figures_switch(analyze)
     switch(
@@ -57,6 +57,11 @@ def run(args: argparse.Namespace) -> int:
     from ..study.analyze import analyze, check_mechanism
 
     if args.check:
+        given = [name for name, value in (("--motion", args.motion), ("--out", args.out)) if value]
+        if given:  # they would be ignored: the report is printed, nothing is computed or written
+            raise InputError(
+                f"--check prints the mobility report only: leave out {' and '.join(given)}"
+            )
         check = check_mechanism(args.closures, args.model, args.pose)
         print(check.text)
         if not check.drives:
