@@ -95,6 +95,13 @@ INTERRUPTED = 130
 TERMINATED = 128 + signal.SIGTERM
 """Exit status after SIGTERM (``kill``, a job scheduler's stop): 143, as shells report it."""
 
+STOPPED = (
+    "no output was left half-written; an output folder's manifest (feeder-run.json) marks the "
+    "run incomplete"
+)
+"""What a stopped run left: each output is whole or absent, and an output folder's manifest says
+that the run did not finish (the folder may hold an earlier run's outputs beside this one's)."""
+
 
 class _Terminated(KeyboardInterrupt):
     """SIGTERM, raised where the program is, so that it stops as after Ctrl-C: worker pools
@@ -152,10 +159,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"feeder: error: {exc.strerror or exc}{where}", file=sys.stderr)
         return 1
     except _Terminated:
-        print("feeder: terminated (SIGTERM); no output was left half-written", file=sys.stderr)
+        print(f"feeder: terminated (SIGTERM); {STOPPED}", file=sys.stderr)
         return TERMINATED
     except KeyboardInterrupt:
-        print("feeder: interrupted (Ctrl-C); no output was left half-written", file=sys.stderr)
+        print(f"feeder: interrupted (Ctrl-C); {STOPPED}", file=sys.stderr)
         return INTERRUPTED
     finally:
         if main_thread:
