@@ -175,10 +175,7 @@ def _lean_piece(chain_dynamics, servo, t: np.ndarray, y: np.ndarray) -> np.ndarr
         q, v = state[:4], state[4:]
         tau = np.zeros(4)
         tau[servo.columns] = servo(time, q, v, none)[0]
-        root = moving._roots.get(time)
-        if root is None:  # a rejected step's times
-            root = tuple(x[0] for x in moving.roots(moving.states(np.array([time]))))
-        q0, v0, a0 = root
+        q0, v0, a0 = moving.root(time)
         rooted_q, rooted_v = np.concatenate([q0, q]), np.concatenate([v0, v])
         rooted = pin.rnea(
             moving.rooted, moving.data, rooted_q, rooted_v, np.concatenate([a0, zero])

@@ -96,16 +96,21 @@ class MovingBase:
             np.hstack([rate, base.alpha]),
         )
 
+    def root(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The moving root's q (7,), q̇ and q̈ (6,) at time t [s] (:meth:`roots`): prepared
+        (:meth:`prepare`), or computed alone at a time that was not."""
+        root = self._roots.get(t)
+        if root is None:
+            root = tuple(x[0] for x in self.roots(self.states(np.array([t]))))
+        return root
+
     def bias(
         self, data: pin.Data, t: float, q: np.ndarray, v: np.ndarray
     ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """The correction b − b_B (nv,) that turns the standing equations' τ into the moving
         base's (module docstring), and the rooted tree's state at time t [s] with q̈ = 0 (for
         :meth:`power`)."""
-        root = self._roots.get(t)
-        if root is None:  # a time not prepared: computed alone
-            root = tuple(x[0] for x in self.roots(self.states(np.array([t]))))
-        q0, v0, a0 = root
+        q0, v0, a0 = self.root(t)
         state = (
             np.concatenate([q0, q]),
             np.concatenate([v0, v]),
