@@ -42,7 +42,7 @@ from ..motion.laws import CycleSpec
 from .drives import CylinderPressures, cylinder_pressures, rack_force
 from .forward import ForceRule, ForwardMotion, simulate_feeder
 from .inverse import ActuatorLoads, SampledMotion, actuator_loads
-from .models import FeederDynamics
+from .models import feeder_dynamics
 from .reactions import JointReactions, pin_reactions
 from .servo import ServoGains
 
@@ -128,6 +128,9 @@ def cycle_dynamics(
 ) -> CycleDynamics:
     """Loads, joint reactions, drives and force-rule simulation of one loading cycle.
 
+    The device's dynamics models on ``base`` are built at the first cycle and reused by the
+    next ones of the same two objects in this thread (:func:`~.models.feeder_dynamics`).
+
     Args:
         feeder: The device.
         elevation: ε [rad].
@@ -173,7 +176,7 @@ def cycle_dynamics(
     with tqdm(total=len(steps), desc="cycle", disable=quiet) as bar:
         bar.set_postfix_str(steps[0])
         kinematics = feeding_cycle(feeder, elevation, spec)
-        dyn = FeederDynamics(feeder, base)
+        dyn = feeder_dynamics(feeder, base)
         bar.update()
         bar.set_postfix_str(steps[1])
         # The sampled cycle closes the loop away from the toggle by construction: the device's
@@ -202,7 +205,7 @@ def cycle_dynamics(
             from .loading import controlled_cycle  # here: only this run imports the engine's
 
             bar.set_postfix_str(steps[-1])
-            standing = loads if base is None else actuator_loads(FeederDynamics(feeder), motion)
+            standing = loads if base is None else actuator_loads(feeder_dynamics(feeder), motion)
             feedforward = np.column_stack([standing.piston_force, standing.forearm_torque])
             servo_run = controlled_cycle(dyn, kinematics, feedforward, controlled)
             bar.update()
