@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import platform
 import subprocess
 import sys
 
@@ -196,3 +197,46 @@ def test_the_command_line_runs_one_blas_thread_unless_told_otherwise():
     0.08 s of CPU to start in every process); a user's OPENBLAS_NUM_THREADS is kept."""
     assert _blas_threads({}) == {1}
     assert _blas_threads({"OPENBLAS_NUM_THREADS": "2"}) == {2}
+
+
+MALLINFO = """
+import ctypes, sys
+{setup}
+import numpy as np
+
+class MallInfo2(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in (
+        "arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks",
+        "fordblks", "keepcost")]
+
+libc = ctypes.CDLL(None)
+libc.mallinfo2.restype = MallInfo2
+before = libc.mallinfo2().hblkhd
+block = np.empty(1 << 20)  # 8 MiB
+print(libc.mallinfo2().hblkhd - before)
+"""
+"""Prints the bytes an 8 MiB array added to malloc's separately mapped blocks (glibc's
+``mallinfo2``, 2.33 or later)."""
+
+
+def _mapped_alone(setup: str, environment: dict[str, str]) -> int:
+    argv = [sys.executable, "-c", MALLINFO.format(setup=setup)]
+    env = {k: v for k, v in os.environ.items() if not k.startswith("MALLOC_")} | environment
+    done = subprocess.run(argv, cwd=REPO, capture_output=True, text=True, check=True, env=env)
+    return int(done.stdout)
+
+
+def _glibc() -> tuple[int, ...]:
+    """The version of the glibc this interpreter runs on, () elsewhere."""
+    name, version = platform.libc_ver()
+    return tuple(int(part) for part in version.split(".")) if name == "glibc" else ()
+
+
+@pytest.mark.skipif(_glibc() < (2, 33), reason="glibc's malloc (its mallinfo2) only")
+def test_the_command_line_keeps_freed_memory_in_its_heap():
+    """A command's arrays of a few MB come from the heap that keeps freed memory (they were
+    mapped and unmapped page by page: 0.5 s of system CPU in a sweep), unless the user's
+    environment tunes malloc itself; without feeder.cli, glibc maps 8 MiB alone."""
+    assert _mapped_alone("", {}) >= 8 * 2**20
+    assert _mapped_alone("import feeder.cli", {}) == 0
+    assert _mapped_alone("import feeder.cli", {"MALLOC_ARENA_MAX": "2"}) >= 8 * 2**20
