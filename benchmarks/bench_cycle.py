@@ -190,7 +190,10 @@ def measure_steps(figures: dict, repeats: int, folder: Path) -> None:
     hand = (feeder.params, kin.q, kin.v, kin.a, kin.gripped)
     figures["samples"] = n
     figures["bare_call_us"] = call * 1e6
-    figures["kinematics"] = best_time(lambda: feeding_cycle(feeder, elevation), repeats)
+    # the payload's path is computed when first read: cycle.csv reads it
+    figures["kinematics"] = best_time(
+        lambda: feeding_cycle(feeder, elevation).payload_position, repeats
+    )
     figures["inverse_dynamics"] = best_time(lambda: actuator_loads(dyn, motion), repeats)
     figures["reactions"] = best_time(lambda: pin_reactions(dyn, loads), repeats)
     figures["forward"] = best_time(lambda: simulate_feeder(dyn, rule, kin.q[0], kin.v[0]), repeats)

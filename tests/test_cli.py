@@ -645,7 +645,9 @@ def test_analyze_check_refuses_what_it_would_ignore(tmp_path, capsys):
     assert "leave out --out" in capsys.readouterr().err
     motion = ["--motion", str(EXAMPLE / "motion.csv")]
     assert main(["analyze", *arguments, "--check", *motion, *out]) == 2
-    assert "leave out --motion and --out" in capsys.readouterr().err
+    assert "leave out --motion, --out" in capsys.readouterr().err
+    assert main(["analyze", *arguments, "--check", "--no-figures"]) == 2
+    assert "leave out --no-figures" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 
@@ -961,7 +963,7 @@ def test_simulate_drives_a_joint_under_control_from_a_control_file(tmp_path, cap
     [
         (["--duration", "-1"], "duration must be > 0"),
         (["--duration", "0.1", "--rtol", "0"], "rtol must be > 0"),
-        (["--duration", "0.1", "--forces", "missing.toml"], "missing.toml: not a readable"),
+        (["--duration", "0.1", "--forces", "missing.toml"], "force file not found"),
         (["--duration", "0.1", "--samples", "1"], "samples must be"),
     ],
 )

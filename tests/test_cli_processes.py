@@ -14,7 +14,6 @@ import time
 
 import pytest
 
-from feeder.cli import STOPPED
 from feeder.study.csv import read_csv
 
 from .conftest import REPO
@@ -217,7 +216,10 @@ def test_ctrl_c_at_the_terminal_stops_a_large_sweep_at_once(tmp_path, moment):
             os.killpg(run.pid, signal.SIGKILL)
     assert status == 130, err
     assert not list(out.glob("*.part")) and not list(out.glob(".*.part"))  # nothing half-written
-    assert err.strip().splitlines() == [f"feeder: interrupted (Ctrl-C); {STOPPED}"], err
+    assert err.strip().splitlines() == [
+        "feeder: interrupted (Ctrl-C); no output was left half-written; an output folder left "
+        "behind has its manifest (feeder-run.json) marked incomplete"
+    ], err
 
 
 def test_a_sweep_of_too_many_cases_is_refused_in_one_line(tmp_path):

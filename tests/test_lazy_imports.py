@@ -221,7 +221,9 @@ print(libc.mallinfo2().hblkhd - before)
 
 def _mapped_alone(setup: str, environment: dict[str, str]) -> int:
     argv = [sys.executable, "-c", MALLINFO.format(setup=setup)]
-    env = {k: v for k, v in os.environ.items() if not k.startswith("MALLOC_")} | environment
+    env = {
+        k: v for k, v in os.environ.items() if not k.startswith(("MALLOC_", "GLIBC_TUNABLES"))
+    } | environment
     done = subprocess.run(argv, cwd=REPO, capture_output=True, text=True, check=True, env=env)
     return int(done.stdout)
 
@@ -240,3 +242,28 @@ def test_the_command_line_keeps_freed_memory_in_its_heap():
     assert _mapped_alone("", {}) >= 8 * 2**20
     assert _mapped_alone("import feeder.cli", {}) == 0
     assert _mapped_alone("import feeder.cli", {"MALLOC_ARENA_MAX": "2"}) >= 8 * 2**20
+
+
+class _NoMallopt:
+    """A C library without ``mallopt`` (macOS's, as ``CDLL(None)`` finds it)."""
+
+    def __init__(self, name: None):
+        pass
+
+
+def _windows(name: None) -> None:
+    """Windows' ``CDLL(None)``: no library of that name."""
+    raise TypeError("argument of type 'NoneType' is not iterable")
+
+
+@pytest.mark.parametrize("library", [_NoMallopt, _windows], ids=["no-mallopt", "windows"])
+def test_malloc_is_left_alone_where_there_is_no_mallopt(monkeypatch, library):
+    """Elsewhere than glibc, the command line leaves malloc as it is, and still loads."""
+    import ctypes
+
+    from feeder.cli import keep_freed_memory
+
+    for name in [k for k in os.environ if k.startswith(("MALLOC_", "GLIBC_TUNABLES"))]:
+        monkeypatch.delenv(name)
+    monkeypatch.setattr(ctypes, "CDLL", library)
+    assert keep_freed_memory() is False

@@ -66,15 +66,17 @@ the heap every time."""
 def keep_freed_memory() -> bool:
     """Set glibc's malloc to keep freed memory for reuse in this process and the processes it
     forks (:data:`MALLOC_TRIM_THRESHOLD`, :data:`MALLOC_MMAP_THRESHOLD`), unless the user's
-    environment sets malloc's tunables; True if it did. Elsewhere than glibc (macOS, musl) there
-    is no ``mallopt`` to call (or one that ignores these) and nothing changes."""
+    environment sets malloc's tunables; True if it did. Elsewhere than glibc (macOS, musl,
+    Windows) there is no ``mallopt`` to call (or one that ignores these) and nothing changes.
+    Workers a pool starts by ``forkserver`` or ``spawn`` (where forking is not safe) do not get
+    it."""
     if any(name.startswith(("MALLOC_", "GLIBC_TUNABLES")) for name in os.environ):
         return False
     import ctypes  # NumPy loads it too
 
     try:
         mallopt = ctypes.CDLL(None).mallopt  # the process's own C library's
-    except (OSError, AttributeError):
+    except (OSError, AttributeError, TypeError):  # Windows: no CDLL(None); macOS: no mallopt
         return False
     trim, mmap = -1, -3  # M_TRIM_THRESHOLD, M_MMAP_THRESHOLD (glibc's malloc.h)
     done = mallopt(trim, MALLOC_TRIM_THRESHOLD), mallopt(mmap, MALLOC_MMAP_THRESHOLD)
@@ -129,11 +131,12 @@ TERMINATED = 128 + signal.SIGTERM
 """Exit status after SIGTERM (``kill``, a job scheduler's stop): 143, as shells report it."""
 
 STOPPED = (
-    "no output was left half-written; an output folder's manifest (feeder-run.json) marks the "
-    "run incomplete"
+    "no output was left half-written; an output folder left behind has its manifest "
+    "(feeder-run.json) marked incomplete"
 )
-"""What a stopped run left: each output is whole or absent, and an output folder's manifest says
-that the run did not finish (the folder may hold an earlier run's outputs beside this one's)."""
+"""What a stopped run left: each output is whole or absent, and an output folder that is left
+(one the run created is removed) has a manifest saying that the run did not finish: it may hold
+an earlier run's outputs beside this one's."""
 
 
 class _Terminated(KeyboardInterrupt):

@@ -29,16 +29,16 @@ def add(commands: argparse._SubParsersAction) -> None:
         action=Once,
         type=path_argument,
         metavar="FILE",
-        help="motion table (CSV: t and q_<joint> of the independent joints), required "
-        "(not with --check) (default: none)",
+        help="motion table (CSV: t and q_<joint> of the independent joints): required, and "
+        "refused with --check (default: none)",
     )
     analyze.add_argument(
         "--out",
         action=Once,
         type=path_argument,
         metavar="DIR",
-        help="output folder for loads.csv, summary.txt and the figures, required (not with "
-        "--check) (default: none)",
+        help="output folder for loads.csv, summary.txt and the figures: required, and refused "
+        "with --check (default: none)",
     )
     figures_switch(analyze)
     switch(
@@ -57,10 +57,18 @@ def run(args: argparse.Namespace) -> int:
     from ..study.analyze import analyze, check_mechanism
 
     if args.check:
-        given = [name for name, value in (("--motion", args.motion), ("--out", args.out)) if value]
+        given = [
+            name
+            for name, value in (
+                ("--motion", args.motion),
+                ("--out", args.out),
+                ("--no-figures", not args.figures),
+            )
+            if value
+        ]
         if given:  # they would be ignored: the report is printed, nothing is computed or written
             raise InputError(
-                f"--check prints the mobility report only: leave out {' and '.join(given)}"
+                f"--check prints the mobility report only: leave out {', '.join(given)}"
             )
         check = check_mechanism(args.closures, args.model, args.pose)
         print(check.text)

@@ -182,7 +182,12 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
     """
     from ..chain.model.base import BaseMotion
     from ..chain.model.profiles import PROFILES, Slope
-    from ..chain.readers.base_motion import parse_profile, read_base_file, read_hull_table
+    from ..chain.readers.base_motion import (
+        parse_profile,
+        profile_name,
+        read_base_file,
+        read_hull_table,
+    )
     from ..device.parameters import VEHICLE_FORWARD
 
     profiles = []
@@ -198,7 +203,7 @@ def base_of(args: argparse.Namespace) -> BaseMotion | None:
             profiles.append(read_hull_table(motion))
         elif suffix == ".toml":
             profiles += read_base_file(motion, VEHICLE_FORWARD).profiles
-        elif path.exists() and motion.partition(":")[0].strip() not in PROFILES:
+        elif profile_name(motion) not in PROFILES and path.exists():
             # a file or folder of another kind (a folder named as a profile is the profile)
             what = "a folder" if path.is_dir() else "neither a hull table (.csv) nor a .toml file"
             raise InputError(f"--base-motion {motion} is {what}: give a file or a profile")

@@ -31,6 +31,10 @@ INDEPENDENT_JOINTS = ("arm_joint", "forearm_joint")
 class Feeder:
     """One feeding device: its parameters, URDF text and closed-chain Pinocchio model.
 
+    A Feeder is not changed once loaded (to change the device, load one from other
+    parameters): the dynamics built from it are kept and reused
+    (:func:`feeder.dynamics.models.feeder_dynamics`).
+
     Attributes:
         params: The parameter set the model was generated from.
         urdf: The URDF text (as written by :func:`~feeder.device.urdf_writer.urdf_string`,

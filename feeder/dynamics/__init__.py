@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time they load on first
     from .forward import ForceRule, ForwardMotion, constrained_dynamics, simulate_feeder
     from .inverse import ActuatorLoads, SampledMotion, actuator_loads, check_cycle_motion
     from .loading import ControlledRun, LoadingPose, controlled_cycle
-    from .models import FeederDynamics
+    from .models import FeederDynamics, feeder_dynamics
     from .reactions import JOINT_NAMES, JointReactions, JointWrench, pin_reactions
     from .servo import CycleServo, ServoGains
 
@@ -41,6 +41,7 @@ _SOURCES = {
     "constrained_dynamics": ".forward",
     "controlled_cycle": ".loading",
     "cycle_dynamics": ".cycle",
+    "feeder_dynamics": ".models",
     "pin_reactions": ".reactions",
     "simulate_feeder": ".forward",
 }
@@ -66,6 +67,7 @@ __all__ = [
     "constrained_dynamics",
     "controlled_cycle",
     "cycle_dynamics",
+    "feeder_dynamics",
     "pin_reactions",
     "simulate_feeder",
 ]

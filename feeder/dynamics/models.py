@@ -166,8 +166,9 @@ def feeder_dynamics(feeder: Feeder, base: BaseMotion | None = None) -> FeederDyn
     """The :class:`FeederDynamics` of ``feeder`` on ``base``, built once per thread for the same
     two objects and reused: a sweep's or a design's cycles of one device and vehicle share its
     models, closures and partitions (building them took 2–4 ms of a 22 ms cycle). The key is the
-    objects' identity (both are immutable once made; each is kept alive with its entry, so its
-    id is not reused); the :data:`DYNAMICS_KEPT` most recent are kept."""
+    objects' identity: a Feeder is not changed once loaded and a BaseMotion is frozen; each is
+    kept alive with its entry, so that its id is not reused. The :data:`DYNAMICS_KEPT` most
+    recent are kept."""
     kept = _KEPT.__dict__.setdefault("kept", {})
     key = (id(feeder), id(base))
     entry = kept.pop(key, None) or (feeder, base, FeederDynamics(feeder, base))

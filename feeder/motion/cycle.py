@@ -22,11 +22,12 @@ class CycleKinematics:
     """Sampled kinematics of one feeding cycle; N samples, world frame, SI units.
 
     The payload's path and the closure residual are the URDF model's forward kinematics
-    (:func:`payload_kinematics`), computed when one of them is first read: a sweep's peaks
-    never read them (a fifth of a case's time).
+    (:func:`payload_kinematics`), computed when one of them is first read: the peaks of a
+    cycle without its controlled run never read them (a tenth of a sweep case's time). A
+    pickled copy carries them computed, without the device (its Pinocchio closures do not
+    pickle): read back, its ``feeder`` is None.
 
     Attributes:
-        feeder: The device.
         elevation: ε [rad].
         spec: The timing.
         t: Times [s], (N,).
@@ -34,9 +35,9 @@ class CycleKinematics:
         gripped: 1 once the payload is gripped (t ≥ T1), else 0, int (N,).
         q, v, a: [φ1, r2, φ3, φ4] and derivatives, paper order, (N, 4).
         transmission_angle: μ [rad], (N,).
+        feeder: The device.
     """
 
-    feeder: Feeder = field(repr=False, compare=False)
     elevation: float
     spec: CycleSpec
     t: np.ndarray
@@ -46,6 +47,11 @@ class CycleKinematics:
     v: np.ndarray
     a: np.ndarray
     transmission_angle: np.ndarray
+    feeder: Feeder = field(kw_only=True, repr=False, compare=False)
+
+    def __getstate__(self) -> dict:
+        """The fields with the payload's path computed, and no device (class docstring)."""
+        return {**self.__dict__, "_payload": self._payload, "feeder": None}
 
     @cached_property
     def _payload(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

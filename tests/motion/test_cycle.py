@@ -4,6 +4,7 @@ paper and REFERENCE.md require at ε = −4°, 30°, 70°."""
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pinocchio as pin
@@ -204,3 +205,14 @@ def test_non_finite_elevation(feeder, bad):
 def test_elevation_must_be_one_number(feeder, bad):
     with pytest.raises(InputError, match="one number"):
         feeding_cycle(feeder, bad)
+
+
+def test_a_pickled_cycle_carries_its_payload_path(feeder):
+    """The payload's path is computed when read; a pickled cycle (e.g. sent to a worker
+    process) carries it computed, without the device, whose Pinocchio closures do not pickle."""
+    cycle = feeding_cycle(feeder, math.radians(30.0), CycleSpec(rate=100.0))
+    copy = pickle.loads(pickle.dumps(cycle))
+    assert copy.feeder is None
+    for name in ("payload_position", "payload_velocity", "payload_axis", "closure_residual"):
+        np.testing.assert_array_equal(getattr(copy, name), getattr(cycle, name))
+    np.testing.assert_array_equal(copy.q, cycle.q)

@@ -128,13 +128,15 @@ def test_cycle_command_refusals(tmp_path, capsys, args, match):
     assert len(err) == 1 and match in err[0]
 
 
-def test_a_folder_named_as_a_profile_is_the_profile(tmp_path, monkeypatch):
-    """``--base-motion terrain`` beside a folder ``terrain`` (e.g. the last run's output) is
-    the profile, not the folder."""
+def test_a_file_named_as_a_profile_is_the_profile(tmp_path, monkeypatch):
+    """``--base-motion terrain`` beside a folder ``terrain`` (e.g. the last run's output), or
+    ``terrain:heave=0.05`` beside a file of that name, is the profile, not the file."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "terrain").mkdir()
+    (tmp_path / "terrain:heave=0.05").write_text("")
     args = ["cycle", "--elevation", "30", "--rate", "100", "--no-forward", "--no-figures"]
     assert main([*args, "--base-motion", "terrain", "--out", "terrain"]) == 0
+    assert main([*args, "--base-motion", "terrain:heave=0.05", "--out", "terrain"]) == 0
 
 
 def test_cycle_command_refuses_motions_past_the_limits_together(tmp_path, capsys):

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_number, check_path
+from ...validation import check_file, check_finite, check_number
 from ..model.base import BaseMotion
 from ..model.channels import HullProfile
 from ..model.forces import Table
@@ -91,13 +91,18 @@ def _within(where: str) -> Iterator[None]:
         raise InputError(f"{where}: {exc}") from None
 
 
+def profile_name(text: str) -> str:
+    """The ``NAME`` of the command line's ``NAME[:key=value,…]``."""
+    return text.partition(":")[0].strip()
+
+
 def parse_profile(text: str) -> HullProfile:
     """A profile from the command line's ``NAME[:key=value,…]``.
 
     Raises:
         InputError: Malformed text, an unknown profile or key, a value that is not a number.
     """
-    name, _, rest = text.partition(":")
+    rest = text.partition(":")[2]
     values = {}
     for item in filter(None, (part.strip() for part in rest.split(","))):
         key, equals, value = item.partition("=")
@@ -111,7 +116,7 @@ def parse_profile(text: str) -> HullProfile:
             raise InputError(
                 f"base profile {text!r}: {key.strip()} must be a number, got {value!r}"
             ) from None
-    return make_profile(name.strip(), values, "base profile")
+    return make_profile(profile_name(text), values, "base profile")
 
 
 def read_hull_table(path: str | Path) -> HullTable:
@@ -258,7 +263,7 @@ def read_base_file(
         InputError: A missing or unreadable file, no ``[base]`` table, any error of
             :func:`read_base`.
     """
-    path = check_path("the base file", path)
+    path = check_file("base file", path)
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:

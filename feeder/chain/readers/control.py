@@ -38,7 +38,7 @@ import math
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_number, check_path
+from ...validation import check_file, check_number
 from ..model.control import ControlSpec
 from .motion_table import read_motion
 from .spec import table_entries, tables_file
@@ -214,7 +214,7 @@ def read_control_file(path: str | Path) -> tuple[ControlSpec, ...]:
         InputError: A path that is not text or a path, a missing or unreadable file, another
             section, no table, a bad table (:func:`read_control`).
     """
-    path = check_path("the control file", path)
+    path = check_file("control file", path)
     specs = read_control(tables_file(path, "control"), path.parent, str(path))
     if not specs:
         raise InputError(f"{path}: no [[control]] table")

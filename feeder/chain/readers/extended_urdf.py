@@ -25,7 +25,7 @@ from pathlib import Path
 import yaml
 
 from ...exceptions import FeederWarning, InputError
-from ...validation import check_path
+from ...validation import check_file, check_path
 from ..model.closure import Closure, repeated_cut
 from .joint_types import joint_model
 from .spec import SIDE_FILE_MAX_DEPTH, MechanismSpec, read_side_text, too_deep
@@ -121,7 +121,7 @@ def read_extended_urdf(path: Path, model: Path | None = None) -> MechanismSpec:
             mistyped key (named), lists of different lengths, an unknown closure or joint type,
             the same loop twice, no model file, a path that is not text or a path.
     """
-    path = check_path("the closure file", path)
+    path = check_file("closure file", path)
     model = None if model is None else check_path("the model file", model)
     document = _load(path)
     if not isinstance(document, dict):

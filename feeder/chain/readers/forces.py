@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import InputError
-from ...validation import check_path
+from ...validation import check_file
 from ..model.forces import Cylinder, ForceElement, JointSpring, Load, Spring, Table
 from .motion_table import read_columns
 from .spec import tables_file
@@ -101,7 +101,7 @@ def read_force_file(path: Path) -> tuple[ForceElement, ...]:
         InputError: A path that is not text or a path, a missing or unreadable file, another
             section, a bad element.
     """
-    path = check_path("the force file", path)
+    path = check_file("force file", path)
     return read_forces(tables_file(path, "force"), path.parent, str(path))
 
 

@@ -49,7 +49,7 @@ import tomllib
 from pathlib import Path
 
 from ...exceptions import InputError
-from ...validation import check_finite, check_number, check_path
+from ...validation import check_file, check_finite, check_number, check_path
 from ..model.closure import Closure, repeated_cut
 from ..model.cuts import KINDS
 from .base_motion import read_base
@@ -143,7 +143,7 @@ def read_toml(path: Path, model: str | Path | None = None) -> MechanismSpec:
             missing or mistyped key (named; a closure's ``type`` is required), an unknown
             closure type, the same cut twice, a path that is not text or a path.
     """
-    path = check_path("the closure file", path)
+    path = check_file("closure file", path)
     text = read_side_text(path, "TOML")
     try:
         document = tomllib.loads(text)

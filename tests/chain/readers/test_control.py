@@ -138,8 +138,10 @@ def test_a_control_file_holds_control_tables_only(tmp_path):
     path.write_text("", encoding="utf-8")
     with pytest.raises(InputError, match=r"no \[\[control\]\] table"):
         read_control_file(path)
-    with pytest.raises(InputError, match="not a readable TOML file"):
+    with pytest.raises(InputError, match="control file not found"):
         read_control_file(tmp_path / "missing.toml")
+    with pytest.raises(InputError, match="control file .* is a folder, not a file"):
+        read_control_file(tmp_path)
 
 
 def test_a_bad_reference_names_the_tables_that_read_it(tmp_path):
