@@ -50,41 +50,6 @@ of CPU in every process (NumPy's and SciPy's OpenBLAS each); parallel work is in
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)
 
-MALLOC_TRIM_THRESHOLD = 64 * 2**20
-"""[B] Free memory a command's process keeps at the top of its heap before glibc's malloc gives
-it back to the system (glibc's default: 128 kB, raised as large blocks are freed). The cycles'
-arrays are a few hundred kB to a few MB, made and freed by the thousand: each time the heap was
-trimmed, the next ones were mapped again page by page (a 75-elevation sweep: 180 000–210 000 page
-faults and 0.5–0.75 s of system CPU, against 54 000 and 0.2–0.3 s kept, measured)."""
-
-MALLOC_MMAP_THRESHOLD = 16 * 2**20
-"""[B] Blocks larger than this are mapped from the system on their own (and unmapped when freed):
-a fixed size, where glibc's moves with the blocks freed, so that the arrays of a cycle come from
-the heap every time."""
-
-
-def keep_freed_memory() -> bool:
-    """Set glibc's malloc to keep freed memory for reuse in this process and the processes it
-    forks (:data:`MALLOC_TRIM_THRESHOLD`, :data:`MALLOC_MMAP_THRESHOLD`), unless the user's
-    environment sets malloc's tunables; True if it did. Elsewhere than glibc (macOS, musl,
-    Windows) there is no ``mallopt`` to call (or one that ignores these) and nothing changes.
-    Workers a pool starts by ``forkserver`` or ``spawn`` (where forking is not safe) do not get
-    it."""
-    if any(name.startswith(("MALLOC_", "GLIBC_TUNABLES")) for name in os.environ):
-        return False
-    import ctypes  # NumPy loads it too
-
-    try:
-        mallopt = ctypes.CDLL(None).mallopt  # the process's own C library's
-    except (OSError, AttributeError, TypeError):  # Windows: no CDLL(None); macOS: no mallopt
-        return False
-    trim, mmap = -1, -3  # M_TRIM_THRESHOLD, M_MMAP_THRESHOLD (glibc's malloc.h)
-    done = mallopt(trim, MALLOC_TRIM_THRESHOLD), mallopt(mmap, MALLOC_MMAP_THRESHOLD)
-    return all(done)  # mallopt answers 1 when it took the setting
-
-
-keep_freed_memory()
-
 from ..exceptions import FeederError, FeederWarning, InputError  # noqa: E402 (after the BLAS)
 from . import (  # noqa: E402 (the commands load NumPy: after the BLAS threads are set)
     analyze,
@@ -121,6 +86,39 @@ def parser(command: str | None = None) -> argparse.ArgumentParser:
         else:
             commands.add_parser(name)
     return top
+
+
+MALLOC_TRIM_THRESHOLD = 64 * 2**20
+"""[B] Free memory a command's process keeps at the top of its heap before glibc's malloc gives
+it back to the system (glibc's default: 128 kB, raised as large blocks are freed). The cycles'
+arrays are a few hundred kB to a few MB, made and freed by the thousand: each time the heap was
+trimmed, the next ones were mapped again page by page (a 75-elevation sweep: 180 000–210 000 page
+faults and 0.5–0.75 s of system CPU, against 54 000 and 0.2–0.3 s kept, measured)."""
+
+MALLOC_MMAP_THRESHOLD = 16 * 2**20
+"""[B] Blocks larger than this are mapped from the system on their own (and unmapped when freed):
+a fixed size, where glibc's moves with the blocks freed, so that the arrays of a cycle come from
+the heap every time."""
+
+
+def keep_freed_memory() -> bool:
+    """Set glibc's malloc to keep freed memory for reuse in this process (a command's: run by
+    :func:`main`) and the processes it forks (:data:`MALLOC_TRIM_THRESHOLD`,
+    :data:`MALLOC_MMAP_THRESHOLD`), unless the user's environment sets malloc's tunables; True
+    if it did. Elsewhere than glibc (macOS, musl, Windows) there is no ``mallopt`` to call (or
+    one that ignores these) and nothing changes. Workers a pool starts by ``forkserver`` or
+    ``spawn`` (where forking is not safe) do not get it."""
+    if any(name.startswith(("MALLOC_", "GLIBC_TUNABLES")) for name in os.environ):
+        return False
+    import ctypes  # NumPy loads it too
+
+    try:
+        mallopt = ctypes.CDLL(None).mallopt  # the process's own C library's
+    except (OSError, AttributeError, TypeError):  # Windows: no CDLL(None); macOS: no mallopt
+        return False
+    trim, mmap = -1, -3  # M_TRIM_THRESHOLD, M_MMAP_THRESHOLD (glibc's malloc.h)
+    done = mallopt(trim, MALLOC_TRIM_THRESHOLD), mallopt(mmap, MALLOC_MMAP_THRESHOLD)
+    return all(done)  # mallopt answers 1 when it took the setting
 
 
 INTERRUPTED = 130
@@ -176,6 +174,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (2 for bad input, 1 when the file system
     refuses a file, 130 after Ctrl-C)."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    keep_freed_memory()
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     try:
