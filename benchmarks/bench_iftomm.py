@@ -92,17 +92,7 @@ def lean(chain, q0, v0, t):
     """constraintDynamics (aba without closures) with Baumgarte in solve_ivp: q at the times t."""
     model = chain.model
     data = model.createData()
-    models = pin.StdVec_RigidConstraintModel()
-    for constraint in chain.constraint_models:
-        copy = pin.RigidConstraintModel(constraint)
-        copy.m_baumgarte_parameters.Kp = RATE**2
-        copy.m_baumgarte_parameters.Kd = 2.0 * RATE
-        models.append(copy)
-    datas = pin.StdVec_RigidConstraintData()
-    for constraint in models:
-        datas.append(constraint.createData())
-    if len(models):
-        pin.initConstraintDynamics(model, data, models, datas)
+    models, datas = chain.corrected_constraints(data, RATE)  # Baumgarte's copies of the closures
     settings = pin.ProximalSettings(1e-13, 1e-10, 100)
     nq, nv = model.nq, model.nv
     zero = np.zeros(nv)
